@@ -1,0 +1,159 @@
+#pragma once
+// One persistent thread pool for the whole process.
+//
+// Kernels split work statically: worker i of n gets a fixed share (ggml's (ith, nth)).
+// Results must never depend on the number of threads, so
+//  - element-wise work may be split any way (each output is computed the same way);
+//  - reductions use parallel_chunks(): the chunk boundaries are fixed by the caller,
+//    not by the thread count, and partial results are combined in chunk order.
+// A parallel call made from inside a worker runs inline on that worker: no nesting,
+// no oversubscription, no new thread per call.
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
+namespace nns {
+
+class ThreadPool {
+ public:
+  static ThreadPool& global() {
+    static ThreadPool pool(2);
+    return pool;
+  }
+
+  explicit ThreadPool(int n) { start(n); }
+  ~ThreadPool() { stop(); }
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+
+  int threads() const { return n_; }
+
+  void set_threads(int n) {
+    if (n < 1) throw std::invalid_argument("threads must be >= 1, got " + std::to_string(n));
+    if (n == n_) return;
+    stop();
+    start(n);
+  }
+
+  // Calls fn(worker, nworkers) once on every worker; the caller is worker 0.
+  void run(const std::function<void(int, int)>& fn) {
+    if (n_ == 1 || in_worker()) {
+      fn(0, 1);
+      return;
+    }
+    std::lock_guard<std::mutex> one_job_at_a_time(run_mu_);
+    job_ = &fn;
+    remaining_.store(n_ - 1, std::memory_order_relaxed);
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      generation_.fetch_add(1, std::memory_order_release);
+    }
+    cv_.notify_all();
+    in_worker() = true;
+    fn(0, n_);
+    in_worker() = false;
+    // Spin briefly: most kernels finish their shares within microseconds of each other.
+    while (remaining_.load(std::memory_order_acquire) != 0) pause();
+    job_ = nullptr;
+  }
+
+ private:
+  static bool& in_worker() {
+    thread_local bool flag = false;
+    return flag;
+  }
+  static void pause() {
+#if defined(__x86_64__)
+    _mm_pause();
+#else
+    std::this_thread::yield();
+#endif
+  }
+
+  void start(int n) {
+    n_ = n;
+    quit_ = false;
+    for (int i = 1; i < n; ++i) workers_.emplace_back([this, i] { worker_loop(i); });
+  }
+  void stop() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      quit_ = true;
+      generation_.fetch_add(1, std::memory_order_release);
+    }
+    cv_.notify_all();
+    for (auto& t : workers_) t.join();
+    workers_.clear();
+  }
+
+  void worker_loop(int index) {
+    in_worker() = true;
+    uint64_t seen = generation_.load(std::memory_order_acquire);
+    for (;;) {
+      // Spin for a short while before sleeping, so back-to-back kernels of a training
+      // step do not pay a futex wake-up each.
+      for (int spin = 0; spin < 20000 && generation_.load(std::memory_order_acquire) == seen; ++spin)
+        pause();
+      if (generation_.load(std::memory_order_acquire) == seen) {
+        std::unique_lock<std::mutex> lock(mu_);
+        cv_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });
+      }
+      seen = generation_.load(std::memory_order_acquire);
+      if (quit_) return;
+      (*job_)(index, n_);
+      remaining_.fetch_sub(1, std::memory_order_acq_rel);
+    }
+  }
+
+  int n_ = 1;
+  std::vector<std::thread> workers_;
+  std::mutex mu_, run_mu_;
+  std::condition_variable cv_;
+  std::atomic<uint64_t> generation_{0};
+  std::atomic<int> remaining_{0};
+  const std::function<void(int, int)>* job_ = nullptr;
+  bool quit_ = false;
+};
+
+inline void set_num_threads(int n) { ThreadPool::global().set_threads(n); }
+inline int num_threads() { return ThreadPool::global().threads(); }
+
+// Splits [0, n) into one contiguous range per worker, each a multiple of `align`
+// (except the last), and calls f(begin, end). Work below `min_work` runs inline.
+template <class F>
+void parallel_for(int64_t n, F&& f, int64_t min_work = 1, int64_t align = 1) {
+  if (n <= 0) return;
+  ThreadPool& pool = ThreadPool::global();
+  if (pool.threads() == 1 || n < 2 * min_work) {
+    f(int64_t(0), n);
+    return;
+  }
+  pool.run([&](int w, int nw) {
+    int64_t units = (n + align - 1) / align;
+    int64_t b = units * w / nw * align, e = std::min(n, units * (w + 1) / nw * align);
+    if (b < e) f(b, e);
+  });
+}
+
+// Calls f(chunk, begin, end) for the fixed chunks [k*chunk, (k+1)*chunk) of [0, n),
+// distributed over the workers. Chunk boundaries never depend on the thread count,
+// which is what keeps reductions bitwise identical for 1 and 2 threads.
+template <class F>
+void parallel_chunks(int64_t n, int64_t chunk, F&& f) {
+  if (n <= 0) return;
+  int64_t nchunks = (n + chunk - 1) / chunk;
+  parallel_for(nchunks, [&](int64_t cb, int64_t ce) {
+    for (int64_t c = cb; c < ce; ++c) f(c, c * chunk, std::min(n, (c + 1) * chunk));
+  });
+}
+
+}  // namespace nns
