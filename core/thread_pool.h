@@ -12,6 +12,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <stdexcept>
@@ -52,18 +53,27 @@ class ThreadPool {
     }
     std::lock_guard<std::mutex> one_job_at_a_time(run_mu_);
     job_ = &fn;
+    error_ = nullptr;
     remaining_.store(n_ - 1, std::memory_order_relaxed);
     {
       std::lock_guard<std::mutex> lock(mu_);
       generation_.fetch_add(1, std::memory_order_release);
     }
     cv_.notify_all();
+    std::exception_ptr mine;
     in_worker() = true;
-    fn(0, n_);
+    try {
+      fn(0, n_);
+    } catch (...) {
+      mine = std::current_exception();
+    }
     in_worker() = false;
-    // Spin briefly: most kernels finish their shares within microseconds of each other.
+    // Spin: most kernels finish their shares within microseconds of each other. The
+    // workers must be done with `fn` before it goes out of scope, even on error.
     while (remaining_.load(std::memory_order_acquire) != 0) pause();
     job_ = nullptr;
+    if (mine) std::rethrow_exception(mine);
+    if (error_) std::rethrow_exception(error_);
   }
 
  private:
@@ -82,7 +92,10 @@ class ThreadPool {
   void start(int n) {
     n_ = n;
     quit_ = false;
-    for (int i = 1; i < n; ++i) workers_.emplace_back([this, i] { worker_loop(i); });
+    // The generation is read here, not in the new thread: a job posted before the
+    // thread gets going must still count as new to it.
+    const uint64_t seen = generation_.load(std::memory_order_acquire);
+    for (int i = 1; i < n; ++i) workers_.emplace_back([this, i, seen] { worker_loop(i, seen); });
   }
   void stop() {
     {
@@ -95,9 +108,8 @@ class ThreadPool {
     workers_.clear();
   }
 
-  void worker_loop(int index) {
+  void worker_loop(int index, uint64_t seen) {
     in_worker() = true;
-    uint64_t seen = generation_.load(std::memory_order_acquire);
     for (;;) {
       // Spin for a short while before sleeping, so back-to-back kernels of a training
       // step do not pay a futex wake-up each.
@@ -109,7 +121,12 @@ class ThreadPool {
       }
       seen = generation_.load(std::memory_order_acquire);
       if (quit_) return;
-      (*job_)(index, n_);
+      try {
+        (*job_)(index, n_);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mu_);
+        if (!error_) error_ = std::current_exception();
+      }
       remaining_.fetch_sub(1, std::memory_order_acq_rel);
     }
   }
@@ -121,6 +138,7 @@ class ThreadPool {
   std::atomic<uint64_t> generation_{0};
   std::atomic<int> remaining_{0};
   const std::function<void(int, int)>* job_ = nullptr;
+  std::exception_ptr error_;  // first exception thrown by a worker during run()
   bool quit_ = false;
 };
 

@@ -17,7 +17,9 @@ struct View {
   float fov_y_deg = 0;               // `fovY`, required
   std::optional<float> ao_radius;    // `aoRadius`, required when AO is present
   std::string scene;                 // `scene`, required
-  std::optional<std::array<float, 16>> world_to_camera;  // row-major 4x4, optional
+  // row-major 4x4 for column vectors (p_cam = M * p_world, translation in [3],[7],[11]);
+  // the EXR attribute stores its transpose (Imath multiplies row vectors). Optional.
+  std::optional<std::array<float, 16>> world_to_camera;
   std::map<std::string, std::vector<float>> channels;
   std::string source;                // file it was read from (for error messages)
 

@@ -1,0 +1,39 @@
+// dataset-info DIR: validates a G-buffer dataset (docs/dataset-format.md) and prints a
+// summary. Exit code 0: clean; 1: problems found; 2: bad usage.
+#include <cstdio>
+#include <filesystem>
+
+#include "apps/args.h"
+#include "data/validate.h"
+
+int main(int argc, char** argv) {
+  nns::cli::Args args(argc, argv, "dataset-info",
+                      "Validate a G-buffer EXR dataset and print views, resolutions, channels, "
+                      "scenes, value ranges and every problem found.");
+  std::string purpose = args.get_choice("--purpose", "any", {"any", "nnao", "gi"},
+                                        "which trainer the data is for (decides required channels)");
+  int max_problems = args.get_int("--max-problems", 50, "problems listed before '... and N more'");
+  if (max_problems < 0) args.error("--max-problems: must be >= 0");
+  if (args.positional().size() > 1) args.error("expected one dataset folder, got " + std::to_string(args.positional().size()));
+  args.done("DIR");
+  if (args.positional().empty()) {
+    std::fprintf(stderr, "dataset-info: error: missing the dataset folder\nrun 'dataset-info --help' for usage\n");
+    return 2;
+  }
+  const std::string dir = args.positional()[0];
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) {
+    std::fprintf(stderr, "dataset-info: error: %s: not a folder\n", dir.c_str());
+    return 2;
+  }
+  return nns::cli::run_main("dataset-info", [&] {
+    nns::data::ValidateOptions o;
+    o.purpose = purpose == "nnao" ? nns::data::Purpose::nnao
+              : purpose == "gi"   ? nns::data::Purpose::gi
+                                  : nns::data::Purpose::any;
+    o.max_problems = max_problems;
+    auto report = nns::data::validate_dataset(dir, o);
+    nns::data::print_report(stdout, report);
+    return report.clean() ? 0 : 1;
+  });
+}

@@ -1,0 +1,39 @@
+// eval-gi: score GI generators and the two non-learned references (direct + env, and
+// that plus a constant ambient fitted on the training split) on a dataset's test split.
+//
+//   eval-gi --data DIR --model runs/surround/G.blob --model runs/front/G.blob --out eval
+// writes eval/results.csv (model,mode,ms_per_frame,mse,psnr,ssim,...), results_offscreen.csv,
+// frames.csv, report.md and previews/. See docs/gan.md.
+#include <cstdio>
+
+#include "apps/args.h"
+#include "core/thread_pool.h"
+#include "models/gi/gi_evaluate.h"
+
+using namespace nns;
+
+int main(int argc, char** argv) {
+  return cli::run_main("eval-gi", [&] {
+    cli::Args a(argc, argv, "eval-gi", "Evaluate GI generators against ray-traced ground truth.");
+    gi::EvalOptions o;
+    o.data = a.get_string("--data", "", "dataset folder (its test split is scored, its train split fits the ambient term)");
+    o.models = a.get_list("--model", "a generator blob (G.blob) from train-gan");
+    o.out = a.get_string("--out", "eval-gi-out", "output folder");
+    std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics at test time");
+    std::string drop = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time");
+    int max_frames = a.get_int("--max-frames", 0, "score at most N test frames (0: all)");
+    o.previews = a.get_int("--previews", 3, "frames with preview PNGs per model");
+    int threads = a.get_int("--threads", 2, "worker threads");
+    if (o.data.empty()) a.error("--data is required");
+    if (o.models.empty()) a.error("at least one --model is required");
+    a.done();
+    o.bn_batch_stats = bn == "batch";
+    o.dropout_on = drop == "on";
+    if (max_frames > 0) o.max_frames = size_t(max_frames);
+    set_num_threads(threads);
+    auto rows = gi::evaluate_gi(o);
+    std::printf("%s", gi::results_csv(rows, false).c_str());
+    std::printf("eval-gi: report %s/report.md\n", o.out.c_str());
+    return 0;
+  });
+}

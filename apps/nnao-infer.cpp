@@ -1,0 +1,61 @@
+// nnao-infer: NNAO on one G-buffer view.
+//   nnao-infer --model nnao.blob --in VIEW.exr --out AO.exr [--samples N] [--png AO.png]
+// --samples 0 runs the exact network (all w*w grid samples); N > 0 the shader-style
+// approximation with N filter samples and the bilateral blur.
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "apps/args.h"
+#include "core/thread_pool.h"
+#include "data/exr_io.h"
+#include "data/png_io.h"
+#include "models/nnao/nnao_inference.h"
+
+using namespace nns;
+
+int main(int argc, char** argv) {
+  return cli::run_main("nnao-infer", [&]() -> int {
+    cli::Args args(argc, argv, "nnao-infer", "Run NNAO on one G-buffer view.");
+    std::string model = args.get_string("--model", "", "nnao.blob from train-nnao");
+    std::string in = args.get_string("--in", "", "input view (EXR with Z, N.X, N.Y, N.Z)");
+    std::string out = args.get_string("--out", "", "output EXR (channel AO)");
+    std::string png = args.get_string("--png", "", "also write a PNG preview");
+    int samples = args.get_int("--samples", 0, "0 = exact; else shader-style filter samples (64, 128, 256, ...)");
+    double radius = args.get_double("--radius", 0, "AO radius (0 = the view's aoRadius, else the model's)");
+    int threads = args.get_int("--threads", 2, "worker threads");
+    args.done();
+    if (model.empty() || in.empty() || out.empty()) {
+      std::fprintf(stderr, "nnao-infer: error: --model, --in and --out are required\n");
+      return 2;
+    }
+    if (samples < 0) {
+      std::fprintf(stderr, "nnao-infer: error: --samples must be >= 0\n");
+      return 2;
+    }
+    set_num_threads(threads);
+    auto m = nnao::NnaoWeights::load(model);
+    data::View v = data::read_view(in);
+    float r = float(radius);
+    if (r <= 0 && !v.ao_radius && m.radius > 0) r = m.radius;
+    ao::GBuffer g = ao::gbuffer_from_view(v, r);
+    data::View o;
+    o.width = v.width;
+    o.height = v.height;
+    o.fov_y_deg = v.fov_y_deg;
+    o.ao_radius = g.radius;
+    o.scene = v.scene;
+    o.world_to_camera = v.world_to_camera;
+    o.channels["Z"] = v.channel("Z");
+    auto& ao_plane = o.add_channel("AO");
+    auto t0 = std::chrono::steady_clock::now();
+    if (samples == 0) nnao::infer_exact(m, g, ao_plane.data());
+    else nnao::infer_shader_style(m, g, samples, ao_plane.data());
+    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    data::write_view(out, o);
+    if (!png.empty()) data::write_png_gray(png, ao_plane.data(), o.width, o.height);
+    std::printf("%s: %dx%d, %s, %.2f ms\n", out.c_str(), o.width, o.height,
+                samples ? ("shader-style " + std::to_string(samples) + " samples").c_str() : "exact", ms);
+    return 0;
+  });
+}

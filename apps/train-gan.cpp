@@ -1,0 +1,110 @@
+// train-gan: learn screen-space global illumination from G-buffers with a pix2pix
+// conditional GAN (U-Net generator, PatchGAN discriminator), front-only (Deep
+// Illumination) or surround-aware (the thesis's global view). See docs/gan.md.
+//
+//   train-gan                                  default surround data, default model
+//   train-gan --data DIR --mode front --out runs/front
+//   train-gan --loss l1                        the non-adversarial baseline
+//   train-gan --out runs/x --resume            continue exactly where runs/x stopped
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "apps/args.h"
+#include "core/thread_pool.h"
+#include "data/dataset.h"
+#include "data/default_dataset.h"
+#include "models/gi/gan_defaults.h"
+#include "models/gi/gan_run.h"
+#include "models/gi/gi_data.h"
+#include "models/gi/gi_evaluate.h"
+
+using namespace nns;
+using namespace nns::gi;
+
+int main(int argc, char** argv) {
+  return cli::run_main("train-gan", [&] {
+    cli::Args a(argc, argv, "train-gan",
+                "Train a pix2pix GAN (or an L1/DSSIM U-Net) to predict diffuse global illumination.");
+    const GanDefaults def;
+    std::string data_dir = a.get_string("--data", "", "dataset folder (default: the built-in surround data, rendered once and cached)");
+    std::string out = a.get_string("--out", "gan-out", "output folder");
+    std::string mode = a.get_choice("--mode", "surround", {"front", "surround"}, "front view only, or the six-face global view");
+    int size = a.get_int("--size", def.size, "face size the views are box-filtered to (0: as stored)");
+    int ngf = a.get_int("--ngf", def.ngf, "generator base width");
+    int ndf = a.get_int("--ndf", def.ndf, "discriminator base width");
+    int levels = a.get_int("--levels", def.levels, "U-Net levels (input size divisible by 2^levels)");
+    int d_layers = a.get_int("--d-layers", 3, "PatchGAN layers (3: 70x70 patches)");
+    int epochs = a.get_int("--epochs", def.epochs, "epochs in all");
+    int decay = a.get_int("--decay-epochs", -1, "of which the last N decay the rate linearly to 0 (default: half)");
+    double lambda = a.get_double("--lambda", 100, "weight of the L1 term in the generator loss");
+    double lr = a.get_double("--lr", 2e-4, "Adam learning rate");
+    double beta1 = a.get_double("--beta1", 0.5, "Adam beta1");
+    std::string coordconv = a.get_choice("--coordconv", "on", {"on", "off"}, "append coordinate channels");
+    std::string loss = a.get_choice("--loss", "gan", {"gan", "l1", "dssim"}, "adversarial + L1, or a plain loss (baseline)");
+    int threads = a.get_int("--threads", 2, "worker threads");
+    int seed = a.get_int("--seed", 1, "random seed (weights, dropout, data order)");
+    bool resume = a.get_flag("--resume", "continue from OUT/checkpoint.blob");
+    int max_frames = a.get_int("--max-frames", 0, "use at most N train and N test items (0: all)");
+    int sample_every = a.get_int("--sample-every", 250, "write sample PNGs every N steps (0: never)");
+    bool no_eval = a.get_flag("--no-eval", "skip the evaluation on the test split");
+    std::string test_bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics at test time");
+    std::string test_dropout = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time");
+    int poison = a.get_int("--debug-poison-step", -1, "testing only: a NaN enters the input at this step");
+    int stop_after = a.get_int("--debug-stop-after-epochs", -1, "testing only: stop after N epochs as if interrupted");
+    if (epochs < 1) a.error("--epochs must be >= 1");
+    if (decay < 0) decay = epochs / 2;
+    if (decay > epochs) a.error("--decay-epochs must be <= --epochs");
+    a.done();
+    set_num_threads(threads);
+
+    if (data_dir.empty()) data_dir = data::ensure_default_dataset("surround", threads);
+    auto listing = data::list_dataset(data_dir);
+    if (listing.flat) listing = data::split_flat_by_scene(listing, 0.2);
+    const size_t max_items = max_frames > 0 ? size_t(max_frames) : size_t(-1);
+
+    GanRunOptions o;
+    o.out = out;
+    o.resume = resume;
+    o.sample_every = sample_every;
+    o.poison_step = poison;
+    o.stop_after_epochs = stop_after;
+    GanTrainConfig& c = o.train;
+    c.inputs.mode = parse_mode(mode);
+    c.inputs.coordconv = coordconv == "on";
+    c.inputs.size = size;
+    c.ngf = ngf, c.ndf = ndf, c.levels = levels, c.d_layers = d_layers;
+    c.loss = parse_loss(loss);
+    c.lambda = lambda, c.lr = lr, c.beta1 = beta1;
+    c.epochs = epochs - decay, c.epochs_decay = decay;
+    c.seed = uint64_t(seed);
+
+    GiItemReader rd{c.inputs.mode, size};
+    c.inputs.norm = fit_normalisation(listing.train, rd, max_items);
+    auto train = load_samples(listing.train, rd, c.inputs, max_items, "loading train");
+    std::fprintf(stderr, "train-gan: %zu training %s from %s, input %s, depth_max %.3g, hdr_scale %.3g\n",
+                 train.size(), c.inputs.mode == GiMode::surround ? "frames" : "views", data_dir.c_str(),
+                 train[0].input.shape().str().c_str(), c.inputs.norm.depth_max, c.inputs.norm.hdr_scale);
+
+    GanRunResult r = run_gan_training(o, train);
+    train.clear();
+    if (r.d_wins_windows > 0)
+      std::fprintf(stderr, "train-gan: the discriminator won outright in %lld windows of %d steps (first at step %lld)\n",
+                   (long long)r.d_wins_windows, DiscriminatorWatch::kWindow, (long long)r.first_d_wins_step);
+    if (!r.finished) return 3;
+    std::printf("train-gan: %d epochs, %lld steps in %s; generator %s/G.blob\n", r.epochs_done,
+                (long long)r.steps, Progress::format_seconds(r.seconds).c_str(), out.c_str());
+    if (no_eval || listing.test.size() == 0) return 0;
+
+    EvalOptions e;
+    e.data = data_dir;
+    e.out = out + "/eval";
+    e.models = {out + "/G.blob"};
+    e.bn_batch_stats = test_bn == "batch";
+    e.dropout_on = test_dropout == "on";
+    e.max_frames = max_items;
+    evaluate_gi(e);
+    std::printf("train-gan: report %s/report.md (results.csv, previews/ beside it)\n", e.out.c_str());
+    return 0;
+  });
+}

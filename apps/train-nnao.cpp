@@ -1,0 +1,57 @@
+// train-nnao: train Neural Network Ambient Occlusion on an EXR G-buffer dataset.
+//   train-nnao [--data DIR] [--out DIR] [--epochs N] [--batch 16] [--lr 1e-3] [--window 31]
+//              [--hidden 4] [--radius R] [--dropout 0.5] [--gamma 0.01]
+//              [--points-per-view 1024] [--threads 2] [--seed S] [--resume] [--sweep]
+// Without --data it renders (once, cached) and uses the built-in default dataset.
+// --sweep trains the ladder w in {7,15,23,31} x hidden in {4,8,16} instead: see
+// models/nnao/nnao_sweep.h.
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "apps/args.h"
+#include "core/thread_pool.h"
+#include "data/default_dataset.h"
+#include "models/nnao/nnao_sweep.h"
+#include "models/nnao/nnao_trainer.h"
+
+using namespace nns;
+
+int main(int argc, char** argv) {
+  return cli::run_main("train-nnao", [&]() -> int {
+    cli::Args args(argc, argv, "train-nnao", "Train NNAO (Holden et al. 2016) on EXR G-buffers.");
+    nnao::TrainOptions o;
+    o.data_dir = args.get_string("--data", "", "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
+    o.out_dir = args.get_string("--out", "nnao-out", "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");
+    o.epochs = args.get_int("--epochs", 12, "training epochs (the paper: 100)");
+    o.batch = args.get_int("--batch", 16, "mini-batch size");
+    o.lr = args.get_double("--lr", 1e-3, "Adam learning rate");
+    o.net.window = args.get_int("--window", 31, "grid size w (w x w samples)");
+    o.net.hidden = args.get_int("--hidden", 4, "hidden units per layer");
+    o.radius = float(args.get_double("--radius", 0, "AO radius (0 = each view's aoRadius)"));
+    o.net.dropout = args.get_double("--dropout", 0.5, "dropout on the input");
+    o.gamma = args.get_double("--gamma", 0.01, "L1 weight penalty gamma");
+    o.points_per_view = args.get_int("--points-per-view", 1024, "training pixels per view");
+    o.test_points_per_view = args.get_int("--test-points-per-view", 1024, "test pixels per view (test loss)");
+    int threads = args.get_int("--threads", 2, "worker threads");
+    o.seed = uint64_t(args.get_int("--seed", 1, "random seed"));
+    o.resume = args.get_flag("--resume", "continue from OUT/checkpoint.nnao.ckpt");
+    bool sweep = args.get_flag("--sweep", "train the size ladder (w 7/15/23/31 x hidden 4/8/16) and chart error vs ms/frame");
+    int sweep_epochs = args.get_int("--sweep-epochs", 4, "epochs per model in --sweep");
+    args.done();
+    set_num_threads(threads);
+    if (o.data_dir.empty()) o.data_dir = data::ensure_default_dataset("nnao", threads);
+    if (sweep) {
+      o.epochs = sweep_epochs;
+      nnao::run_sweep(o);
+      return 0;
+    }
+    nnao::TrainResult r = nnao::train_nnao(o);
+    std::printf("trained on %lld points (%lld test), %lld steps, %.1f us/step (%.0f samples/s), test MSE %.5f, %.1f s\n",
+                (long long)r.train_points, (long long)r.test_points, (long long)r.steps, r.step_microseconds,
+                r.step_microseconds > 0 ? 1e6 * o.batch / r.step_microseconds : 0.0, r.test_mse, r.seconds);
+    std::printf("model: %s/nnao.blob  metrics: %s/metrics.jsonl  chart: %s/loss.svg\n", o.out_dir.c_str(),
+                o.out_dir.c_str(), o.out_dir.c_str());
+    return 0;
+  });
+}

@@ -1,0 +1,115 @@
+// NNAO training step (forward, loss with the L1 penalty, backward, Adam) at the paper's
+// batch of 16 on pre-computed standardised features, as train-nnao runs it; plus the
+// per-frame inference paths. Counters: samples/s (training points per second).
+//   bench_nnao_step --benchmark_filter=Step
+// Paper scale = 500,000 points x 100 epochs = 50M samples: minutes = 50M / samples_per_s / 60.
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+#include "core/rng.h"
+#include "core/thread_pool.h"
+#include "models/nnao/nnao_fast_step.h"
+#include "models/nnao/nnao_inference.h"
+#include "models/nnao/nnao_loss.h"
+#include "models/nnao/nnao_model.h"
+#include "optim/adam.h"
+#include "tests/models/nnao_test_blob.h"
+#include "tests/models/synthetic_gbuffer.h"
+
+using namespace nns;
+
+// The autograd path (the reference the fused step is tested against).
+static void BM_NnaoTrainStepAutograd(benchmark::State& state) {
+  const int window = int(state.range(0)), batch = int(state.range(1));
+  set_num_threads(int(state.range(2)));
+  const int64_t F = int64_t(window) * window * 4, points = 4096;
+  Rng rng(1);
+  std::vector<float> X(static_cast<size_t>(points * F)), Y(static_cast<size_t>(points));
+  for (auto& v : X) v = float(rng.normal());
+  for (auto& v : Y) v = float(rng.normal());
+  nnao::NnaoNet<float> net(rng, {window, 4, 0.5});
+  Adam<float> opt(net.parameters());
+  auto params = net.parameters();
+  // Correctness before timing: one step must change the weights and give a finite loss.
+  float before = net.fc[0]->weight.value()[0];
+  int64_t row = 0;
+  auto step = [&]() {
+    Tensor<float> xb({batch, F}), yb({batch, 1});
+    for (int b = 0; b < batch; ++b, row = (row + 1) % points) {
+      std::copy(X.begin() + row * F, X.begin() + (row + 1) * F, xb.data() + b * F);
+      yb[b] = Y[size_t(row)];
+    }
+    Var<float> loss = nnao::nnao_loss(net.forward(Var<float>(xb)), Var<float>(yb), params, 0.01f);
+    opt.zero_grad();
+    loss.backward();
+    opt.step();
+    return loss.value()[0];
+  };
+  float l = step();
+  if (!std::isfinite(l) || net.fc[0]->weight.value()[0] == before) {
+    state.SkipWithError("training step did not update the weights");
+    return;
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(step());
+  state.counters["samples/s"] = benchmark::Counter(double(state.iterations()) * batch, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_NnaoTrainStepAutograd)->Args({31, 16, 1})->Args({31, 16, 2})->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
+
+// What train-nnao runs: gather 16 rows, fused forward/backward, Adam.
+static void BM_NnaoTrainStep(benchmark::State& state) {
+  const int window = int(state.range(0)), batch = int(state.range(1));
+  set_num_threads(1);
+  const int64_t F = int64_t(window) * window * 4, points = 4096;
+  Rng rng(1);
+  std::vector<float> X(static_cast<size_t>(points * F)), Y(static_cast<size_t>(points));
+  for (auto& v : X) v = float(rng.normal());
+  for (auto& v : Y) v = float(rng.normal());
+  nnao::NnaoNet<float> net(rng, {window, 4, 0.5});
+  Adam<float> opt(net.parameters());
+  auto params = net.parameters();
+  nnao::NnaoFastStep fast(net, batch);
+  std::vector<float> xb(static_cast<size_t>(batch * F)), yb(static_cast<size_t>(batch));
+  Rng pick(2);
+  auto step = [&]() {
+    for (int b = 0; b < batch; ++b) {
+      const int64_t row = int64_t(pick.below(points));
+      std::copy(X.begin() + row * F, X.begin() + (row + 1) * F, xb.begin() + b * F);
+      yb[size_t(b)] = Y[size_t(row)];
+    }
+    for (auto& p : params) p.grad_buffer().zero();
+    float l = fast.forward_backward(xb.data(), yb.data(), 0.01f);
+    opt.step();
+    return l;
+  };
+  float before = net.fc[0]->weight.value()[0];
+  float l = step();
+  if (!std::isfinite(l) || net.fc[0]->weight.value()[0] == before) {
+    state.SkipWithError("training step did not update the weights");
+    return;
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(step());
+  state.counters["samples/s"] = benchmark::Counter(double(state.iterations()) * batch, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_NnaoTrainStep)->Args({31, 16})->Args({15, 16})->Args({7, 16})->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
+
+static void BM_NnaoInferFrame(benchmark::State& state) {
+  const int samples = int(state.range(0));
+  set_num_threads(int(state.range(1)));
+  auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(31, 4, 3));
+  static data::View v = nns::testing::synthetic_view(320, 180, 1, 1);
+  auto g = ao::gbuffer_from_view(v);
+  std::vector<float> out(size_t(g.pixels()));
+  for (auto _ : state) {
+    if (samples == 0) nnao::infer_exact(m, g, out.data());
+    else nnao::infer_shader_style(m, g, samples, out.data());
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["frames/s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_NnaoInferFrame)->Args({0, 2})->Args({64, 2})->Args({256, 2})->Args({64, 1})->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();

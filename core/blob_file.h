@@ -1,0 +1,71 @@
+#pragma once
+// Whole-file reads and crash-safe writes for blobs (and anything else that must never
+// be left half-written): write to a temporary file in the same folder, fsync it,
+// rename it over the target, fsync the folder. A crash leaves either the old file or
+// the new one, never a torn mix.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+namespace nns {
+
+inline void write_file_atomic(const std::string& path, const std::string& bytes) {
+  auto fail = [&](const std::string& what) {
+    return std::runtime_error("cannot write '" + path + "': " + what + ": " + std::strerror(errno));
+  };
+  // The pid keeps two processes writing the same target from sharing a temporary.
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw fail("open " + tmp);
+  size_t done = 0;
+  while (done < bytes.size()) {
+    ssize_t w = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      auto e = fail("write " + tmp);
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      throw e;
+    }
+    done += size_t(w);
+  }
+  if (::fsync(fd) != 0) {
+    auto e = fail("fsync " + tmp);
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw e;
+  }
+  if (::close(fd) != 0) {
+    auto e = fail("close " + tmp);
+    ::unlink(tmp.c_str());
+    throw e;
+  }
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    auto e = fail("rename " + tmp);
+    ::unlink(tmp.c_str());
+    throw e;
+  }
+  // Make the rename itself durable; best effort (some filesystems refuse a dir fsync).
+  auto slash = path.find_last_of('/');
+  std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+inline std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open '" + path + "': " + std::strerror(errno));
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw std::runtime_error("cannot read '" + path + "'");
+  return bytes;
+}
+
+}  // namespace nns

@@ -1,0 +1,146 @@
+#pragma once
+// Batch normalization as kernel pairs (Ioffe & Szegedy 2015, PyTorch semantics).
+//   inp, out, dout, dinp (N, C, S) with S = H*W (S = 1 for BatchNorm1d's (N, C));
+//   gamma, beta, dgamma, dbeta (C) or null (affine = false: gamma 1, beta 0);
+//   mean, rstd (C): the statistics used, saved for the backward pass.
+// Work is split over channels and each channel is reduced by one worker in a fixed
+// order, so results do not depend on the thread count. A channel's three passes (mean,
+// variance, output) run back to back while its data is still in cache; sums are in
+// double.
+#include <cmath>
+#include <cstdint>
+
+#include "core/thread_pool.h"
+
+namespace nns {
+
+namespace detail {
+// Channels per parallel task: enough elements that waking the pool pays off.
+inline int64_t bn_channel_grain(int64_t N, int64_t S) {
+  const int64_t per_channel = N * S > 0 ? N * S : 1;
+  return per_channel >= (1 << 15) ? 1 : (1 << 15) / per_channel;
+}
+
+// sum of f(i) over [0, n) in 16 independent double lanes: one accumulator would chain
+// every add on the previous one (4 cycles each) and keep the loop from vectorizing. The
+// lanes combine in a fixed order, so the result is deterministic.
+template <class F>
+inline double lane_sum(int64_t n, F f) {
+  double acc[16] = {};
+  int64_t i = 0;
+  for (; i + 16 <= n; i += 16)
+    for (int k = 0; k < 16; ++k) acc[k] += f(i + k);
+  for (int k = 0; i < n; ++i, ++k) acc[k] += f(i);
+  double s = 0;
+  for (double a : acc) s += a;
+  return s;
+}
+}  // namespace detail
+
+// Train mode: normalizes with the batch mean and biased variance; writes them to mean
+// and var (C) and 1/sqrt(var + eps) to rstd (C).
+template <class T>
+void batch_norm_forward_train(T* out, T* mean, T* var, T* rstd, const T* inp, const T* gamma,
+                              const T* beta, int64_t N, int64_t C, int64_t S, double eps) {
+  const double M = double(N * S);
+  parallel_for(
+      C,
+      [&](int64_t c0, int64_t c1) {
+        for (int64_t c = c0; c < c1; ++c) {
+          double s = 0;
+          for (int64_t n = 0; n < N; ++n) {
+            const T* x = inp + (n * C + c) * S;
+            s += detail::lane_sum(S, [x](int64_t i) { return double(x[i]); });
+          }
+          const double mu = s / M;
+          double q = 0;
+          for (int64_t n = 0; n < N; ++n) {
+            const T* x = inp + (n * C + c) * S;
+            q += detail::lane_sum(S, [x, mu](int64_t i) {
+              const double d = double(x[i]) - mu;
+              return d * d;
+            });
+          }
+          const double v = q / M, r = 1.0 / std::sqrt(v + eps);
+          mean[c] = T(mu);
+          var[c] = T(v);
+          rstd[c] = T(r);
+          // (x - mean) first: at variance 0 (batch 1, 1x1) the output is exactly beta.
+          const T a = T((gamma ? double(gamma[c]) : 1.0) * r), m = T(mu);
+          const T b = beta ? beta[c] : T(0);
+          for (int64_t n = 0; n < N; ++n) {
+            const T* x = inp + (n * C + c) * S;
+            T* y = out + (n * C + c) * S;
+            for (int64_t i = 0; i < S; ++i) y[i] = (x[i] - m) * a + b;
+          }
+        }
+      },
+      detail::bn_channel_grain(N, S));
+}
+
+// Eval mode: normalizes with the given statistics (the running estimates); writes the
+// rstd it used (C) for the backward pass.
+template <class T>
+void batch_norm_forward_eval(T* out, T* rstd, const T* inp, const T* gamma, const T* beta,
+                             const T* mean, const T* var, int64_t N, int64_t C, int64_t S,
+                             double eps) {
+  parallel_for(
+      C,
+      [&](int64_t c0, int64_t c1) {
+        for (int64_t c = c0; c < c1; ++c) {
+          const double r = 1.0 / std::sqrt(double(var[c]) + eps);
+          rstd[c] = T(r);
+          const T a = T((gamma ? double(gamma[c]) : 1.0) * r), m = mean[c];
+          const T b = beta ? beta[c] : T(0);
+          for (int64_t n = 0; n < N; ++n) {
+            const T* x = inp + (n * C + c) * S;
+            T* y = out + (n * C + c) * S;
+            for (int64_t i = 0; i < S; ++i) y[i] = (x[i] - m) * a + b;
+          }
+        }
+      },
+      detail::bn_channel_grain(N, S));
+}
+
+// Accumulates into dinp, dgamma, dbeta (any may be null). With xhat = (x - mean) * rstd:
+//   dbeta += sum(g), dgamma += sum(g * xhat), and
+//   train: dinp += gamma * rstd / M * (M * g - sum(g) - xhat * sum(g * xhat))
+//   eval:  dinp += gamma * rstd * g  (the statistics are constants)
+template <class T>
+void batch_norm_backward(T* dinp, T* dgamma, T* dbeta, const T* dout, const T* inp,
+                         const T* gamma, const T* mean, const T* rstd, int64_t N, int64_t C,
+                         int64_t S, bool training) {
+  const double M = double(N * S);
+  parallel_for(
+      C,
+      [&](int64_t c0, int64_t c1) {
+        for (int64_t c = c0; c < c1; ++c) {
+          const double mu = double(mean[c]), r = double(rstd[c]);
+          double sg = 0, sgx = 0;  // sum(g), sum(g * (x - mean))
+          for (int64_t n = 0; n < N; ++n) {
+            const T* x = inp + (n * C + c) * S;
+            const T* g = dout + (n * C + c) * S;
+            sg += detail::lane_sum(S, [g](int64_t i) { return double(g[i]); });
+            sgx += detail::lane_sum(S, [g, x, mu](int64_t i) { return double(g[i]) * (double(x[i]) - mu); });
+          }
+          const double sgxhat = sgx * r;
+          if (dbeta) dbeta[c] += T(sg);
+          if (dgamma) dgamma[c] += T(sgxhat);
+          if (!dinp) continue;
+          const double gm = gamma ? double(gamma[c]) : 1.0;
+          // dinp += k * g + k2 * (x - mean) + k3: one fused step per element.
+          const T k = T(gm * r), mu_t = T(mu);
+          const T k2 = training ? T(-gm * r * r * r * sgx / M) : T(0);
+          const T k3 = training ? T(-gm * r * sg / M) : T(0);
+          for (int64_t n = 0; n < N; ++n) {
+            const T* x = inp + (n * C + c) * S;
+            const T* g = dout + (n * C + c) * S;
+            T* dx = dinp + (n * C + c) * S;
+            for (int64_t i = 0; i < S; ++i) dx[i] += k * g[i] + k2 * (x[i] - mu_t) + k3;
+          }
+        }
+      },
+      detail::bn_channel_grain(N, S));
+}
+
+}  // namespace nns

@@ -1,0 +1,104 @@
+#pragma once
+// AVX-512 SGEMM micro-kernel: one MR x NR block of C from packed panels.
+//   a: packed A micro-panel, kc steps of MR values (row r of the block at a[k*MR + r])
+//   b: packed B micro-panel, kc steps of NR values, 64-byte aligned
+//   c: the block's top-left element in C (row stride ldc); only the first m rows and n
+//      columns are real (edge tiles: the panels are zero-padded, stores are masked)
+// C := alpha * acc + beta * C, with C never read when beta == 0.
+//
+// Zen 5 has two 512-bit FMA pipes of latency 4, so at least 8 independent accumulators
+// are needed to hide the latency; MR x NR = 14 x 32 keeps 28 of the 32 zmm registers as
+// accumulators, which also gives the best ratio of FMAs to loads (28 per 2 + 14).
+// Edge tiles run a copy of the loop with only the rows (and 16-column halves) they
+// need, so M = 128 does not pay for 10 full tiles of 14. Every element of C is still
+// produced by the same sequence of FMAs whatever tile computes it, so results do not
+// depend on how the work is cut between threads.
+#include <immintrin.h>
+
+#include <array>
+#include <cstdint>
+#include <utility>
+
+namespace nns::gemm_detail {
+
+template <int MR, int NV>
+struct Avx512Kernel {
+  static constexpr int mr = MR;
+  static constexpr int nr = NV * 16;
+
+  static void run(int64_t kc, const float* a, const float* b, float* c, int64_t ldc, float alpha,
+                  float beta, int m, int n) {
+    if (m == MR && n > nr - 16) return tile<MR, NV>(kc, a, b, c, ldc, alpha, beta, m, n);
+    static constexpr auto full = table<NV>(std::make_integer_sequence<int, MR>());
+    static constexpr auto half = table<1>(std::make_integer_sequence<int, MR>());
+    (n <= 16 ? half : full)[m - 1](kc, a, b, c, ldc, alpha, beta, m, n);
+  }
+
+ private:
+  using Fn = void (*)(int64_t, const float*, const float*, float*, int64_t, float, float, int, int);
+  template <int V, int... R>
+  static constexpr std::array<Fn, MR> table(std::integer_sequence<int, R...>) {
+    return {&tile<R + 1, V>...};
+  }
+
+  // ROWS x (V * 16) of C; the panels keep their full strides MR and nr.
+  template <int ROWS, int V>
+  static void tile(int64_t kc, const float* __restrict a, const float* __restrict b,
+                   float* __restrict c, int64_t ldc, float alpha, float beta, int m, int n) {
+    __m512 acc[ROWS][V];
+#pragma GCC unroll 32
+    for (int r = 0; r < ROWS; ++r)
+#pragma GCC unroll 4
+      for (int v = 0; v < V; ++v) acc[r][v] = _mm512_setzero_ps();
+
+#ifndef NNS_GEMM_NO_PREFETCH_C
+    // The C tile is touched only after the k loop: start fetching it now.
+#pragma GCC unroll 32
+    for (int r = 0; r < ROWS; ++r) {
+      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc), _MM_HINT_T0);
+      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc + V * 16 - 1), _MM_HINT_T0);
+    }
+#endif
+    for (int64_t k = 0; k < kc; ++k) {
+      __m512 bv[V];
+#pragma GCC unroll 4
+      for (int v = 0; v < V; ++v) bv[v] = _mm512_load_ps(b + v * 16);
+      _mm_prefetch(reinterpret_cast<const char*>(b + 8 * nr), _MM_HINT_T0);
+#pragma GCC unroll 32
+      for (int r = 0; r < ROWS; ++r) {
+        __m512 ar = _mm512_set1_ps(a[r]);
+#pragma GCC unroll 4
+        for (int v = 0; v < V; ++v) acc[r][v] = _mm512_fmadd_ps(ar, bv[v], acc[r][v]);
+      }
+      a += MR;
+      b += nr;
+    }
+
+    __mmask16 mask[V];
+#pragma GCC unroll 4
+    for (int v = 0; v < V; ++v) {
+      int lanes = n - v * 16;
+      lanes = lanes < 0 ? 0 : (lanes > 16 ? 16 : lanes);
+      mask[v] = __mmask16((1u << lanes) - 1u);
+    }
+    const __m512 va = _mm512_set1_ps(alpha), vb = _mm512_set1_ps(beta);
+#pragma GCC unroll 32
+    for (int r = 0; r < ROWS; ++r) {
+      if (r >= m) break;
+      float* cr = c + r * ldc;
+#pragma GCC unroll 4
+      for (int v = 0; v < V; ++v) {
+        __m512 out;
+        if (beta == 0.0f) {
+          out = _mm512_mul_ps(va, acc[r][v]);
+        } else {
+          __m512 old = _mm512_maskz_loadu_ps(mask[v], cr + v * 16);
+          out = _mm512_fmadd_ps(va, acc[r][v], beta == 1.0f ? old : _mm512_mul_ps(vb, old));
+        }
+        _mm512_mask_storeu_ps(cr + v * 16, mask[v], out);
+      }
+    }
+  }
+};
+
+}  // namespace nns::gemm_detail

@@ -1,0 +1,89 @@
+#pragma once
+// The five loops of the BLIS-style SGEMM around one micro-kernel (gemm_arch.h):
+//   JC over N in NC blocks -> PC over K in KC blocks (pack B) -> IC over M in MC blocks
+//   (pack A) -> JR over NR micro-panels -> IR over MR micro-panels -> micro-kernel.
+// This runs one thread's share; gemm.h splits C between threads in whole micro-tiles.
+//
+// The K blocks depend only on K, and beta is applied on the first one only, so every
+// element of C sees the same sequence of FMAs however M and N are cut.
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <new>
+
+#include "core/kernels/gemm_arch.h"
+#include "core/kernels/gemm_pack.h"
+
+namespace nns::gemm_detail {
+
+// Per-thread packing buffers, grown on demand and kept for the thread's lifetime (the
+// pool's workers are persistent, so steady-state calls never allocate). Separate
+// 64-byte aligned blocks per thread: no false sharing.
+struct PackBuffer {
+  struct Free {
+    void operator()(float* p) const { std::free(p); }
+  };
+  std::unique_ptr<float, Free> data;
+  size_t capacity = 0;  // floats
+
+  float* get(size_t floats) {
+    if (floats > capacity) {
+      size_t bytes = (floats * sizeof(float) + 63) & ~size_t(63);
+      float* p = static_cast<float*>(std::aligned_alloc(64, bytes));
+      if (!p) throw std::bad_alloc();
+      data.reset(p);
+      capacity = bytes / sizeof(float);
+    }
+    return data.get();
+  }
+};
+
+inline PackBuffer& thread_pack_a() {
+  thread_local PackBuffer b;
+  return b;
+}
+inline PackBuffer& thread_pack_b() {
+  thread_local PackBuffer b;
+  return b;
+}
+
+// K is cut into equal blocks of at most kKC so no block is a sliver.
+inline int64_t k_block(int64_t K) {
+  int64_t nblocks = (K + kKC - 1) / kKC;
+  return (K + nblocks - 1) / nblocks;
+}
+
+// C[0:M, 0:N] := alpha * op(A) op(B) + beta * C, single-threaded.
+inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N, int64_t K,
+                        float alpha, float beta, float* C, int64_t ldc) {
+  const int64_t kb = k_block(K);
+  const int64_t nc_max = std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
+  const int64_t mc_max = std::min<int64_t>(kMC, (M + kMR - 1) / kMR * kMR);
+  float* bpack = thread_pack_b().get(size_t(kb * nc_max));
+  float* apack = thread_pack_a().get(size_t(kb * mc_max));
+
+  for (int64_t jc = 0; jc < N; jc += kNC) {
+    const int64_t nc = std::min(kNC, N - jc);
+    for (int64_t pc = 0; pc < K; pc += kb) {
+      const int64_t kc = std::min(kb, K - pc);
+      const float beta_block = pc == 0 ? beta : 1.0f;
+      pack_b<kNR>(bpack, B, pc, kc, jc, nc);
+      for (int64_t ic = 0; ic < M; ic += kMC) {
+        const int64_t mc = std::min(kMC, M - ic);
+        pack_a<kMR>(apack, A, ic, mc, pc, kc);
+        for (int64_t jr = 0; jr < nc; jr += kNR) {
+          const int n = int(std::min<int64_t>(kNR, nc - jr));
+          const float* bp = bpack + jr * kc;
+          for (int64_t ir = 0; ir < mc; ir += kMR) {
+            const int m = int(std::min<int64_t>(kMR, mc - ir));
+            Kernel::run(kc, apack + ir * kc, bp, C + (ic + ir) * ldc + jc + jr, ldc, alpha,
+                        beta_block, m, n);
+          }
+        }
+      }
+    }
+  }
+}
+
+}  // namespace nns::gemm_detail

@@ -1,0 +1,181 @@
+#include "data/chart.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace nns::data {
+namespace {
+
+const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                          "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
+
+std::string escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '&') o += "&amp;";
+    else o += c;
+  }
+  return o;
+}
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f", v);
+  return b;
+}
+
+std::string tick_label(double v) {
+  char b[32];
+  double a = std::abs(v);
+  if (a != 0 && (a < 1e-3 || a >= 1e5)) std::snprintf(b, sizeof b, "%.0e", v);
+  else std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+struct Axis {
+  double lo, hi;
+  bool log;
+  double map(double v, double a, double b) const {  // data -> pixels in [a, b]
+    double t = log ? (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo))
+                   : (v - lo) / (hi - lo);
+    return a + t * (b - a);
+  }
+  std::vector<double> ticks() const {
+    std::vector<double> t;
+    if (log) {
+      for (double d = std::pow(10, std::floor(std::log10(lo))); d <= hi * 1.0001; d *= 10)
+        for (double m : {1.0, 2.0, 5.0})
+          if (d * m >= lo * 0.9999 && d * m <= hi * 1.0001) t.push_back(d * m);
+      return t;
+    }
+    double span = hi - lo, step = std::pow(10, std::floor(std::log10(span / 5)));
+    if (span / step > 10) step *= 2;
+    if (span / step > 10) step *= 2.5;
+    for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step) t.push_back(v);
+    return t;
+  }
+};
+
+Axis make_axis(std::vector<double> v, bool log) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (double x : v)
+    if (std::isfinite(x) && (!log || x > 0)) lo = std::min(lo, x), hi = std::max(hi, x);
+  if (!std::isfinite(lo)) lo = log ? 1 : 0, hi = log ? 10 : 1;
+  if (log) {
+    lo = std::pow(10, std::floor(std::log10(lo) * 4) / 4);
+    hi = std::pow(10, std::ceil(std::log10(hi) * 4) / 4);
+    if (hi <= lo) hi = lo * 10;
+  } else {
+    double pad = (hi - lo) * 0.05;
+    if (pad == 0) pad = std::abs(hi) * 0.1 + 1e-9;
+    lo -= pad, hi += pad;
+  }
+  return {lo, hi, log};
+}
+
+bool usable(double x, double y, const ChartOptions& o) {
+  return std::isfinite(x) && std::isfinite(y) && (!o.log_x || x > 0) && (!o.log_y || y > 0);
+}
+
+}  // namespace
+
+std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOptions& o) {
+  std::vector<double> xs, ys;
+  for (auto& s : series)
+    for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
+      if (usable(s.x[i], s.y[i], o)) xs.push_back(s.x[i]), ys.push_back(s.y[i]);
+  Axis ax = make_axis(xs, o.log_x), ay = make_axis(ys, o.log_y);
+  const double L = 80, R = o.width - 190.0, T = 50, B = o.height - 60.0;
+  std::ostringstream s;
+  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width << "\" height=\""
+    << o.height << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+    << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    << "<text x=\"" << num((L + R) / 2) << "\" y=\"28\" text-anchor=\"middle\" font-size=\"16\">"
+    << escape(o.title) << "</text>\n";
+  for (double t : ax.ticks()) {
+    double px = ax.map(t, L, R);
+    s << "<line x1=\"" << num(px) << "\" y1=\"" << num(T) << "\" x2=\"" << num(px) << "\" y2=\""
+      << num(B) << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << num(px) << "\" y=\"" << num(B + 18)
+      << "\" text-anchor=\"middle\">" << tick_label(t) << "</text>\n";
+  }
+  for (double t : ay.ticks()) {
+    double py = ay.map(t, B, T);
+    s << "<line x1=\"" << num(L) << "\" y1=\"" << num(py) << "\" x2=\"" << num(R) << "\" y2=\""
+      << num(py) << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << num(L - 6) << "\" y=\"" << num(py + 4)
+      << "\" text-anchor=\"end\">" << tick_label(t) << "</text>\n";
+  }
+  s << "<rect x=\"" << num(L) << "\" y=\"" << num(T) << "\" width=\"" << num(R - L)
+    << "\" height=\"" << num(B - T) << "\" fill=\"none\" stroke=\"black\"/>\n"
+    << "<text x=\"" << num((L + R) / 2) << "\" y=\"" << num(B + 42) << "\" text-anchor=\"middle\">"
+    << escape(o.x_label) << (o.log_x ? " (log scale)" : "") << "</text>\n"
+    << "<text transform=\"translate(22," << num((T + B) / 2)
+    << ") rotate(-90)\" text-anchor=\"middle\">" << escape(o.y_label)
+    << (o.log_y ? " (log scale)" : "") << "</text>\n";
+  for (size_t k = 0; k < series.size(); ++k) {
+    const auto& se = series[k];
+    const char* c = kColours[k % 10];
+    std::string pts;
+    for (size_t i = 0; i < se.x.size() && i < se.y.size(); ++i) {
+      if (!usable(se.x[i], se.y[i], o)) continue;
+      double px = ax.map(se.x[i], L, R), py = ay.map(se.y[i], B, T);
+      pts += num(px) + "," + num(py) + " ";
+      s << "<circle cx=\"" << num(px) << "\" cy=\"" << num(py) << "\" r=\"3.5\" fill=\"" << c
+        << "\"/>\n";
+      if (i < se.point_labels.size() && !se.point_labels[i].empty())
+        s << "<text x=\"" << num(px + 5) << "\" y=\"" << num(py - 5) << "\" font-size=\"10\" fill=\""
+          << c << "\">" << escape(se.point_labels[i]) << "</text>\n";
+    }
+    s << "<polyline points=\"" << pts << "\" fill=\"none\" stroke=\"" << c
+      << "\" stroke-width=\"2\"/>\n";
+    double ly = T + 10 + 20.0 * double(k);
+    s << "<line x1=\"" << num(R + 15) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(R + 40)
+      << "\" y2=\"" << num(ly) << "\" stroke=\"" << c << "\" stroke-width=\"2\"/>\n<text x=\""
+      << num(R + 46) << "\" y=\"" << num(ly + 4) << "\">" << escape(se.name) << "</text>\n";
+  }
+  s << "</svg>\n";
+  return s.str();
+}
+
+void write_text_atomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".partial-" + std::to_string(::getpid());
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    if (!f) throw std::runtime_error(path + ": cannot create file for writing");
+    f << text;
+    f.flush();
+    if (!f) throw std::runtime_error(path + ": write failed (disk full?)");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot rename the temporary file into place");
+  }
+}
+
+std::string write_chart(const std::string& svg_path, const std::vector<ChartSeries>& series,
+                        const ChartOptions& options) {
+  write_text_atomic(svg_path, line_chart_svg(series, options));
+  std::string png = svg_path.size() > 4 && svg_path.substr(svg_path.size() - 4) == ".svg"
+                        ? svg_path.substr(0, svg_path.size() - 4) + ".png"
+                        : svg_path + ".png";
+  if (std::system("command -v rsvg-convert > /dev/null 2>&1") != 0)
+    return "no PNG for " + svg_path + ": rsvg-convert not found (install Debian librsvg2-bin)";
+  const std::string tmp = png + ".partial-" + std::to_string(::getpid());
+  const std::string cmd = "rsvg-convert -o '" + tmp + "' '" + svg_path + "' 2>/dev/null";
+  if (std::system(cmd.c_str()) != 0 || std::rename(tmp.c_str(), png.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    return "no PNG for " + svg_path + ": rsvg-convert failed";
+  }
+  return "";
+}
+
+}  // namespace nns::data

@@ -1,0 +1,302 @@
+#include "data/validate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "data/dataset.h"
+
+namespace nns::data {
+namespace {
+
+std::string where(int64_t count, size_t first, int width) {
+  return std::to_string(count) + (count == 1 ? " pixel" : " pixels") + " (first at x=" +
+         std::to_string(first % size_t(width)) + ", y=" + std::to_string(first / size_t(width)) + ")";
+}
+
+// Counts pixels matching `bad` and remembers the first, for one message per channel.
+struct Tally {
+  int64_t count = 0;
+  size_t first = 0;
+  void add(size_t i) {
+    if (count++ == 0) first = i;
+  }
+};
+
+std::string fmt(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", x);
+  return buf;
+}
+
+bool is_lighting(const std::string& ch) {
+  for (const char* p : {"direct.", "indirect.", "env.", "emission."})
+    if (ch.rfind(p, 0) == 0) return true;
+  return false;
+}
+
+void summarize(ValidationReport* r, const std::string& ch, const std::vector<float>& plane) {
+  if (!r) return;
+  ChannelSummary& s = r->channels[ch];
+  s.files++;
+  for (size_t i = 0; i < plane.size(); ++i) {
+    float x = plane[i];
+    if (ch == "Z") {
+      s.pixels++;
+      if (is_sky(x) && !std::isnan(x) && x > 0) {
+        s.sky++;
+        continue;
+      }
+    }
+    if (!std::isfinite(x)) continue;
+    if (!s.any_finite) s.min = s.max = x, s.any_finite = true;
+    s.min = std::min(s.min, double(x));
+    s.max = std::max(s.max, double(x));
+  }
+}
+
+std::string strip_prefix(const std::string& message, const std::string& file) {
+  return message.rfind(file + ": ", 0) == 0 ? message.substr(file.size() + 2) : message;
+}
+
+}  // namespace
+
+std::string Problem::str() const {
+  std::string s = file.empty() ? "" : file + ": ";
+  if (!channel.empty()) s += "channel '" + channel + "': ";
+  return s + (warning ? "warning: " : "") + message;
+}
+
+void check_view(const View& v, const ExrInfo* info, bool is_front, const ValidateOptions& o,
+                ProblemSink& sink, ValidationReport* summary) {
+  const std::string& f = v.source;
+  const size_t n = size_t(v.width) * size_t(v.height);
+
+  std::vector<std::string> required = {"Z", "N.X", "N.Y", "N.Z"};
+  std::string why = "required";
+  if (o.purpose == Purpose::nnao) {
+    required.push_back("AO");
+    why = "required for NNAO";
+  } else if (o.purpose == Purpose::gi) {
+    for (const char* c : {"albedo.R", "albedo.G", "albedo.B", "direct.R", "direct.G", "direct.B"})
+      required.push_back(c);
+    if (is_front)
+      for (const char* c : {"indirect.R", "indirect.G", "indirect.B"}) required.push_back(c);
+    why = is_front ? "required for GI" : "required for GI on every surround face";
+  }
+  for (auto& c : required)
+    if (!v.has(c)) sink.error(f, c, "missing (" + (c == "Z" || c[0] == 'N' ? std::string("required") : why) + ")");
+
+  // Header attributes.
+  bool has_fov = info ? info->has_fov_y : v.fov_y_deg != 0;
+  if (!has_fov) sink.error(f, "", "missing header attribute 'fovY' (float, degrees)");
+  else if (!(v.fov_y_deg > 0 && v.fov_y_deg < 180))
+    sink.error(f, "", "header attribute 'fovY' is " + fmt(v.fov_y_deg) + ", expected degrees in (0, 180)");
+  if (v.scene.empty()) sink.error(f, "", "missing header attribute 'scene' (string)");
+  if (v.has("AO")) {
+    if (!v.ao_radius) sink.error(f, "AO", "missing header attribute 'aoRadius' (required when AO is present)");
+    else if (!(*v.ao_radius > 0))
+      sink.error(f, "AO", "header attribute 'aoRadius' is " + fmt(*v.ao_radius) + ", expected > 0");
+  }
+  if (info)
+    for (auto& c : info->channels)
+      if (c.name == "Z" && c.half)
+        sink.warn(f, "Z", "stored as HALF; depth differences lose precision (writers should store FLOAT)");
+
+  for (auto& [ch, plane] : v.channels)
+    if (plane.size() != n) {
+      sink.error(f, ch, "plane has " + std::to_string(plane.size()) + " values, expected " + std::to_string(n));
+      return;  // the checks below index planes by pixel
+    }
+
+  // Depth: > 0, +inf (or >= 1e30) for sky; NaN, -inf, zero and negative are errors.
+  std::vector<uint8_t> sky(n, 0);
+  if (v.has("Z")) {
+    const auto& z = v.channel("Z");
+    Tally nan, nonpos;
+    for (size_t i = 0; i < n; ++i) {
+      if (std::isnan(z[i])) nan.add(i);
+      else if (!(z[i] > 0)) nonpos.add(i);
+      else if (is_sky(z[i])) sky[i] = 1;
+    }
+    if (nan.count) sink.error(f, "Z", "NaN depth at " + where(nan.count, nan.first, v.width));
+    if (nonpos.count)
+      sink.error(f, "Z", "depth <= 0 at " + where(nonpos.count, nonpos.first, v.width) +
+                             " (sky must be +inf or >= 1e30)");
+    summarize(summary, "Z", z);
+  }
+
+  // Normals: unit length on geometry; sky may hold zero or a unit vector.
+  if (v.has("N.X") && v.has("N.Y") && v.has("N.Z")) {
+    const auto &nx = v.channel("N.X"), &ny = v.channel("N.Y"), &nz = v.channel("N.Z");
+    Tally nonfinite, nonunit;
+    double worst = 1;
+    for (size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(nx[i]) || !std::isfinite(ny[i]) || !std::isfinite(nz[i])) {
+        nonfinite.add(i);
+        continue;
+      }
+      double len = std::sqrt(double(nx[i]) * nx[i] + double(ny[i]) * ny[i] + double(nz[i]) * nz[i]);
+      if (sky[i] && len < o.normal_tolerance) continue;
+      if (std::abs(len - 1) > o.normal_tolerance) {
+        nonunit.add(i);
+        if (std::abs(len - 1) > std::abs(worst - 1)) worst = len;
+      }
+    }
+    if (nonfinite.count)
+      sink.error(f, "N.X/N.Y/N.Z", "NaN or Inf normal at " + where(nonfinite.count, nonfinite.first, v.width));
+    if (nonunit.count)
+      sink.error(f, "N.X/N.Y/N.Z", "non-unit normal at " + where(nonunit.count, nonunit.first, v.width) +
+                                       ", worst length " + fmt(worst) + " (tolerance " + fmt(o.normal_tolerance) + ")");
+  }
+
+  for (auto& [ch, plane] : v.channels) {
+    if (ch == "Z") continue;
+    Tally nonfinite, out_of_range;
+    const bool ao = ch == "AO", albedo = ch.rfind("albedo.", 0) == 0, light = is_lighting(ch);
+    for (size_t i = 0; i < n; ++i) {
+      float x = plane[i];
+      if (!std::isfinite(x)) nonfinite.add(i);
+      else if ((ao || albedo) ? (x < 0 || x > 1) : (light && x < 0)) out_of_range.add(i);
+    }
+    if (nonfinite.count) sink.error(f, ch, "NaN or Inf at " + where(nonfinite.count, nonfinite.first, v.width));
+    if (out_of_range.count) {
+      std::string what = "value " + fmt(plane[out_of_range.first]) + " outside ";
+      if (ao) sink.error(f, ch, what + "[0,1] at " + where(out_of_range.count, out_of_range.first, v.width));
+      else if (albedo) sink.warn(f, ch, what + "[0,1] at " + where(out_of_range.count, out_of_range.first, v.width));
+      else sink.warn(f, ch, "negative radiance " + fmt(plane[out_of_range.first]) + " at " +
+                                where(out_of_range.count, out_of_range.first, v.width));
+    }
+    summarize(summary, ch, plane);
+  }
+}
+
+namespace {
+
+// Reads and checks one file; returns false (after reporting) if it cannot be read.
+bool check_file(const std::string& path, bool is_front, const ValidateOptions& o, ProblemSink& sink,
+                ValidationReport& r, View* out) {
+  ReadOptions ro;
+  ro.require_attributes = false;
+  ro.warn_half_depth = false;  // reported as a warning in the report instead
+  ExrInfo info;
+  try {
+    *out = read_view(path, ro, &info);
+  } catch (const std::exception& e) {
+    sink.error(path, "", strip_prefix(e.what(), path));
+    return false;
+  }
+  r.resolutions[std::to_string(out->width) + "x" + std::to_string(out->height)]++;
+  check_view(*out, &info, is_front, o, sink, &r);
+  return true;
+}
+
+}  // namespace
+
+ValidationReport validate_dataset(const std::string& root, const ValidateOptions& o) {
+  ValidationReport r;
+  r.root = root;
+  ProblemSink sink(r, o.max_problems);
+  DatasetListing d;
+  try {
+    d = list_dataset(root);
+  } catch (const std::exception& e) {
+    sink.error("", "", e.what());
+    return r;
+  }
+  r.flat = d.flat;
+  for (auto& note : d.notes) sink.warn("", "", note);
+
+  std::vector<std::pair<std::string, const SplitListing*>> splits;
+  if (d.flat) splits = {{"flat", &d.train}};
+  else splits = {{"train", &d.train}, {"test", &d.test}};
+  std::map<std::string, std::map<std::string, std::string>> first_file;  // split -> scene -> file
+
+  for (auto& [name, split] : splits) {
+    r.views[name] = int64_t(split->views.size());
+    r.frames[name] = int64_t(split->frames.size());
+    auto note_scene = [&, name = name](const View& v) {
+      if (v.scene.empty()) return;
+      r.scenes[name].insert(v.scene);
+      first_file[name].emplace(v.scene, v.source);
+    };
+    for (auto& path : split->views) {
+      View v;
+      if (check_file(path, true, o, sink, r, &v)) note_scene(v);
+    }
+    for (auto& frame : split->frames) {
+      for (auto& face : frame.missing)
+        sink.error(frame.dir + "/" + face + ".exr", "", "surround frame misses this face");
+      int front_w = -1, front_h = -1;
+      std::string front_file;
+      for (size_t i = 0; i < 6; ++i) {
+        if (frame.faces[i].empty()) continue;
+        View v;
+        if (!check_file(frame.faces[i], i == size_t(Face::front), o, sink, r, &v)) continue;
+        if (v.width != v.height)
+          sink.error(v.source, "", "surround face is " + std::to_string(v.width) + "x" +
+                                       std::to_string(v.height) + ", faces must be square");
+        if (front_w < 0) {
+          front_w = v.width, front_h = v.height, front_file = v.source;
+          note_scene(v);
+        } else if (v.width != front_w || v.height != front_h) {
+          sink.error(v.source, "", "size " + std::to_string(v.width) + "x" + std::to_string(v.height) +
+                                       " differs from " + front_file + " (" + std::to_string(front_w) +
+                                       "x" + std::to_string(front_h) + ") in the same surround frame");
+        }
+      }
+    }
+  }
+
+  if (!d.flat)
+    for (auto& scene : r.scenes["test"])
+      if (r.scenes["train"].count(scene))
+        sink.error(first_file["test"][scene], "",
+                   "scene '" + scene + "' is in both train/ and test/ (e.g. " + first_file["train"][scene] +
+                       "); test views must come from held-out scenes");
+
+  int64_t total = 0;
+  for (auto& [n, c] : r.views) total += c;
+  for (auto& [n, c] : r.frames) total += c;
+  if (total == 0) sink.error(root, "", "no views found (expected train/*.exr and test/*.exr, or *.exr)");
+  return r;
+}
+
+void print_report(std::FILE* out, const ValidationReport& r) {
+  std::fprintf(out, "dataset %s (%s)\n", r.root.c_str(), r.flat ? "flat: no train/ test/ split" : "train/ + test/");
+  for (const char* split : {"train", "test", "flat"}) {
+    if (!r.views.count(split)) continue;
+    const int64_t n = r.views.at(split);
+    std::fprintf(out, "  %-6s %lld views, %lld surround frames, %zu scenes", split, (long long)n,
+                 (long long)r.frames.at(split), r.scenes.count(split) ? r.scenes.at(split).size() : size_t(0));
+    if (r.scenes.count(split)) {
+      std::string names;
+      int shown = 0;
+      for (auto& s : r.scenes.at(split)) {
+        if (shown++ == 8) { names += ", ..."; break; }
+        names += (names.empty() ? "" : ", ") + s;
+      }
+      std::fprintf(out, ": %s", names.c_str());
+    }
+    std::fprintf(out, "\n");
+  }
+  std::string res;
+  for (auto& [wh, n] : r.resolutions) res += (res.empty() ? "" : ", ") + wh + " (" + std::to_string(n) + " files)";
+  std::fprintf(out, "  resolutions: %s\n", res.empty() ? "none" : res.c_str());
+  std::fprintf(out, "  channels:       files        min        max\n");
+  for (auto& [ch, s] : r.channels) {
+    std::fprintf(out, "    %-10s %7lld", ch.c_str(), (long long)s.files);
+    if (s.any_finite) std::fprintf(out, " %10.4g %10.4g", s.min, s.max);
+    else std::fprintf(out, " %10s %10s", "-", "-");
+    if (ch == "Z" && s.pixels) std::fprintf(out, "   sky %.1f%%", 100.0 * double(s.sky) / double(s.pixels));
+    std::fprintf(out, "\n");
+  }
+  if (!r.problems.empty()) std::fprintf(out, "problems:\n");
+  for (auto& p : r.problems) std::fprintf(out, "  %s\n", p.str().c_str());
+  int64_t hidden = r.errors + r.warnings - int64_t(r.problems.size());
+  if (hidden > 0) std::fprintf(out, "  ... and %lld more (raise --max-problems)\n", (long long)hidden);
+  if (r.clean()) std::fprintf(out, "OK: no problems found (%lld warnings)\n", (long long)r.warnings);
+  else std::fprintf(out, "FAILED: %lld problems found, %lld warnings\n", (long long)r.errors, (long long)r.warnings);
+}
+
+}  // namespace nns::data

@@ -1,0 +1,83 @@
+#pragma once
+// Dataset validation for `dataset-info` (docs/dataset-format.md): every file is read,
+// every problem names the file and the channel, and nothing throws past
+// validate_dataset() — a corrupt file is a problem in the report, not a crash.
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "data/exr_io.h"
+#include "data/view.h"
+
+namespace nns::data {
+
+// Which trainer the dataset is for decides the required channels: Z and N.X/N.Y/N.Z
+// always; AO for nnao; albedo, direct and (front views only) indirect for gi.
+enum class Purpose { any, nnao, gi };
+
+struct Problem {
+  std::string file, channel, message;
+  bool warning = false;   // reported, but does not make the dataset fail
+  std::string str() const;  // "<file>: channel '<channel>': <message>"
+};
+
+struct ChannelSummary {
+  int64_t files = 0;
+  double min = 0, max = 0;    // over finite values (Z: over non-sky pixels)
+  bool any_finite = false;
+  int64_t sky = 0, pixels = 0;   // Z only: sky pixels, all pixels
+};
+
+struct ValidationReport {
+  std::string root;
+  bool flat = false;
+  std::map<std::string, int64_t> views, frames;          // per split ("train", "test")
+  std::map<std::string, int64_t> resolutions;            // "WxH" -> files
+  std::map<std::string, std::set<std::string>> scenes;   // split -> scene names
+  std::map<std::string, ChannelSummary> channels;
+  std::vector<Problem> problems;     // the first max_problems errors and warnings
+  int64_t errors = 0, warnings = 0;  // all of them, also those not kept
+  bool clean() const { return errors == 0; }
+};
+
+struct ValidateOptions {
+  Purpose purpose = Purpose::any;
+  int64_t max_problems = 50;
+  // |N| may differ from 1 by this much (HALF storage alone gives ~1e-3).
+  double normal_tolerance = 1e-2;
+};
+
+// Collects problems, keeping the first `limit` and counting the rest.
+class ProblemSink {
+ public:
+  explicit ProblemSink(ValidationReport& r, int64_t limit) : r_(r), limit_(limit) {}
+  void error(const std::string& file, const std::string& channel, const std::string& message) {
+    add({file, channel, message, false});
+  }
+  void warn(const std::string& file, const std::string& channel, const std::string& message) {
+    add({file, channel, message, true});
+  }
+
+ private:
+  void add(Problem p) {
+    (p.warning ? r_.warnings : r_.errors)++;
+    if (int64_t(r_.problems.size()) < limit_) r_.problems.push_back(std::move(p));
+  }
+  ValidationReport& r_;
+  int64_t limit_;
+};
+
+// Checks one view already in memory. `is_front` is false for the five non-front faces of
+// a surround frame, which need no GI target. `info` (may be null) tells which channels
+// were HALF and which attributes existed.
+void check_view(const View& v, const ExrInfo* info, bool is_front, const ValidateOptions& o,
+                ProblemSink& sink, ValidationReport* summary = nullptr);
+
+ValidationReport validate_dataset(const std::string& root, const ValidateOptions& o);
+
+void print_report(std::FILE* out, const ValidationReport& r);
+
+}  // namespace nns::data

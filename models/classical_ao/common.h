@@ -1,0 +1,68 @@
+#pragma once
+// What the classical screen-space AO methods share: a parallel loop over the rows of a
+// frame, the 4x4 tiled rotation noise, sample kernels from a fixed seed, and the 4x4
+// box blur that averages the noise pattern away (SSAO+ report, section 2.1.4).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/rng.h"
+#include "core/thread_pool.h"
+#include "models/classical_ao/gbuffer.h"
+
+namespace nns::ao {
+
+// f(px, py, i) for every pixel; rows are split over the workers. Each pixel is written
+// once, so the result is the same for any thread count.
+template <class F>
+void for_each_pixel(const GBuffer& g, F&& f) {
+  parallel_for(g.height, [&](int64_t y0, int64_t y1) {
+    for (int64_t y = y0; y < y1; ++y)
+      for (int x = 0; x < g.width; ++x) f(x, int(y), y * g.width + x);
+  }, 4);
+}
+
+// Angle of the 4x4 noise tile at a pixel: 16 evenly spaced rotations in a fixed
+// scrambled order, so that every 4x4 block holds all of them (what the blur averages).
+inline float noise_angle_4x4(int px, int py) {
+  static const int order[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
+  return float(order[(py & 3) * 4 + (px & 3)]) * (6.2831853f / 16.0f);
+}
+
+// Unit vectors (and lengths <= 1) from a fixed seed: sample kernels are constants of a
+// shader, not random per frame.
+inline std::vector<Vec3> sphere_kernel(int n, uint64_t seed) {
+  Rng rng(seed);
+  std::vector<Vec3> k;
+  while (int(k.size()) < n) {
+    Vec3 v{float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1))};
+    if (dot(v, v) <= 1 && dot(v, v) > 1e-4f) k.push_back(v);
+  }
+  return k;
+}
+
+// Sky pixels are not occluded: every method writes 1 there.
+inline void box_blur_4x4(const GBuffer& g, const float* in, float* out) {
+  for_each_pixel(g, [&](int x, int y, int64_t i) {
+    if (g.sky(i)) {
+      out[i] = 1;
+      return;
+    }
+    float s = 0;
+    int n = 0;
+    for (int dy = -2; dy < 2; ++dy)
+      for (int dx = -2; dx < 2; ++dx) {
+        int sx = x + dx, sy = y + dy;
+        if (sx < 0 || sy < 0 || sx >= g.width || sy >= g.height) continue;
+        int64_t j = int64_t(sy) * g.width + sx;
+        if (g.sky(j)) continue;
+        s += in[j];
+        ++n;
+      }
+    out[i] = n ? s / float(n) : in[i];
+  });
+}
+
+inline float saturate(float v) { return v < 0 ? 0 : (v > 1 ? 1 : v); }
+
+}  // namespace nns::ao

@@ -1,0 +1,70 @@
+#pragma once
+// HBAO (Bavoil, Sainz & Dimitrov 2008): march `steps` pixels along each of `dirs`
+// screen directions (rotated per pixel by a 4x4 noise tile, step start jittered); along
+// a direction keep the highest horizon elevation seen so far above the tangent plane,
+// and each time it rises add the rise, sin(h_i) - sin(h_{i-1}), attenuated by
+// W = 1 - d^2 / r^2 at the sample's distance d. AO = 1 - mean over directions; then a
+// 4x4 box blur. Off-screen samples are invisible to it (a screen-space limitation).
+// samples = dirs x steps: 16 = 4x4, 32 = 8x4, 64 = 8x8.
+#include <cmath>
+#include <vector>
+
+#include "models/classical_ao/common.h"
+
+namespace nns::ao {
+
+inline void hbao_layout(int samples, int& dirs, int& steps) {
+  dirs = samples >= 32 ? 8 : (samples >= 4 ? 4 : samples);
+  if (dirs < 1) dirs = 1;
+  steps = samples / dirs < 1 ? 1 : samples / dirs;
+}
+
+inline void hbao(const GBuffer& g, int samples, float* out) {
+  int dirs, steps;
+  hbao_layout(samples, dirs, steps);
+  std::vector<float> raw(size_t(g.pixels()));
+  const float r = g.radius, r2 = r * r;
+  const float angle_bias = 0.1f;  // sin of ~6 degrees: hides tessellation-level creases
+  for_each_pixel(g, [&](int x, int y, int64_t i) {
+    if (g.sky(i)) {
+      raw[size_t(i)] = 1;
+      return;
+    }
+    const Vec3 P = g.position(x, y);
+    const Vec3 N = normalize(g.normal(i));
+    const float r_px = r * 0.5f * float(g.width) / (g.sx * -P.z);
+    if (r_px < 1.0f) {
+      raw[size_t(i)] = 1;
+      return;
+    }
+    const float rot = noise_angle_4x4(x, y);
+    const float jitter = hash_unit(pixel_hash(uint32_t(x & 3), uint32_t(y & 3), 7));
+    const float step_px = r_px / float(steps);
+    float sum = 0;
+    for (int d = 0; d < dirs; ++d) {
+      const float a = rot + 6.2831853f * float(d) / float(dirs);
+      const float dx = std::cos(a), dy = std::sin(a);
+      float sin_prev = angle_bias, ao = 0;
+      for (int s = 0; s < steps; ++s) {
+        const float t = (float(s) + jitter) * step_px + 1.0f;
+        const float qx = float(x) + dx * t, qy = float(y) + dy * t;
+        if (!g.on_screen(qx, qy)) break;
+        const int64_t j = g.clamped_index(qx, qy);
+        if (g.sky(j)) continue;
+        const Vec3 V = g.position(int(j % g.width), int(j / g.width)) - P;
+        const float d2 = dot(V, V);
+        if (d2 > r2 || d2 <= 0) continue;
+        const float sin_h = dot(N, V) / std::sqrt(d2);
+        if (sin_h > sin_prev) {
+          ao += (1.0f - d2 / r2) * (sin_h - sin_prev);
+          sin_prev = sin_h;
+        }
+      }
+      sum += ao;
+    }
+    raw[size_t(i)] = saturate(1.0f - sum / float(dirs));
+  });
+  box_blur_4x4(g, raw.data(), out);
+}
+
+}  // namespace nns::ao

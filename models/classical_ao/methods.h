@@ -1,0 +1,37 @@
+#pragma once
+// The classical methods by name, with the sample counts eval-ao runs them at.
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "models/classical_ao/alchemy_ao.h"
+#include "models/classical_ao/hbao.h"
+#include "models/classical_ao/ssao.h"
+#include "models/classical_ao/ssao_plus.h"
+
+namespace nns::ao {
+
+struct ClassicalMethod {
+  std::string name;
+  std::vector<int> sample_counts;
+  std::function<void(const GBuffer&, int, float*)> run;  // out: W*H AO, sky = 1
+};
+
+inline const std::vector<ClassicalMethod>& classical_methods() {
+  static const std::vector<ClassicalMethod> m = {
+      {"SSAO", {4, 8, 16, 32}, ssao},
+      {"SSAO+", {4, 8, 16, 32}, ssao_plus},
+      {"HBAO", {16, 32, 64}, hbao},
+      {"Alchemy", {4, 8, 16, 32}, alchemy_ao},
+  };
+  return m;
+}
+
+inline const ClassicalMethod& classical_method(const std::string& name) {
+  for (auto& m : classical_methods())
+    if (m.name == name) return m;
+  throw std::invalid_argument("unknown AO method '" + name + "' (known: SSAO, SSAO+, HBAO, Alchemy)");
+}
+
+}  // namespace nns::ao

@@ -1,0 +1,304 @@
+#pragma once
+// One pix2pix training iteration (Isola et al. 2017; thesis pseudocode 2), its state and
+// its checkpoint.
+//
+//   fake     = G(x)                              x: the 12 input channels (gi_inputs.h)
+//   D step:  L_D = 1/2 [BCE(D(x_f, y), 1) + BCE(D(x_f, fake_f), 0)]   fake detached
+//   G step:  L_G = BCE(D(x_f, fake_f), 1) + lambda * |fake_f - y|_1
+//
+// `_f` is the front region: in surround mode G sees and predicts the whole global view
+// but only the front view has a ground truth, so the L1 term and the discriminator look
+// at the front rectangle of input and output (the discriminator is conditioned on the
+// input channels there, coordinates included). BCE is computed from logits (stable);
+// the D loss is halved as in pix2pix so D learns at half G's pace.
+// --loss l1 / dssim train G alone on that loss (the non-adversarial baseline).
+//
+// Every loss and every gradient is checked for NaN/Inf; the first one found throws
+// NonFiniteError naming the step and the tensor, before any weight is touched, so the
+// last checkpoint on disk stays the last good state.
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/blob.h"
+#include "models/gi/crop.h"
+#include "models/gi/gi_inputs.h"
+#include "models/gi/gi_losses.h"
+#include "models/gi/patchgan.h"
+#include "models/gi/unet.h"
+#include "models/gi/gi_model_io.h"
+#include "optim/adam.h"
+#include "optim/lr_schedule.h"
+
+namespace nns::gi {
+
+enum class GiLoss { gan, l1, dssim };
+inline GiLoss parse_loss(const std::string& s) {
+  if (s == "gan") return GiLoss::gan;
+  if (s == "l1") return GiLoss::l1;
+  if (s == "dssim") return GiLoss::dssim;
+  throw std::invalid_argument("unknown loss '" + s + "' (gan|l1|dssim)");
+}
+inline const char* loss_name(GiLoss l) {
+  return l == GiLoss::gan ? "gan" : l == GiLoss::l1 ? "l1" : "dssim";
+}
+
+struct GanTrainConfig {
+  GiInputConfig inputs;
+  int ngf = 32, levels = 6;          // generator
+  int ndf = 32, d_layers = 3;        // discriminator
+  GiLoss loss = GiLoss::gan;
+  double lambda = 100, lr = 2e-4, beta1 = 0.5, beta2 = 0.999;
+  int epochs = 10, epochs_decay = 10;  // constant lr, then linear decay to 0
+  uint64_t seed = 1;
+
+  UnetConfig unet() const {
+    UnetConfig u;
+    u.in_channels = inputs.channels();
+    u.ngf = ngf;
+    u.levels = levels;
+    return u;
+  }
+  PatchGanConfig patchgan() const { return {inputs.channels() + 3, ndf, d_layers}; }
+  int total_epochs() const { return epochs + epochs_decay; }
+};
+
+class NonFiniteError : public std::runtime_error {
+ public:
+  NonFiniteError(int64_t step, const std::string& tensor)
+      : std::runtime_error("non-finite value (NaN or Inf) at step " + std::to_string(step) +
+                           " in " + tensor),
+        step(step), tensor(tensor) {}
+  int64_t step;
+  std::string tensor;
+};
+
+struct StepLosses {
+  double d = 0, d_real = 0, d_fake = 0;  // discriminator (0 without one)
+  double g_adv = 0, g_rec = 0, g = 0;    // rec = L1 or DSSIM term, g = total
+};
+
+// Reports a discriminator that wins outright: over a window of steps its loss stays near
+// 0 while the generator's adversarial loss climbs. The generator then gets no useful
+// adversarial gradient (pix2pix's known failure), only the L1 term teaches it.
+class DiscriminatorWatch {
+ public:
+  static constexpr int kWindow = 100;
+  static constexpr double kNearZero = 0.05;
+
+  // Returns true when the window just closed is a "D wins" window.
+  bool add(double d_loss, double g_adv) {
+    sum_d_ += d_loss, sum_g_ += g_adv;
+    if (++n_ < kWindow) return false;
+    double mean_d = sum_d_ / n_, mean_g = sum_g_ / n_;
+    bool wins = mean_d < kNearZero && prev_g_ >= 0 && mean_g > prev_g_;
+    prev_g_ = mean_g;
+    n_ = 0, sum_d_ = sum_g_ = 0;
+    if (wins) ++windows_won_;
+    return wins;
+  }
+  int64_t windows_won() const { return windows_won_; }
+
+  void save(Blob& b) const {
+    double s[4] = {sum_d_, sum_g_, prev_g_, double(n_)};
+    b.put("watch.state", Shape{4}, s);
+    b.put_i64("watch.windows_won", windows_won_);
+  }
+  void load(const Blob& b) {
+    double s[4];
+    b.read("watch.state", Shape{4}, s);
+    sum_d_ = s[0], sum_g_ = s[1], prev_g_ = s[2], n_ = int(s[3]);
+    windows_won_ = b.get_i64("watch.windows_won");
+  }
+
+ private:
+  double sum_d_ = 0, sum_g_ = 0, prev_g_ = -1;
+  int n_ = 0;
+  int64_t windows_won_ = 0;
+};
+
+inline void check_finite(const Tensor<float>& t, int64_t step, const std::string& name) {
+  for (int64_t i = 0; i < t.numel(); ++i)
+    if (!std::isfinite(t[i])) throw NonFiniteError(step, name);
+}
+
+class GanTrainer {
+ public:
+  explicit GanTrainer(const GanTrainConfig& c)
+      : config(c), init_rng_(c.seed), G(c.unet(), init_rng_),
+        schedule_(LrSchedule::linear(c.lr, c.epochs, c.epochs_decay)) {
+    opt_g_ = std::make_unique<Adam<float>>(G.parameters(),
+                                           AdamOptions{.lr = c.lr, .beta1 = c.beta1, .beta2 = c.beta2});
+    if (c.loss == GiLoss::gan) {
+      D = std::make_unique<PatchGan<float>>(c.patchgan(), init_rng_);
+      opt_d_ = std::make_unique<Adam<float>>(D->parameters(),
+                                             AdamOptions{.lr = c.lr, .beta1 = c.beta1, .beta2 = c.beta2});
+    }
+  }
+
+  // Sets both learning rates for `epoch` (0-based); call at the start of each epoch.
+  void begin_epoch(int epoch) {
+    schedule_.apply(*opt_g_, epoch);
+    if (opt_d_) schedule_.apply(*opt_d_, epoch);
+  }
+  double lr() const { return opt_g_->lr(); }
+
+  StepLosses train_step(const GiSample& s) {
+    G.train();
+    if (D) D->train();
+    const int64_t k = step_ + 1;  // 1-based step number in messages
+    StepLosses out;
+    Var<float> x(s.input);
+    Var<float> y(s.target);
+    Var<float> fake = G.forward(x);
+    Var<float> fake_f = crop2d(fake, s.front);
+    check_finite(fake.value(), k, "generator output");
+
+    Var<float> x_f;
+    if (D) {
+      x_f = Var<float>(crop2d(s.input, s.front));
+      // D step: real pairs towards 1, generated (detached) towards 0.
+      set_requires_grad(*D, true);
+      Var<float> real_logits = D->forward(pair(x_f, y));
+      Var<float> fake_logits = D->forward(pair(x_f, Var<float>(fake_f.value())));
+      Var<float> d_real = bce_with_logits_target(real_logits, 1.0f);
+      Var<float> d_fake = bce_with_logits_target(fake_logits, 0.0f);
+      Var<float> d_loss = (d_real + d_fake) * 0.5f;
+      out.d_real = d_real.value()[0], out.d_fake = d_fake.value()[0], out.d = d_loss.value()[0];
+      if (!std::isfinite(out.d)) throw NonFiniteError(k, "discriminator loss");
+      opt_d_->zero_grad();
+      d_loss.backward();
+      check_gradients(*D, k, "D.");
+    }
+
+    // G step: fool D (its parameters frozen: no gradient is wasted on them) + lambda*L1.
+    Var<float> rec = config.loss == GiLoss::dssim ? dssim_tanh(fake_f, y) : l1_loss(fake_f, y);
+    Var<float> g_loss = config.loss == GiLoss::gan ? rec * float(config.lambda) : rec;
+    out.g_rec = rec.value()[0];
+    if (D) {
+      set_requires_grad(*D, false);
+      Var<float> adv = bce_with_logits_target(D->forward(pair(x_f, fake_f)), 1.0f);
+      out.g_adv = adv.value()[0];
+      g_loss = adv + g_loss;
+      set_requires_grad(*D, true);
+    }
+    out.g = g_loss.value()[0];
+    if (!std::isfinite(out.g)) throw NonFiniteError(k, "generator loss");
+    opt_g_->zero_grad();
+    g_loss.backward();
+    check_gradients(G, k, "G.");
+
+    // Both updates only after every check passed: a failing step changes nothing.
+    if (D) opt_d_->step();
+    opt_g_->step();
+    ++step_;
+    return out;
+  }
+
+  // G's prediction of the front view, Tanh range (1, 3, h, w), in the given test mode.
+  Tensor<float> predict(const GiSample& s, bool bn_batch_stats, bool dropout_on) {
+    NoGradGuard ng;
+    auto saved = snapshot_buffers();  // batch-stat BN would move the running statistics
+    G.set_test_modes(bn_batch_stats, dropout_on);
+    Tensor<float> out = crop2d(G.forward(Var<float>(s.input)).value(), s.front);
+    restore_buffers(saved);
+    G.train();
+    return out;
+  }
+
+  int64_t step() const { return step_; }
+  DiscriminatorWatch& watch() { return watch_; }
+
+  // Everything a resumed run needs to continue bitwise: weights, BN statistics, dropout
+  // generators (all by name), both Adam states, the step, the epochs done, the watch.
+  // The run's configuration goes in too; resuming with another one is refused.
+  void save_checkpoint(const std::string& path, int epochs_done) {
+    Blob b("pix2pix-checkpoint");
+    put_config(b);
+    put_module(b, G, "G.");
+    opt_g_->save_state(b, "adam_G.");
+    if (D) {
+      put_module(b, *D, "D.");
+      opt_d_->save_state(b, "adam_D.");
+    }
+    b.put_i64("step", step_);
+    b.put_i64("epochs_done", epochs_done);
+    watch_.save(b);
+    b.save(path);
+  }
+  // Returns the epochs done.
+  int load_checkpoint(const std::string& path) {
+    Blob b = Blob::load(path);
+    Blob expected;
+    put_config(expected);
+    for (auto& [key, value] : expected.config())
+      if (!b.has_config(key) || b.config_string(key) != value)
+        throw std::runtime_error(path + ": checkpoint was written with " + key + " = " +
+                                 (b.has_config(key) ? b.config_string(key) : "(none)") +
+                                 ", this run has " + value + "; use the same flags to resume");
+    get_module(b, G, "G.");
+    opt_g_->load_state(b, "adam_G.");
+    if (D) {
+      get_module(b, *D, "D.");
+      opt_d_->load_state(b, "adam_D.");
+    }
+    step_ = b.get_i64("step");
+    watch_.load(b);
+    return int(b.get_i64("epochs_done"));
+  }
+  // The generator alone with what rebuilds it and assembles its inputs (gi_model_io.h).
+  void save_generator(const std::string& path) {
+    save_generator_blob(path, G, config.inputs, loss_name(config.loss));
+  }
+
+  GanTrainConfig config;
+
+ private:
+  void put_config(Blob& b) const {
+    put_generator_config(b, config.inputs, config.unet(), loss_name(config.loss));
+    b.set_config("ndf", config.ndf);
+    b.set_config("d_layers", config.d_layers);
+    b.set_config("lambda", config.lambda);
+    b.set_config("lr", config.lr);
+    b.set_config("beta1", config.beta1);
+    b.set_config("beta2", config.beta2);
+    b.set_config("epochs", config.epochs);
+    b.set_config("epochs_decay", config.epochs_decay);
+    b.set_config("seed", int64_t(config.seed));
+  }
+  static Var<float> pair(const Var<float>& x, const Var<float>& y) {
+    return concat_channels(std::vector<Var<float>>{x, y});
+  }
+  static void set_requires_grad(Module<float>& m, bool on) {
+    for (auto p : m.parameters()) p.set_requires_grad(on);
+  }
+  static void check_gradients(Module<float>& m, int64_t step, const std::string& prefix) {
+    for (auto& [name, p] : m.named_parameters())
+      if (p.grad().defined()) check_finite(p.grad(), step, "gradient of " + prefix + name);
+  }
+  std::vector<Tensor<float>> snapshot_buffers() {
+    std::vector<Tensor<float>> out;
+    for (auto& [name, b] : G.named_buffers()) out.push_back(b->clone());
+    return out;
+  }
+  void restore_buffers(const std::vector<Tensor<float>>& saved) {
+    size_t i = 0;
+    for (auto& [name, b] : G.named_buffers()) *b = saved[i++].clone();
+  }
+
+  Rng init_rng_;
+
+ public:
+  UnetGenerator<float> G;
+  std::unique_ptr<PatchGan<float>> D;
+
+ private:
+  std::unique_ptr<Adam<float>> opt_g_, opt_d_;
+  LrSchedule schedule_;
+  int64_t step_ = 0;
+  DiscriminatorWatch watch_;
+};
+
+}  // namespace nns::gi

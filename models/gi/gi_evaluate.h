@@ -1,0 +1,218 @@
+#pragma once
+// eval-gi: scores trained generators and the two references that need no learning on
+// the test split of a dataset (the thesis's Table 5.3 metrics, gi_eval.h):
+//   direct+env          the light a rasterizer has: no indirect light at all
+//   direct+env+ambient  plus a constant per-channel ambient term, the mean indirect
+//                       light of the training split (least squares in linear HDR)
+// Files in OUT: results.csv (all test frames), results_offscreen.csv (the frames whose
+// directly lit surfaces are off the front view), frames.csv (every frame of every
+// model), report.md, previews/<model>_<frame>_{prediction,truth,error}.png.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/blob_file.h"
+#include "models/gi/gi_data.h"
+#include "models/gi/gi_eval.h"
+#include "models/gi/gi_model_io.h"
+#include "models/gi/gi_previews.h"
+
+namespace nns::gi {
+
+struct EvalOptions {
+  std::string data, out;
+  std::vector<std::string> models;  // G.blob files
+  bool bn_batch_stats = true;       // test-time BatchNorm statistics (docs/gan.md)
+  bool dropout_on = false;          // test-time dropout
+  size_t max_frames = size_t(-1);
+  int previews = 3;                 // frames with preview PNGs per model
+  float offscreen_share = 1.0f / 12;  // front share of direct light below this: off-screen-lit
+  bool quiet = false;
+};
+
+struct EvalRow {
+  std::string model, mode;
+  double ms_per_frame = 0;
+  LightMetrics all, offscreen;
+  int64_t frames = 0, offscreen_frames = 0;
+  double flicker = NAN;
+};
+
+namespace detail {
+
+inline std::string fmt(double v, const char* f = "%.6g") {
+  char b[48];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+inline std::string label_of(const std::string& path) {
+  namespace fs = std::filesystem;
+  fs::path p(path);
+  std::string parent = p.parent_path().filename().string();
+  return parent.empty() ? p.stem().string() : parent + "/" + p.stem().string();
+}
+
+inline std::string safe_name(std::string s) {
+  for (char& c : s)
+    if (c == '/' || c == ' ' || c == '\\' || c == '+') c = '_';
+  return s;
+}
+
+}  // namespace detail
+
+// Scores one way of predicting light on `samples`; predict(sample) returns linear light
+// (3, h, w). Appends per-frame lines to `frames_csv`.
+template <class Predict>
+EvalRow score(const std::string& model, const std::string& mode, std::vector<GiSample>& samples,
+              const HdrMapping& hdr, const EvalOptions& o, Predict&& predict, std::string& frames_csv) {
+  EvalRow row;
+  row.model = model, row.mode = mode;
+  MetricsMean all, off;
+  double ms = 0, flicker_sum = 0;
+  int64_t flicker_n = 0;
+  Tensor<float> prev_pred;
+  const GiSample* prev = nullptr;
+  int previews = 0;
+  for (auto& s : samples) {
+    auto t0 = std::chrono::steady_clock::now();
+    Tensor<float> p = predict(s);
+    ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    LightMetrics m = light_metrics(p, s.target_linear, s.geometry, hdr);
+    all.add(m);
+    const bool is_off = s.front_direct_share < o.offscreen_share;  // NaN: unknown, not off
+    if (is_off) off.add(m);
+    if (prev && prev->scene == s.scene) {
+      double f = temporal_flicker(prev_pred, p, prev->target_linear, s.target_linear, prev->geometry,
+                                  s.geometry, hdr);
+      if (std::isfinite(f)) flicker_sum += f, ++flicker_n;
+    }
+    prev = &s, prev_pred = p;
+    frames_csv += model + "," + mode + "," + s.name + "," + s.scene + "," +
+                  detail::fmt(s.front_direct_share) + "," + (is_off ? "1" : "0") + "," +
+                  detail::fmt(m.mse) + "," + detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," +
+                  detail::fmt(m.mse_linear) + "," + detail::fmt(m.psnr_linear) + "," +
+                  detail::fmt(m.ssim_linear) + "\n";
+    if (previews < o.previews) {
+      write_eval_pngs(o.out + "/previews/" + detail::safe_name(model) + "_" +
+                          detail::safe_name(detail::label_of(s.name)),
+                      p, s.target_linear, hdr);
+      ++previews;
+    }
+  }
+  row.frames = all.frames, row.offscreen_frames = off.frames;
+  row.all = all.mean(), row.offscreen = off.mean();
+  row.ms_per_frame = samples.empty() ? 0 : ms / double(samples.size());
+  row.flicker = flicker_n ? flicker_sum / double(flicker_n) : NAN;
+  return row;
+}
+
+// The mean indirect light (target - direct - env) per channel over training geometry.
+inline std::array<float, 3> fit_ambient(const std::vector<GiSample>& train) {
+  std::array<double, 3> s{0, 0, 0};
+  int64_t count = 0;
+  for (auto& x : train) {
+    const int64_t n = int64_t(x.geometry.size());
+    for (int64_t i = 0; i < n; ++i) {
+      if (!x.geometry[size_t(i)]) continue;
+      for (int c = 0; c < 3; ++c) s[size_t(c)] += x.target_linear[c * n + i] - x.direct_env[c * n + i];
+      ++count;
+    }
+  }
+  std::array<float, 3> a{0, 0, 0};
+  for (int c = 0; c < 3; ++c) a[size_t(c)] = count ? float(s[size_t(c)] / double(count)) : 0.0f;
+  return a;
+}
+
+inline std::string results_csv(const std::vector<EvalRow>& rows, bool offscreen) {
+  std::string s = "model,mode,ms_per_frame,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear,frames,flicker\n";
+  for (auto& r : rows) {
+    const LightMetrics& m = offscreen ? r.offscreen : r.all;
+    s += r.model + "," + r.mode + "," + detail::fmt(r.ms_per_frame, "%.3f") + "," + detail::fmt(m.mse) + "," +
+         detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," + detail::fmt(m.mse_linear) + "," +
+         detail::fmt(m.psnr_linear) + "," + detail::fmt(m.ssim_linear) + "," +
+         std::to_string(offscreen ? r.offscreen_frames : r.frames) + "," + detail::fmt(r.flicker) + "\n";
+  }
+  return s;
+}
+
+inline std::string markdown_table(const std::vector<EvalRow>& rows, bool offscreen) {
+  std::string s = "| model | mode | ms/frame | MSE | PSNR | SSIM | MSE (linear) | frames | flicker |\n"
+                  "|---|---|---|---|---|---|---|---|---|\n";
+  for (auto& r : rows) {
+    const LightMetrics& m = offscreen ? r.offscreen : r.all;
+    s += "| " + r.model + " | " + r.mode + " | " + detail::fmt(r.ms_per_frame, "%.2f") + " | " +
+         detail::fmt(m.mse, "%.5f") + " | " + detail::fmt(m.psnr, "%.2f") + " | " +
+         detail::fmt(m.ssim, "%.4f") + " | " + detail::fmt(m.mse_linear, "%.4g") + " | " +
+         std::to_string(offscreen ? r.offscreen_frames : r.frames) + " | " +
+         detail::fmt(r.flicker, "%.4f") + " |\n";
+  }
+  return s;
+}
+
+inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
+  namespace fs = std::filesystem;
+  if (o.models.empty()) throw std::invalid_argument("eval-gi: no --model given");
+  fs::create_directories(o.out + "/previews");
+  auto listing = data::list_dataset(o.data);
+  if (listing.flat) listing = data::split_flat_by_scene(listing, 0.2);
+  if (listing.test.size() == 0) throw std::runtime_error(o.data + ": no test views or frames");
+
+  std::vector<EvalRow> rows;
+  std::string frames_csv =
+      "model,mode,frame,scene,front_direct_share,offscreen_lit,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear\n";
+  bool references_done = false;
+  // One mapping scores every row, or mapped-space numbers would not compare: the first
+  // model's (models trained on the same split fit the same scale).
+  std::optional<HdrMapping> metric_hdr;
+  for (const auto& path : o.models) {
+    LoadedGenerator g = load_generator(path);
+    const GiInputConfig& cfg = g.inputs;
+    GiItemReader rd{cfg.mode, cfg.size};
+    auto test = load_samples(listing.test, rd, cfg, o.max_frames, "eval-gi " + detail::label_of(path), o.quiet);
+    if (!metric_hdr) metric_hdr = HdrMapping(cfg.norm.hdr_scale);
+    const HdrMapping& hdr = *metric_hdr;
+    if (!references_done) {
+      // The references use the first model's data (same test frames and size).
+      auto train = load_samples(listing.train, rd, cfg, o.max_frames, "eval-gi ambient fit", o.quiet);
+      auto ambient = fit_ambient(train);
+      train.clear();
+      rows.push_back(score("direct+env", "-", test, hdr, o,
+                           [](const GiSample& s) { return s.direct_env.clone(); }, frames_csv));
+      rows.push_back(score("direct+env+ambient", "-", test, hdr, o, [&](const GiSample& s) {
+        Tensor<float> p = s.direct_env.clone();
+        const int64_t n = int64_t(s.geometry.size());
+        for (int c = 0; c < 3; ++c)
+          for (int64_t i = 0; i < n; ++i) p[c * n + i] += ambient[size_t(c)];
+        return p;
+      }, frames_csv));
+      references_done = true;
+    }
+    NoGradGuard ng;
+    rows.push_back(score(detail::label_of(path), mode_name(cfg.mode), test, hdr, o, [&](const GiSample& s) {
+      return predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
+    }, frames_csv));
+  }
+  write_file_atomic(o.out + "/results.csv", results_csv(rows, false));
+  write_file_atomic(o.out + "/results_offscreen.csv", results_csv(rows, true));
+  write_file_atomic(o.out + "/frames.csv", frames_csv);
+  std::string md = "# eval-gi\n\nData: `" + o.data + "`, test-time BatchNorm: " +
+                   (o.bn_batch_stats ? "batch statistics" : "running statistics") +
+                   ", dropout: " + (o.dropout_on ? "on" : "off") +
+                   ". Metrics in mapped space (Reinhard x/(x+k), [0,1]) over geometry pixels of the "
+                   "front view; MSE (linear) in HDR units. Flicker: mean |predicted - true| "
+                   "frame-to-frame change along camera paths.\n\n## All test frames\n\n" +
+                   markdown_table(rows, false) +
+                   "\n## Off-screen-lit frames (front face holds < " + detail::fmt(100 * o.offscreen_share, "%.1f") +
+                   "% of the frame's direct light)\n\n" + markdown_table(rows, true);
+  write_file_atomic(o.out + "/report.md", md);
+  return rows;
+}
+
+}  // namespace nns::gi

@@ -1,0 +1,122 @@
+#pragma once
+// The pix2pix U-Net generator (Isola et al. 2017, as the surround-aware thesis uses it),
+// built from one recursive skip block like pix2pix's UnetSkipConnectionBlock:
+//
+//   x ─ [LeakyReLU 0.2] ─ Conv 4x4 s2 p1 ─ [BN] ─ (inner block) ─ ReLU ─ ConvT 4x4 s2 p1
+//     ─ [BN] ─ [Dropout 0.5] ─┬─ concat(x, ·)      (every block but the outermost)
+//                             └─ Tanh              (outermost)
+//
+// Level i = 0 (outermost) .. L-1 (innermost) has ngf * min(2^i, 8) channels inside.
+// Choices, following the issue text (which follows the pix2pix *paper* and the thesis's
+// Table 4.1/4.2) where they differ from pix2pix's code:
+//  * no BatchNorm on the outermost down conv (the first layer) nor on the innermost down
+//    conv (its output is 1x1 at 256x256 and batch 1: BN would zero it);
+//  * a conv has a bias only where no BatchNorm follows it: the outermost and innermost
+//    down convs and the outermost up conv (pix2pix's code also drops the bias of the two
+//    down convs; a bias there is what a plain conv would have);
+//  * Dropout 0.5 on the three innermost up blocks, the innermost included (the paper's
+//    decoder "CD512-CD512-CD512-C512-..."; the code puts it on the three blocks outside
+//    the innermost instead).
+// The spatial size must be divisible by 2^L.
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "models/gi/pix2pix_layers.h"
+
+namespace nns::gi {
+
+struct UnetConfig {
+  int in_channels = 12;
+  int out_channels = 3;
+  int ngf = 64;
+  int levels = 8;
+  float dropout = 0.5f;
+  int dropout_blocks = 3;  // the innermost up blocks with dropout
+};
+
+template <class T = float>
+class UnetBlock : public Module<T> {
+ public:
+  // `outer` channels in and out of this block (in = `input` for the outermost),
+  // `inner` channels after its down conv.
+  UnetBlock(const UnetConfig& c, int level, Rng& rng) : level_(level), levels_(c.levels) {
+    const bool outermost = level == 0, innermost = level == c.levels - 1;
+    const int inner = c.ngf * std::min(1 << std::min(level, 3), 8);
+    const int outer = outermost ? c.out_channels : c.ngf * std::min(1 << std::min(level - 1, 3), 8);
+    const int input = outermost ? c.in_channels : outer;
+    const bool down_bn = !outermost && !innermost;
+    down_ = this->register_module("down", make_conv<T>(input, inner, /*bias=*/!down_bn, rng));
+    if (down_bn) down_norm_ = this->register_module("down_norm", make_bn<T>(inner));
+    if (!innermost)
+      sub_ = this->register_module("sub", std::make_shared<UnetBlock<T>>(c, level + 1, rng));
+    const int up_in = innermost ? inner : 2 * inner;
+    up_ = this->register_module("up", make_conv_transpose<T>(up_in, outer, /*bias=*/outermost, rng));
+    if (!outermost) up_norm_ = this->register_module("up_norm", make_bn<T>(outer));
+    if (!outermost && level >= c.levels - c.dropout_blocks && c.dropout > 0)
+      dropout_ = this->register_module(
+          "dropout", make_dropout<T>(c.dropout, rng.next_u64()));
+  }
+
+  Var<T> forward(const Var<T>& x) override {
+    Var<T> h = level_ == 0 ? x : leaky_relu(x, T(0.2));
+    h = down_->forward(h);
+    if (down_norm_) h = down_norm_->forward(h);
+    if (sub_) h = sub_->forward(h);
+    h = up_->forward(relu(h));
+    if (up_norm_) h = up_norm_->forward(h);
+    if (dropout_) h = dropout_->forward(h);
+    if (level_ == 0) return tanh_act(h);
+    return concat_channels(std::vector<Var<T>>{x, h});
+  }
+
+  // Test-time behaviour, independently of Module::train(): batch or running BN
+  // statistics, dropout on or off (pix2pix tests with both as in training).
+  void set_test_modes(bool bn_batch_stats, bool dropout_on) {
+    for (auto* bn : {down_norm_.get(), up_norm_.get()})
+      if (bn) bn->train(bn_batch_stats);
+    if (dropout_) dropout_->train(dropout_on);
+    if (sub_) sub_->set_test_modes(bn_batch_stats, dropout_on);
+  }
+
+ private:
+  int level_, levels_;
+  std::shared_ptr<Module<T>> down_, down_norm_, up_, up_norm_, dropout_;
+  std::shared_ptr<UnetBlock<T>> sub_;
+};
+
+template <class T = float>
+class UnetGenerator : public Module<T> {
+ public:
+  UnetGenerator(const UnetConfig& c, Rng& rng) : config_(c) {
+    if (c.levels < 1 || c.ngf < 1 || c.in_channels < 1 || c.out_channels < 1)
+      throw std::invalid_argument("UnetGenerator: levels, ngf and channels must be >= 1");
+    root_ = this->register_module("model", std::make_shared<UnetBlock<T>>(c, 0, rng));
+    init_pix2pix(*this, rng);
+  }
+
+  Var<T> forward(const Var<T>& x) override {
+    const int64_t m = int64_t(1) << config_.levels;
+    if (x.shape().dim() != 4 || x.size(1) != config_.in_channels || x.size(2) % m ||
+        x.size(3) % m)
+      throw std::invalid_argument("UnetGenerator: input " + x.shape().str() + " needs " +
+                                  std::to_string(config_.in_channels) +
+                                  " channels and a size divisible by 2^levels = " +
+                                  std::to_string(m));
+    return root_->forward(x);
+  }
+
+  // Switches to evaluation with the chosen test-time behaviour; train() undoes it.
+  void set_test_modes(bool bn_batch_stats, bool dropout_on) {
+    this->eval();
+    root_->set_test_modes(bn_batch_stats, dropout_on);
+  }
+
+  const UnetConfig& config() const { return config_; }
+
+ private:
+  UnetConfig config_;
+  std::shared_ptr<UnetBlock<T>> root_;
+};
+
+}  // namespace nns::gi

@@ -1,0 +1,124 @@
+#pragma once
+// NNAO inference on a whole frame, two ways (Holden et al. 2016, section 5):
+//  * exact: all w*w grid samples per pixel, the full dot products with W0;
+//  * shader-style: W0 seen as four w x w filter images, sampled on an mx x my
+//    stratified grid (one sample per cell, at a per-pixel 2D jitter), the sum rescaled
+//    by (w*w) / (mx*my) — unbiased, since each filter pixel is picked with probability
+//    proportional to its cell overlap — then a depth- and normal-aware bilateral blur.
+// The shader-style path is the CPU reference of the exported GLSL shader.
+// Both run over rows on the thread pool; every pixel is computed the same way
+// whatever the thread count. Sky pixels get AO = 1.
+#include <cmath>
+#include <vector>
+
+#include "core/thread_pool.h"
+#include "models/classical_ao/common.h"
+#include "models/nnao/nnao_features.h"
+#include "models/nnao/nnao_weights.h"
+
+namespace nns::nnao {
+
+inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
+  const int64_t F = m.features();
+  const int H = m.hidden;
+  parallel_for(g.height, [&](int64_t y0, int64_t y1) {
+    std::vector<float> f(static_cast<size_t>(F));
+    float h[64];
+    for (int64_t y = y0; y < y1; ++y)
+      for (int x = 0; x < g.width; ++x) {
+        const int64_t i = y * g.width + x;
+        if (g.sky(i)) {
+          out[i] = 1;
+          continue;
+        }
+        compute_features(g, x, int(y), m.window, f.data());
+        for (int k = 0; k < H; ++k) {
+          const float* wk = m.w0.data() + int64_t(k) * F;
+          float s = 0;
+          for (int64_t q = 0; q < F; ++q) s += wk[q] * f[size_t(q)];
+          h[k] = s + m.b0[size_t(k)];
+        }
+        out[i] = m.head(h);
+      }
+  }, 1);
+}
+
+// The stratification grid for a sample count: mx x my cells, mx the power of two
+// nearest above sqrt(n) (64 = 8x8, 128 = 16x8, 256 = 16x16, 32 = 8x4, 16 = 4x4).
+inline void sample_grid(int samples, int window, int& mx, int& my) {
+  mx = 1;
+  while (mx * mx < samples) mx *= 2;
+  my = samples / mx < 1 ? 1 : samples / mx;
+  mx = std::min(mx, window);
+  my = std::min(my, window);
+}
+
+// Depth- and normal-aware 5x5 blur: Gaussian in screen space (sigma 1.5 px), times
+// exp(-(dz / (0.1 r))^2) and max(0, n.n')^8, so it never averages across a depth
+// discontinuity or a crease — the usual SSAO post-process.
+inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out) {
+  const float inv_dz = 1.0f / (0.1f * g.radius);
+  ao::for_each_pixel(g, [&](int x, int y, int64_t i) {
+    if (g.sky(i)) {
+      out[i] = 1;
+      return;
+    }
+    const float z = g.z[i];
+    const ao::Vec3 n = g.normal(i);
+    float s = 0, ws = 0;
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) {
+        const int sx = x + dx, sy = y + dy;
+        if (sx < 0 || sy < 0 || sx >= g.width || sy >= g.height) continue;
+        const int64_t j = int64_t(sy) * g.width + sx;
+        if (g.sky(j)) continue;
+        const float dz = (g.z[j] - z) * inv_dz;
+        float nd = std::max(0.0f, ao::dot(n, g.normal(j)));
+        nd *= nd, nd *= nd, nd *= nd;
+        const float w = std::exp(-float(dx * dx + dy * dy) / (2 * 1.5f * 1.5f) - dz * dz) * nd;
+        s += w * in[j];
+        ws += w;
+      }
+    out[i] = ws > 0 ? s / ws : in[i];
+  });
+}
+
+// `blur` false gives the raw stochastic estimate (tests check its mean).
+inline void infer_shader_style(const NnaoWeights& m, const ao::GBuffer& g, int samples,
+                               float* out, bool blur = true, uint32_t seed = 0) {
+  int mx, my;
+  sample_grid(samples, m.window, mx, my);
+  const int w = m.window, H = m.hidden;
+  const int64_t F = m.features();
+  const float scale = float(w * w) / float(mx * my);
+  std::vector<float> raw(size_t(g.pixels()));
+  ao::for_each_pixel(g, [&](int x, int y, int64_t i) {
+    if (g.sky(i)) {
+      raw[size_t(i)] = 1;
+      return;
+    }
+    const FeatureCentre c(g, x, y, w);
+    const uint32_t hsh = ao::pixel_hash(uint32_t(x), uint32_t(y), seed);
+    const float jx = ao::hash_unit(hsh), jy = ao::hash_unit(ao::pixel_hash(hsh, 1, seed));
+    float h[64] = {};
+    float f[4];
+    for (int b = 0; b < my; ++b) {
+      const int j = std::min(w - 1, int((float(b) + jy) * float(w) / float(my)));
+      for (int a = 0; a < mx; ++a) {
+        const int ii = std::min(w - 1, int((float(a) + jx) * float(w) / float(mx)));
+        c.sample(ii, j, f);
+        const int64_t q = (int64_t(j) * w + ii) * 4;
+        for (int k = 0; k < H; ++k) {
+          const float* wk = m.w0.data() + int64_t(k) * F + q;
+          h[k] += wk[0] * f[0] + wk[1] * f[1] + wk[2] * f[2] + wk[3] * f[3];
+        }
+      }
+    }
+    for (int k = 0; k < H; ++k) h[k] = h[k] * scale + m.b0[size_t(k)];
+    raw[size_t(i)] = m.head(h);
+  });
+  if (blur) bilateral_blur(g, raw.data(), out);
+  else std::copy(raw.begin(), raw.end(), out);
+}
+
+}  // namespace nns::nnao

@@ -1,0 +1,110 @@
+#pragma once
+// "Model no more than a scene needs": train the ladder w in {7, 15, 23, 31} x hidden
+// in {4, 8, 16} with the same data, seed and epochs, then for each model measure the
+// test MSE (per-pixel, test split) and the exact inference time per frame (median of 3
+// runs on the first test view, both cores), chart error against time and name the
+// smallest model (fewest parameters) whose error is within 2% of the best.
+// Output in OUT/sweep/: w<w>_h<h>/ (each a train-nnao output), sweep.csv,
+// sweep.svg/.png, sweep.md.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "data/chart.h"
+#include "data/dataset.h"
+#include "data/exr_io.h"
+#include "models/nnao/nnao_inference.h"
+#include "models/nnao/nnao_trainer.h"
+
+namespace nns::nnao {
+
+struct SweepEntry {
+  int window, hidden;
+  int64_t parameters;
+  double test_mse, ms_per_frame;
+};
+
+inline std::vector<SweepEntry> run_sweep(const TrainOptions& base,
+                                         const std::vector<int>& windows = {7, 15, 23, 31},
+                                         const std::vector<int>& hiddens = {4, 8, 16}) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(base.out_dir) / "sweep";
+  fs::create_directories(dir);
+  data::DatasetListing d = data::list_dataset(base.data_dir);
+  if (d.flat) d = data::split_flat_by_scene(d, 0.2);
+  const std::string probe = d.test.views.empty() ? d.train.views.at(0) : d.test.views[0];
+  data::View view = data::read_view(probe);
+  ao::GBuffer g = ao::gbuffer_from_view(view, base.radius);
+  std::vector<float> out(size_t(g.pixels()));
+  std::vector<SweepEntry> entries;
+  for (int w : windows)
+    for (int h : hiddens) {
+      TrainOptions o = base;
+      o.net.window = w;
+      o.net.hidden = h;
+      o.resume = false;
+      o.out_dir = (dir / ("w" + std::to_string(w) + "_h" + std::to_string(h))).string();
+      if (!o.quiet) std::fprintf(stderr, "sweep: window %d, hidden %d\n", w, h);
+      TrainResult r = train_nnao(o);
+      NnaoWeights m = NnaoWeights::load((fs::path(o.out_dir) / "nnao.blob").string());
+      std::vector<double> ms;
+      for (int k = 0; k < 3; ++k) {
+        auto t0 = std::chrono::steady_clock::now();
+        infer_exact(m, g, out.data());
+        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      }
+      std::sort(ms.begin(), ms.end());
+      const int64_t F = int64_t(w) * w * 4;
+      entries.push_back({w, h, F * h + h + 2 * (h * h + h) + h + 1 + 2 * (3 * h + 1), r.test_mse, ms[1]});
+    }
+  double best = 1e300;
+  for (auto& e : entries) best = std::min(best, e.test_mse);
+  const SweepEntry* pick = nullptr;
+  for (auto& e : entries)
+    if (e.test_mse <= best * 1.02 && (!pick || e.parameters < pick->parameters)) pick = &e;
+  std::string csv = "window,hidden,parameters,test_mse,ms_per_frame\n";
+  std::map<int, data::ChartSeries> by_hidden;
+  for (auto& e : entries) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%d,%d,%lld,%.6g,%.4g\n", e.window, e.hidden, (long long)e.parameters, e.test_mse, e.ms_per_frame);
+    csv += line;
+    auto& s = by_hidden[e.hidden];
+    s.name = "hidden " + std::to_string(e.hidden);
+    s.x.push_back(e.ms_per_frame);
+    s.y.push_back(e.test_mse);
+    s.point_labels.push_back("w" + std::to_string(e.window));
+  }
+  data::write_text_atomic((dir / "sweep.csv").string(), csv);
+  std::vector<data::ChartSeries> series;
+  for (auto& [h, s] : by_hidden) series.push_back(s);
+  data::ChartOptions co;
+  co.title = "NNAO size ladder: test error vs exact inference time";
+  co.x_label = "ms per frame (exact inference, " + std::to_string(g.width) + "x" + std::to_string(g.height) + ")";
+  co.y_label = "test MSE";
+  co.log_x = true;
+  data::write_chart((dir / "sweep.svg").string(), series, co);
+  std::string md = "# NNAO size sweep\n\n" + std::to_string(base.epochs) + " epochs each, seed " +
+                   std::to_string(base.seed) + ", data " + base.data_dir + ".\n\n| w | hidden | parameters | test MSE | ms/frame (exact) |\n|---|---|---|---|---|\n";
+  for (auto& e : entries) {
+    char line[160];
+    std::snprintf(line, sizeof line, "| %d | %d | %lld | %.5f | %.1f |\n", e.window, e.hidden, (long long)e.parameters, e.test_mse, e.ms_per_frame);
+    md += line;
+  }
+  if (pick) {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "\nBest test MSE %.5f. Smallest model within 2%% of it: **w = %d, hidden = %d** (%lld parameters, MSE %.5f, %.1f ms/frame).\n",
+                  best, pick->window, pick->hidden, (long long)pick->parameters, pick->test_mse, pick->ms_per_frame);
+    md += line;
+    std::printf("%s", line + 1);
+  }
+  data::write_text_atomic((dir / "sweep.md").string(), md);
+  std::printf("sweep: %s (chart %s)\n", (dir / "sweep.md").string().c_str(), (dir / "sweep.svg").string().c_str());
+  return entries;
+}
+
+}  // namespace nns::nnao

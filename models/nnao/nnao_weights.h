@@ -1,0 +1,105 @@
+#pragma once
+// A trained NNAO network as plain arrays, for inference, the shader export and the
+// filter images — read straight from `nnao.blob`, no autograd involved.
+//
+// Blob layout (kind "nnao"; written by the trainer through the module tree):
+//   config: window, hidden, radius (training radius; 0 = each view's aoRadius),
+//           dropout, gamma, target ("ao": 1 = unoccluded)
+//   fc0.weight (H, w*w*4)  fc0.bias (H)  act0.alpha (H)  act0.beta (H)
+//   fc1.weight (H, H) ...  fc2 ...       fc3.weight (1, H) fc3.bias (1) act3.alpha/beta (1)
+//   feature_mean (w*w*4)  feature_std (w*w*4)  target_stats (2: mean, std)
+// The network maps standardised features to the standardised AO of the centre pixel.
+//
+// The feature standardisation is folded into layer 0 (W0' = W0 / std, b0' = b0 -
+// W0' . mean) so inference multiplies raw features: that also makes the shader's
+// subsampled dot product cheaper and leaves the mean term exact.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/blob.h"
+
+namespace nns::nnao {
+
+struct NnaoWeights {
+  int window = 31, hidden = 4;
+  float radius = 0;  // 0: each view's own aoRadius
+  std::vector<float> w0;              // (hidden, F) with the standardisation folded in
+  std::vector<float> b0;              // (hidden)
+  std::vector<float> w[3], b[3];      // layers 1..3: (hidden, hidden), (hidden, hidden), (1, hidden)
+  std::vector<float> alpha[4], beta[4];
+  float target_mean = 0, target_std = 1;
+
+  int64_t features() const { return int64_t(window) * window * 4; }
+
+  static float prelu(float x, float a, float bt) { return x > 0 ? bt * x : a * x; }
+
+  // Layers 1..3 and the de-standardisation, from layer 0's pre-activations h0 (hidden).
+  float head(const float* h0) const {
+    float a[64], c[64];
+    for (int k = 0; k < hidden; ++k) a[k] = prelu(h0[k], alpha[0][size_t(k)], beta[0][size_t(k)]);
+    int n = hidden;
+    for (int l = 0; l < 3; ++l) {
+      const int out = l == 2 ? 1 : hidden;
+      for (int o = 0; o < out; ++o) {
+        float s = b[l][size_t(o)];
+        for (int i = 0; i < n; ++i) s += w[l][size_t(o) * n + i] * a[i];
+        c[o] = prelu(s, alpha[l + 1][size_t(o)], beta[l + 1][size_t(o)]);
+      }
+      std::copy(c, c + out, a);
+      n = out;
+    }
+    float ao = a[0] * target_std + target_mean;
+    return ao < 0 ? 0 : (ao > 1 ? 1 : ao);
+  }
+
+  static NnaoWeights from_blob(const Blob& blob) {
+    if (blob.kind() != "nnao")
+      throw blob.error("holds a '" + blob.kind() + "' model, expected 'nnao'");
+    NnaoWeights m;
+    m.window = int(blob.config_int("window"));
+    m.hidden = int(blob.config_int("hidden"));
+    m.radius = float(blob.config_double("radius"));
+    if (m.window < 1 || m.hidden < 1 || m.hidden > 64)
+      throw blob.error("window " + std::to_string(m.window) + " / hidden " +
+                       std::to_string(m.hidden) + " out of range");
+    const int64_t F = m.features(), H = m.hidden;
+    auto vec = [&](const std::string& name, Shape s) {
+      std::vector<float> v(size_t(s.numel()));
+      blob.read(name, s, v.data());
+      return v;
+    };
+    std::vector<float> w0 = vec("fc0.weight", {H, F}), b0 = vec("fc0.bias", {H});
+    std::vector<float> mean = vec("feature_mean", {F}), stdv = vec("feature_std", {F});
+    std::vector<float> ts = vec("target_stats", {2});
+    m.target_mean = ts[0];
+    m.target_std = ts[1];
+    m.w0.resize(size_t(H * F));
+    m.b0.resize(size_t(H));
+    for (int64_t k = 0; k < H; ++k) {
+      double bias = b0[size_t(k)];
+      for (int64_t f = 0; f < F; ++f) {
+        float wf = w0[size_t(k * F + f)] / stdv[size_t(f)];
+        m.w0[size_t(k * F + f)] = wf;
+        bias -= double(wf) * mean[size_t(f)];
+      }
+      m.b0[size_t(k)] = float(bias);
+    }
+    for (int l = 0; l < 3; ++l) {
+      const int64_t out = l == 2 ? 1 : H;
+      m.w[l] = vec("fc" + std::to_string(l + 1) + ".weight", {out, H});
+      m.b[l] = vec("fc" + std::to_string(l + 1) + ".bias", {out});
+    }
+    for (int l = 0; l < 4; ++l) {
+      const int64_t n = l == 3 ? 1 : H;
+      m.alpha[l] = vec("act" + std::to_string(l) + ".alpha", {n});
+      m.beta[l] = vec("act" + std::to_string(l) + ".beta", {n});
+    }
+    return m;
+  }
+  static NnaoWeights load(const std::string& path) { return from_blob(Blob::load(path)); }
+};
+
+}  // namespace nns::nnao

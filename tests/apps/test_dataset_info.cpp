@@ -1,0 +1,201 @@
+// Runs the built `dataset-info` on small datasets with known defects and checks that
+// each defect is reported with its file and channel, and the exit code.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "data/exr_io.h"
+
+using namespace nns::data;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBinary = NNSHADE_BINARY_DIR "/bin/dataset-info";
+
+struct Outcome {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Outcome run(const std::string& args) {
+  Outcome r;
+  std::FILE* p = popen((kBinary + " " + args + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+  int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// A valid NNAO view: a tilted plane facing the camera, AO in [0,1], some sky.
+View nnao_view(const std::string& scene, int w = 8, int h = 6) {
+  View v;
+  v.width = w;
+  v.height = h;
+  v.fov_y_deg = 60;
+  v.ao_radius = 1.0f;
+  v.scene = scene;
+  for (const char* c : {"Z", "N.X", "N.Y", "N.Z", "AO"}) v.add_channel(c);
+  const float s = std::sqrt(0.5f);
+  for (int i = 0; i < w * h; ++i) {
+    v.channels["Z"][size_t(i)] = i == 0 ? INFINITY : 2.0f + 0.1f * float(i);
+    v.channels["N.Y"][size_t(i)] = i == 0 ? 0 : s;
+    v.channels["N.Z"][size_t(i)] = i == 0 ? 0 : s;
+    v.channels["AO"][size_t(i)] = float(i % 5) / 4.0f;
+  }
+  return v;
+}
+
+struct Dataset {
+  fs::path root;
+  explicit Dataset(const std::string& name) {
+    root = fs::temp_directory_path() / ("nns_test_dataset_info_" + std::to_string(getpid()) + "_" + name);
+    fs::remove_all(root);
+    fs::create_directories(root / "train");
+    fs::create_directories(root / "test");
+  }
+  ~Dataset() { fs::remove_all(root); }
+  std::string file(const std::string& rel) const { return (root / rel).string(); }
+  void add(const std::string& rel, const View& v) {
+    fs::create_directories((root / rel).parent_path());
+    write_view(file(rel), v);
+  }
+};
+
+bool has(const std::string& output, const std::string& needle) {
+  return output.find(needle) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(DatasetInfo, BinaryExists) {
+  ASSERT_TRUE(fs::exists(kBinary)) << kBinary << " not built (ninja dataset-info)";
+}
+
+TEST(DatasetInfo, CleanDatasetExitsZeroWithASummary) {
+  Dataset d("clean");
+  d.add("train/a.exr", nnao_view("kitchen"));
+  d.add("train/b.exr", nnao_view("kitchen"));
+  d.add("test/c.exr", nnao_view("attic"));
+  Outcome r = run("--purpose nnao " + d.root.string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(has(r.output, "train  2 views, 0 surround frames, 1 scenes: kitchen")) << r.output;
+  EXPECT_TRUE(has(r.output, "test   1 views")) << r.output;
+  EXPECT_TRUE(has(r.output, "8x6 (3 files)")) << r.output;
+  EXPECT_TRUE(has(r.output, "AO")) << r.output;
+  EXPECT_TRUE(has(r.output, "OK: no problems found")) << r.output;
+}
+
+TEST(DatasetInfo, ReportsEachDefectWithFileAndChannel) {
+  Dataset d("defects");
+  d.add("train/good.exr", nnao_view("kitchen"));
+  // Truncated: a valid file cut to half its size.
+  d.add("train/cut.exr", nnao_view("kitchen", 64, 64));
+  fs::resize_file(d.file("train/cut.exr"), fs::file_size(d.file("train/cut.exr")) / 2);
+  // Not an EXR at all.
+  std::ofstream(d.file("train/garbage.exr")) << "this is not an image";
+  // Missing N.Z.
+  View no_nz = nnao_view("kitchen");
+  no_nz.channels.erase("N.Z");
+  d.add("train/no_nz.exr", no_nz);
+  // A NaN depth at (x=2, y=1).
+  View nan_z = nnao_view("kitchen");
+  nan_z.channels["Z"][1 * 8 + 2] = NAN;
+  d.add("train/nan_z.exr", nan_z);
+  d.add("test/t.exr", nnao_view("attic"));
+
+  Outcome r = run("--purpose nnao " + d.root.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(has(r.output, d.file("train/cut.exr") + ": unreadable or truncated EXR")) << r.output;
+  EXPECT_TRUE(has(r.output, d.file("train/garbage.exr") + ": not an OpenEXR file")) << r.output;
+  EXPECT_TRUE(has(r.output, d.file("train/no_nz.exr") + ": channel 'N.Z': missing (required)")) << r.output;
+  EXPECT_TRUE(has(r.output, d.file("train/nan_z.exr") + ": channel 'Z': NaN depth at 1 pixel (first at x=2, y=1)"))
+      << r.output;
+  EXPECT_FALSE(has(r.output, "good.exr")) << r.output;
+  EXPECT_TRUE(has(r.output, "FAILED: 4 problems found")) << r.output;
+}
+
+TEST(DatasetInfo, AttributesRangesAndSplitLeaks) {
+  Dataset d("attrs");
+  View v = nnao_view("kitchen");
+  v.ao_radius.reset();
+  v.channels["AO"][3] = 1.5f;
+  v.channels["N.X"][5] = 0.9f;  // |N| = 1.27 on a geometry pixel
+  d.add("train/a.exr", v);
+  d.add("test/b.exr", nnao_view("kitchen"));
+  Outcome r = run("--purpose nnao " + d.root.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  std::string a = d.file("train/a.exr");
+  EXPECT_TRUE(has(r.output, a + ": channel 'AO': missing header attribute 'aoRadius'")) << r.output;
+  EXPECT_TRUE(has(r.output, a + ": channel 'AO': value 1.5 outside [0,1] at 1 pixel (first at x=3, y=0)"))
+      << r.output;
+  EXPECT_TRUE(has(r.output, a + ": channel 'N.X/N.Y/N.Z': non-unit normal at 1 pixel (first at x=5, y=0)"))
+      << r.output;
+  EXPECT_TRUE(has(r.output, d.file("test/b.exr") + ": scene 'kitchen' is in both train/ and test/")) << r.output;
+}
+
+TEST(DatasetInfo, PurposeDecidesRequiredChannels) {
+  Dataset d("purpose");
+  d.add("train/a.exr", nnao_view("kitchen"));
+  d.add("test/b.exr", nnao_view("attic"));
+  Outcome any = run(d.root.string());
+  EXPECT_EQ(any.code, 0) << any.output;
+  Outcome gi = run("--purpose gi " + d.root.string());
+  EXPECT_EQ(gi.code, 1) << gi.output;
+  EXPECT_TRUE(has(gi.output, d.file("train/a.exr") + ": channel 'indirect.G': missing (required for GI)")) << gi.output;
+}
+
+TEST(DatasetInfo, SurroundFrameSizeMismatchAndMissingFace) {
+  Dataset d("surround");
+  const char* faces[] = {"front", "back", "left", "right", "up"};  // no "down"
+  for (const char* f : faces) d.add(std::string("train/f0/") + f + ".exr", nnao_view("kitchen", 4, 4));
+  d.add("train/f0/left.exr", nnao_view("kitchen", 6, 6));
+  d.add("test/t.exr", nnao_view("attic"));
+  Outcome r = run(d.root.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(has(r.output, d.file("train/f0/down.exr") + ": surround frame misses this face")) << r.output;
+  EXPECT_TRUE(has(r.output, d.file("train/f0/left.exr") + ": size 6x6 differs from " + d.file("train/f0/front.exr")))
+      << r.output;
+  EXPECT_TRUE(has(r.output, "1 surround frames")) << r.output;
+}
+
+TEST(DatasetInfo, MaxProblemsLimitsTheListNotTheCount) {
+  Dataset d("limit");
+  for (int i = 0; i < 3; ++i) {
+    View v = nnao_view("kitchen");
+    v.channels.erase("AO");
+    d.add("train/v" + std::to_string(i) + ".exr", v);
+  }
+  d.add("test/t.exr", nnao_view("attic"));
+  Outcome r = run("--purpose nnao --max-problems 1 " + d.root.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(has(r.output, "... and 2 more")) << r.output;
+  EXPECT_TRUE(has(r.output, "FAILED: 3 problems found")) << r.output;
+}
+
+TEST(DatasetInfo, BadUsageExitsTwo) {
+  EXPECT_EQ(run("").code, 2);
+  EXPECT_EQ(run("--purpose paint /tmp").code, 2);
+  EXPECT_EQ(run("--no-such-flag /tmp").code, 2);
+  Outcome missing = run("/nonexistent/dataset/folder");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_TRUE(has(missing.output, "/nonexistent/dataset/folder: not a folder")) << missing.output;
+  Outcome help = run("--help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_TRUE(has(help.output, "--purpose")) << help.output;
+}
+
+TEST(DatasetInfo, EmptyFolderIsAProblemNotACrash) {
+  Dataset d("empty");
+  Outcome r = run(d.root.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(has(r.output, "no views found")) << r.output;
+}

@@ -1,0 +1,107 @@
+// eval-ao end to end on small synthetic views: the CSV/report/chart appear, and bad
+// input (a view without AO, a NaN depth) is explained with a non-zero exit.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "data/exr_io.h"
+#include "tests/models/synthetic_gbuffer.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CommandResult {
+  int code;
+  std::string output;
+};
+
+CommandResult run(const std::string& args) {
+  std::string cmd = std::string(NNSHADE_BINARY_DIR) + "/bin/eval-ao " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+fs::path temp_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("nnshade_eval_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+}  // namespace
+
+TEST(EvalAo, WritesResultsForClassicalMethods) {
+  fs::path d = temp_dir("ok");
+  fs::create_directories(d / "data");
+  for (int v = 0; v < 3; ++v) {
+    auto view = nns::testing::synthetic_view(48, 32, v, 16);
+    view.scene = "path";  // consecutive views of one scene: the temporal check runs
+    nns::data::write_view((d / "data" / ("v" + std::to_string(v) + ".exr")).string(), view);
+  }
+  CommandResult r = run("--data " + (d / "data").string() + " --out " + (d / "out").string() +
+              " --methods SSAO,HBAO --threads 2 --previews 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::string csv = read(d / "out" / "results.csv");
+  EXPECT_EQ(csv.rfind("method,samples,ms_per_frame,mse,ssim,psnr\n", 0), 0u) << csv;
+  EXPECT_NE(csv.find("\nHBAO,64,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nSSAO,4,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find("nan"), std::string::npos) << csv;
+  EXPECT_TRUE(fs::exists(d / "out" / "speed_vs_accuracy.svg"));
+  EXPECT_TRUE(fs::exists(d / "out" / "results_by_scene.csv"));
+  EXPECT_TRUE(fs::exists(d / "out" / "previews" / "data_v0_ground_truth.png"));
+  EXPECT_TRUE(fs::exists(d / "out" / "previews" / "data_v0_HBAO_64_error.png"));
+  std::string temporal = read(d / "out" / "temporal.csv");
+  EXPECT_NE(temporal.find("\nHBAO,64,"), std::string::npos) << temporal;
+  EXPECT_NE(read(d / "out" / "report.md").find("| HBAO | 64 |"), std::string::npos);
+  fs::remove_all(d);
+}
+
+TEST(EvalAo, ViewWithoutAoIsExplained) {
+  fs::path d = temp_dir("noao");
+  auto view = nns::testing::synthetic_view(16, 12, 0, 4);
+  view.channels.erase("AO");
+  view.ao_radius.reset();
+  nns::data::write_view((d / "a.exr").string(), view);
+  CommandResult r = run("--data " + d.string() + " --out " + (d / "out").string() + " --methods SSAO");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("a.exr"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("'AO'"), std::string::npos) << r.output;
+  fs::remove_all(d);
+}
+
+TEST(EvalAo, NanDepthIsExplained) {
+  fs::path d = temp_dir("nan");
+  auto view = nns::testing::synthetic_view(16, 12, 0, 4);
+  view.channels["Z"][20] = NAN;
+  nns::data::write_view((d / "b.exr").string(), view);
+  CommandResult r = run("--data " + d.string() + " --out " + (d / "out").string() + " --methods HBAO");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("b.exr"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("NaN"), std::string::npos) << r.output;
+  fs::remove_all(d);
+}
+
+TEST(EvalAo, UnknownMethodIsAnError) {
+  CommandResult r = run("--data /nonexistent --methods FOO");
+  EXPECT_NE(r.code, 0);
+}

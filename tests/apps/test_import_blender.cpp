@@ -1,0 +1,148 @@
+// Runs the built `import-blender` on a synthetic EXR named the way Blender names its
+// multilayer passes, and checks the conversion pixel by pixel.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "data/exr_io.h"
+
+using namespace nns::data;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int code = -1;
+  std::string output;
+};
+
+Outcome run(const std::string& binary, const std::string& args) {
+  Outcome r;
+  std::FILE* p = popen((std::string(NNSHADE_BINARY_DIR "/bin/") + binary + " " + args + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+  int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// The camera looks along world +Y with world +Z up (Blender's usual set-up): camera
+// space (x, y, z) = (x_w, z_w, -y_w), plus a translation that normals must ignore.
+const char* kWorldToCamera = "1,0,0,5, 0,0,1,-2, 0,-1,0,7, 0,0,0,1";
+
+// 4x2 pixels: 0 sky (Cycles' 1e10), 1 floor (normal +Z world), 2 wall facing the camera
+// (normal -Y world), 3 background written as 0, 4-7 a wall facing +X.
+View blender_view(const std::string& layer) {
+  View v;
+  v.width = 4;
+  v.height = 2;
+  v.scene = "";  // Blender writes no such attribute
+  auto name = [&](const std::string& s) { return layer + "." + s; };
+  auto& z = v.add_channel(name("Depth.Z"));
+  auto &nx = v.add_channel(name("Normal.X")), &ny = v.add_channel(name("Normal.Y")), &nz = v.add_channel(name("Normal.Z"));
+  for (const char* p : {"DiffCol", "DiffDir", "DiffInd", "Emit", "Env", "AO"})
+    for (const char* c : {"R", "G", "B"}) v.add_channel(name(std::string(p) + "." + c));
+  v.add_channel(name("Combined.R"));
+  for (int i = 0; i < 8; ++i) {
+    z[size_t(i)] = 2.0f + float(i);
+    nx[size_t(i)] = 1;
+    v.channels[name("DiffCol.G")][size_t(i)] = 0.25f;
+    v.channels[name("DiffDir.R")][size_t(i)] = 3.0f;
+    v.channels[name("DiffInd.B")][size_t(i)] = 0.5f;
+    v.channels[name("AO.R")][size_t(i)] = v.channels[name("AO.G")][size_t(i)] = 0.125f * float(i);
+  }
+  z[0] = 1e10f;
+  nx[0] = 0;
+  nx[1] = 0, nz[1] = 1;
+  nx[2] = 0, ny[2] = -1;
+  z[3] = 0;
+  nx[3] = 0;
+  return v;
+}
+
+struct Dir {
+  fs::path path;
+  Dir() {
+    path = fs::temp_directory_path() / ("nns_test_import_blender_" + std::to_string(getpid()));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~Dir() { fs::remove_all(path); }
+  std::string operator/(const std::string& s) const { return (path / s).string(); }
+};
+
+}  // namespace
+
+TEST(ImportBlender, ConvertsPassesAndRotatesNormalsIntoCameraSpace) {
+  Dir d;
+  write_view(d / "render.exr", blender_view("ViewLayer"));
+  Outcome r = run("import-blender", "--fov-y 40 --ao-radius 0.5 --scene barn --world-to-camera \"" +
+                                        std::string(kWorldToCamera) + "\" --out " + (d / "out.exr") + " " + (d / "render.exr"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  View v = read_view(d / "out.exr");
+  EXPECT_EQ(v.scene, "barn");
+  EXPECT_FLOAT_EQ(v.fov_y_deg, 40);
+  ASSERT_TRUE(v.ao_radius.has_value());
+  EXPECT_FLOAT_EQ(*v.ao_radius, 0.5f);
+  // Depth: planar already; sky (1e10 and 0) becomes +inf.
+  EXPECT_TRUE(std::isinf(v.at("Z", 0, 0)));
+  EXPECT_TRUE(std::isinf(v.at("Z", 3, 0)));
+  EXPECT_EQ(v.at("Z", 1, 0), 3.0f);
+  // Normals: floor -> up (+y), wall facing the camera -> +z, +X wall -> +x; sky zero.
+  EXPECT_NEAR(v.at("N.Y", 1, 0), 1, 1e-6);
+  EXPECT_NEAR(v.at("N.Z", 2, 0), 1, 1e-6);
+  EXPECT_NEAR(v.at("N.X", 0, 1), 1, 1e-6);
+  EXPECT_EQ(v.at("N.X", 0, 0), 0);
+  EXPECT_EQ(v.at("N.Z", 0, 0), 0);
+  // Light and material passes under their spec names; Env only on request.
+  EXPECT_EQ(v.at("albedo.G", 2, 1), 0.25f);
+  EXPECT_EQ(v.at("direct.R", 2, 1), 3.0f);
+  EXPECT_EQ(v.at("indirect.B", 2, 1), 0.5f);
+  EXPECT_TRUE(v.has("emission.R"));
+  EXPECT_FALSE(v.has("env.R"));
+  EXPECT_FALSE(v.has("ViewLayer.Combined.R"));
+  EXPECT_EQ(v.at("AO", 1, 1), 0.625f);
+  ASSERT_TRUE(v.world_to_camera.has_value());
+  EXPECT_EQ((*v.world_to_camera)[3], 5.0f);
+}
+
+TEST(ImportBlender, ConvertedDatasetValidatesClean) {
+  Dir d;
+  write_view(d / "a.exr", blender_view("ViewLayer"));
+  std::string common = "--fov-y 50 --ao-radius 1 --world-to-camera \"" + std::string(kWorldToCamera) + "\" ";
+  ASSERT_EQ(run("import-blender", common + "--scene one --out " + (d / "ds/train") + " " + (d / "a.exr")).code, 0);
+  ASSERT_EQ(run("import-blender", common + "--scene two --out " + (d / "ds/test") + " " + (d / "a.exr")).code, 0);
+  Outcome info = run("dataset-info", "--purpose nnao " + (d / "ds"));
+  EXPECT_EQ(info.code, 0) << info.output;
+}
+
+TEST(ImportBlender, ExplainsWhatIsMissing) {
+  Dir d;
+  write_view(d / "r.exr", blender_view("ViewLayer"));
+  Outcome no_fov = run("import-blender", "--out " + (d / "o.exr") + " " + (d / "r.exr"));
+  EXPECT_EQ(no_fov.code, 2);
+  EXPECT_NE(no_fov.output.find("--fov-y: required"), std::string::npos) << no_fov.output;
+
+  Outcome no_cam = run("import-blender", "--fov-y 40 --ao-radius 1 --out " + (d / "o.exr") + " " + (d / "r.exr"));
+  EXPECT_EQ(no_cam.code, 1);
+  EXPECT_NE(no_cam.output.find(d / "r.exr" + ": world-space normals need the camera"), std::string::npos) << no_cam.output;
+
+  Outcome no_radius = run("import-blender", "--fov-y 40 --world-to-camera \"" + std::string(kWorldToCamera) +
+                                                "\" --out " + (d / "o.exr") + " " + (d / "r.exr"));
+  EXPECT_EQ(no_radius.code, 1);
+  EXPECT_NE(no_radius.output.find("--ao-radius"), std::string::npos) << no_radius.output;
+
+  View two = blender_view("ViewLayer");
+  for (auto& [name, plane] : blender_view("Other").channels) two.channels[name] = plane;
+  write_view(d / "two.exr", two);
+  Outcome layers = run("import-blender", "--fov-y 40 --out " + (d / "o.exr") + " " + (d / "two.exr"));
+  EXPECT_EQ(layers.code, 1);
+  EXPECT_NE(layers.output.find("several view layers (Other, ViewLayer); choose one with --layer"), std::string::npos)
+      << layers.output;
+  EXPECT_FALSE(fs::exists(d / "o.exr"));
+}

@@ -1,0 +1,61 @@
+// The render-dataset command line: a tiny render succeeds and validates; bad flags
+// exit 2 naming the flag; a bad scene file exits 1 naming the file.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "data/validate.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kBin = std::string(NNSHADE_BINARY_DIR) + "/bin/render-dataset";
+
+// Runs a shell command; returns its exit code and (stdout+stderr) in `output`.
+int run(const std::string& cmd, std::string& output) {
+  output.clear();
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return -1;
+  char buf[512];
+  while (fgets(buf, sizeof buf, p)) output += buf;
+  int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string temp_dir() {
+  return (fs::temp_directory_path() / ("nnshade-render-cli-" + std::to_string(::getpid()))).string();
+}
+}  // namespace
+
+TEST(RenderDatasetCli, TinyRenderValidates) {
+  ASSERT_TRUE(fs::exists(kBin)) << kBin << " is not built (ninja render-dataset)";
+  std::string out = temp_dir(), log;
+  int rc = run(kBin + " --out " + out + " --views 3 --size 16x9 --spp 4 --families room,thin --threads 1", log);
+  ASSERT_EQ(rc, 0) << log;
+  EXPECT_NE(log.find("2 train + 1 test views"), std::string::npos) << log;
+  nns::data::ValidationReport v = nns::data::validate_dataset(out, {nns::data::Purpose::nnao});
+  EXPECT_TRUE(v.clean());
+  for (auto& p : v.problems) ADD_FAILURE() << p.str();
+  fs::remove_all(out);
+}
+
+TEST(RenderDatasetCli, BadInputIsAnErrorThatSaysWhy) {
+  ASSERT_TRUE(fs::exists(kBin)) << kBin << " is not built (ninja render-dataset)";
+  std::string out = temp_dir() + "-bad", log;
+  EXPECT_EQ(run(kBin + " --out " + out + " --size 16by9", log), 2);
+  EXPECT_NE(log.find("--size"), std::string::npos) << log;
+  EXPECT_EQ(run(kBin + " --views 3", log), 2);
+  EXPECT_NE(log.find("--out is required"), std::string::npos) << log;
+  EXPECT_EQ(run(kBin + " --out " + out + " --preset surround --size 16x9", log), 2);
+  EXPECT_NE(log.find("square"), std::string::npos) << log;
+  EXPECT_EQ(run(kBin + " --out " + out + " --families castle --views 2 --size 16x9", log), 1);
+  EXPECT_NE(log.find("unknown scene family 'castle'"), std::string::npos) << log;
+  EXPECT_EQ(run(kBin + " --out " + out + " --scene /no/such/file.obj --views 2 --size 16x9", log), 1);
+  EXPECT_NE(log.find("/no/such/file.obj"), std::string::npos) << log;
+  fs::remove_all(out);
+}

@@ -1,0 +1,132 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "models/nnao/nnao_inference.h"
+#include "tests/models/nnao_test_blob.h"
+#include "tests/models/synthetic_gbuffer.h"
+
+using namespace nns;
+
+namespace {
+
+
+// The network in double straight from the blob's raw tensors: standardise, 4 layers.
+double reference_ao(const Blob& b, const std::vector<float>& f, int H) {
+  const int64_t F = int64_t(f.size());
+  auto t = [&](const std::string& n, Shape s) { return b.tensor<double>(n, s); };
+  auto mean = t("feature_mean", {F}), sd = t("feature_std", {F}), ts = t("target_stats", {2});
+  std::vector<double> x(static_cast<size_t>(F));
+  for (int64_t k = 0; k < F; ++k) x[size_t(k)] = (f[size_t(k)] - mean[k]) / sd[k];
+  const int64_t in[4] = {F, H, H, H}, out[4] = {H, H, H, 1};
+  for (int l = 0; l < 4; ++l) {
+    auto W = t("fc" + std::to_string(l) + ".weight", {out[l], in[l]});
+    auto B = t("fc" + std::to_string(l) + ".bias", {out[l]});
+    auto A = t("act" + std::to_string(l) + ".alpha", {out[l]});
+    auto Bt = t("act" + std::to_string(l) + ".beta", {out[l]});
+    std::vector<double> y(size_t(out[l]));
+    for (int64_t o = 0; o < out[l]; ++o) {
+      double s = B[o];
+      for (int64_t i = 0; i < in[l]; ++i) s += W[o * in[l] + i] * x[size_t(i)];
+      y[size_t(o)] = s > 0 ? Bt[o] * s : A[o] * s;
+    }
+    x = y;
+  }
+  return std::clamp(x[0] * ts[1] + ts[0], 0.0, 1.0);
+}
+
+}  // namespace
+
+TEST(NnaoInference, ExactMatchesDoubleReferenceWithUnfoldedStandardisation) {
+  const int w = 7, H = 4;
+  Blob blob = nns::testing::random_nnao_blob(w, H, 5);
+  auto m = nnao::NnaoWeights::from_blob(blob);
+  auto v = nns::testing::synthetic_view(40, 28, 2, 1);
+  auto g = ao::gbuffer_from_view(v);
+  std::vector<float> out(size_t(g.pixels()));
+  nnao::infer_exact(m, g, out.data());
+  std::vector<float> f(size_t(nnao::feature_count(w)));
+  double worst = 0;
+  for (int64_t i = 0; i < g.pixels(); ++i) {
+    if (g.sky(i)) {
+      EXPECT_EQ(out[size_t(i)], 1.0f);
+      continue;
+    }
+    nnao::compute_features(g, int(i % g.width), int(i / g.width), w, f.data());
+    worst = std::max(worst, std::abs(out[size_t(i)] - reference_ao(blob, f, H)));
+  }
+  EXPECT_LT(worst, 1e-4);
+}
+
+TEST(NnaoInference, ShaderStyleWithEveryFilterPixelIsExact) {
+  // With at least w x w strata each cell holds one filter pixel: no approximation left.
+  const int w = 7;
+  auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(w, 4, 6));
+  auto v = nns::testing::synthetic_view(40, 28, 1, 1);
+  auto g = ao::gbuffer_from_view(v);
+  std::vector<float> exact(size_t(g.pixels())), shader(size_t(g.pixels()));
+  nnao::infer_exact(m, g, exact.data());
+  nnao::infer_shader_style(m, g, 64, shader.data(), /*blur=*/false);
+  for (size_t i = 0; i < exact.size(); ++i) ASSERT_NEAR(shader[i], exact[i], 1e-4) << i;
+}
+
+TEST(NnaoInference, ShaderStyleIsUnbiasedOverJitter) {
+  // With an identity head (alpha = beta = 1) AO is affine in the layer-0 sums, so the
+  // average over jitter seeds must converge to the exact result.
+  const int w = 15;
+  auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(w, 4, 7, /*linear_head=*/true));
+  auto v = nns::testing::synthetic_view(48, 32, 4, 1);
+  auto g = ao::gbuffer_from_view(v);
+  const size_t n = size_t(g.pixels());
+  std::vector<float> exact(n), one(n), acc(n, 0), tmp(n);
+  nnao::infer_exact(m, g, exact.data());
+  const int seeds = 64;
+  for (int s = 0; s < seeds; ++s) {
+    nnao::infer_shader_style(m, g, 16, tmp.data(), false, uint32_t(s));
+    if (s == 0) one = tmp;
+    for (size_t i = 0; i < n; ++i) acc[i] += tmp[i] / seeds;
+  }
+  double e1 = 0, ea = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (!g.sky(int64_t(i))) e1 += std::pow(one[i] - exact[i], 2), ea += std::pow(acc[i] - exact[i], 2);
+  EXPECT_GT(e1, 0);
+  EXPECT_LT(ea, e1 / 16);  // variance falls as 1/seeds (64); a bias would not
+}
+
+TEST(NnaoInference, SameResultWithOneAndTwoThreads) {
+  auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(9, 4, 8));
+  auto v = nns::testing::synthetic_view(40, 28, 0, 1);
+  auto g = ao::gbuffer_from_view(v);
+  std::vector<float> a(size_t(g.pixels())), b(a.size()), c(a.size()), d(a.size());
+  set_num_threads(1);
+  nnao::infer_exact(m, g, a.data());
+  nnao::infer_shader_style(m, g, 32, c.data());
+  set_num_threads(2);
+  nnao::infer_exact(m, g, b.data());
+  nnao::infer_shader_style(m, g, 32, d.data());
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(c, d);
+}
+
+TEST(NnaoInference, BlobWithWrongKindOrShapeIsRejected) {
+  Blob b = nns::testing::random_nnao_blob(5, 4, 9);
+  b.set_kind("pix2pix");
+  EXPECT_THROW(nnao::NnaoWeights::from_blob(b), std::runtime_error);
+  Blob c = nns::testing::random_nnao_blob(5, 4, 9);
+  c.set_config("window", 7);  // tensors are for w = 5
+  EXPECT_THROW(nnao::NnaoWeights::from_blob(c), std::runtime_error);
+}
+
+TEST(NnaoInference, SampleGridLayouts) {
+  int mx, my;
+  nnao::sample_grid(64, 31, mx, my);
+  EXPECT_EQ(mx * my, 64);
+  nnao::sample_grid(128, 31, mx, my);
+  EXPECT_EQ(mx * my, 128);
+  nnao::sample_grid(256, 31, mx, my);
+  EXPECT_EQ(mx * my, 256);
+  nnao::sample_grid(16, 31, mx, my);
+  EXPECT_EQ(mx, 4);
+  EXPECT_EQ(my, 4);
+}

@@ -1,0 +1,140 @@
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+#include "models/gi/unet.h"
+#include "tests/support/gradcheck.h"
+
+using namespace nns;
+using namespace nns::gi;
+using namespace nns::testing;
+
+namespace {
+
+UnetConfig tiny(int in = 3, int ngf = 2, int levels = 3) {
+  UnetConfig c;
+  c.in_channels = in;
+  c.out_channels = 3;
+  c.ngf = ngf;
+  c.levels = levels;
+  return c;
+}
+
+int count_with(const std::vector<std::pair<std::string, Var<float>>>& ps, const std::string& s) {
+  int n = 0;
+  for (auto& [name, p] : ps) n += name.find(s) != std::string::npos;
+  return n;
+}
+
+}  // namespace
+
+TEST(Unet, OutputShapeAndTanhRange) {
+  Rng rng(1);
+  UnetGenerator<float> g(tiny(12, 4, 4), rng);
+  Rng data(2);
+  Tensor<float> x({1, 12, 32, 64});
+  for (auto& v : x) v = float(3 * data.normal());
+  Var<float> y = g.forward(Var<float>(x));
+  EXPECT_EQ(y.shape(), (Shape{1, 3, 32, 64}));
+  for (float v : y.value()) {
+    ASSERT_GT(v, -1.0f);
+    ASSERT_LT(v, 1.0f);
+  }
+}
+
+TEST(Unet, RejectsSizeNotDivisibleByTwoToTheLevels) {
+  Rng rng(1);
+  UnetGenerator<float> g(tiny(3, 2, 3), rng);
+  EXPECT_THROW(g.forward(Var<float>(Tensor<float>::zeros({1, 3, 12, 16}))), std::invalid_argument);
+  EXPECT_THROW(g.forward(Var<float>(Tensor<float>::zeros({1, 4, 16, 16}))), std::invalid_argument);
+}
+
+// Hand count for in=3... see the layer list in unet.h:
+//  level 0: down 12->2 (+bias) 386, up 4->3 (+bias) 195
+//  level 1: down 2->4 128, BN(4) 8, up 8->2 256, BN(2) 4
+//  level 2 (innermost): down 4->8 (+bias) 520, up 8->4 512, BN(4) 8
+TEST(Unet, ParameterCountByHand) {
+  Rng rng(1);
+  UnetGenerator<float> g(tiny(12, 2, 3), rng);
+  EXPECT_EQ(g.parameter_count(), 386 + 195 + 128 + 8 + 256 + 4 + 520 + 512 + 8);
+}
+
+// The thesis's Table 4.3 counts 54,420,739 parameters for ngf 64, 8 levels, 12 -> 3
+// channels, with a bias on every conv. Its table (torchinfo) leaves out the nine
+// BatchNorms it marks "(recursive)" (layers 13, 16, 19, 24, 28, 32, 36: 1024 each; 39:
+// 512; 42: 256 = 7936), and ours drops the bias of the 6 down convs and 7 up convs
+// followed by BatchNorm (128+256+4*512 + 64+128+256+4*512 = 4928).
+TEST(Unet, ThesisSizedGeneratorMatchesTable43) {
+  Rng rng(1);
+  UnetConfig c;  // defaults: 12 -> 3, ngf 64, 8 levels
+  UnetGenerator<float> g(c, rng);
+  EXPECT_EQ(g.parameter_count(), 54420739 + 7936 - 4928);
+}
+
+TEST(Unet, BiasOnlyWhereNoBatchNormFollowsAndDropoutInThreeInnermost) {
+  Rng rng(1);
+  UnetConfig c = tiny(12, 2, 5);
+  UnetGenerator<float> g(c, rng);
+  std::set<std::string> biases;
+  for (auto& [name, p] : g.named_parameters())
+    if (name.size() > 5 && name.ends_with(".bias") && name.find("norm") == std::string::npos)
+      biases.insert(name);
+  EXPECT_EQ(biases, (std::set<std::string>{"model.down.bias", "model.up.bias",
+                                           "model.sub.sub.sub.sub.down.bias"}));
+  std::set<std::string> dropouts;
+  for (auto& [name, r] : g.named_rngs()) dropouts.insert(name);
+  EXPECT_EQ(dropouts, (std::set<std::string>{"model.sub.sub.dropout.rng",
+                                             "model.sub.sub.sub.dropout.rng",
+                                             "model.sub.sub.sub.sub.dropout.rng"}));
+  // BN on every level but the outermost and innermost down convs; on every up but the last.
+  auto ps = g.named_parameters();
+  EXPECT_EQ(count_with(ps, "down_norm.weight"), 3);
+  EXPECT_EQ(count_with(ps, "up_norm.weight"), 4);
+}
+
+TEST(Unet, TestModesAreExplicit) {
+  Rng rng(3);
+  UnetGenerator<float> g(tiny(3, 4, 3), rng);
+  Rng data(4);
+  Tensor<float> x({1, 3, 16, 16});
+  for (auto& v : x) v = float(data.normal());
+  NoGradGuard ng;
+  // Dropout on: two passes differ. Off: identical.
+  g.set_test_modes(/*bn_batch_stats=*/true, /*dropout_on=*/true);
+  auto a = g.forward(Var<float>(x)).value().clone();
+  auto b = g.forward(Var<float>(x)).value().clone();
+  bool differ = false;
+  for (int64_t i = 0; i < a.numel(); ++i) differ |= a[i] != b[i];
+  EXPECT_TRUE(differ);
+  g.set_test_modes(true, false);
+  a = g.forward(Var<float>(x)).value().clone();
+  b = g.forward(Var<float>(x)).value().clone();
+  for (int64_t i = 0; i < a.numel(); ++i) ASSERT_EQ(a[i], b[i]);
+  // Running statistics (fresh: mean 0, var 1) give another answer than batch statistics.
+  g.set_test_modes(false, false);
+  auto c = g.forward(Var<float>(x)).value().clone();
+  differ = false;
+  for (int64_t i = 0; i < a.numel(); ++i) differ |= a[i] != c[i];
+  EXPECT_TRUE(differ);
+  g.train();
+  EXPECT_TRUE(g.is_training());
+}
+
+// Whole-network gradient in double, training mode (BN with batch statistics at batch 1,
+// dropout with a fixed mask: the generators are re-seeded before every evaluation).
+TEST(Unet, GradCheckWholeNetwork) {
+  Rng rng(5);
+  UnetGenerator<double> g(tiny(3, 2, 3), rng);
+  std::vector<Rng::State> rng_states;
+  for (auto& [name, r] : g.named_rngs()) rng_states.push_back(r->state());
+  std::vector<VarD> inputs = {VarD(random_tensor({1, 3, 8, 8}, rng), true)};
+  for (auto& p : g.parameters()) inputs.push_back(p);
+  gradcheck(
+      [&](std::vector<VarD>& in) {
+        size_t i = 0;
+        for (auto& [name, r] : g.named_rngs()) r->set_state(rng_states[i++]);
+        return g.forward(in[0]);
+      },
+      inputs);
+}

@@ -1,0 +1,221 @@
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "core/kernels/conv2d.h"
+#include "core/kernels/conv2d_reference.h"
+#include "nn/conv2d.h"
+#include "nn/functional/conv2d.h"
+#include "tests/support/gradcheck.h"
+
+using namespace nns;
+using namespace nns::testing;
+
+namespace {
+
+struct Case {
+  int64_t N, C_in, H, W, C_out, kh, kw;
+  Conv2dParams p;
+};
+
+// Odd shapes: non-square, batch > 1, stride 2, padding, dilation 2, groups 2, 1x1.
+const Case kCases[] = {
+    {2, 3, 7, 6, 4, 3, 3, Conv2dParams::square(1, 1)},
+    {1, 4, 9, 8, 6, 4, 4, Conv2dParams::square(2, 1)},
+    {2, 4, 8, 11, 6, 3, 2, {2, 1, 1, 0, 1, 2, 2}},   // stride (2,1), pad (1,0), dil (1,2), groups 2
+    {1, 2, 9, 9, 3, 3, 3, Conv2dParams::square(1, 2, 2)},  // dilation 2
+    {3, 5, 4, 3, 2, 1, 1, {}},                       // 1x1: skips im2col
+    {2, 4, 5, 6, 4, 1, 1, {2, 2, 0, 0, 1, 1, 2}},    // 1x1 with stride 2 and groups 2: im2col path
+    {1, 16, 64, 64, 8, 3, 3, Conv2dParams::square(1, 1)},  // several row blocks
+};
+
+ConvGeometry geometry_of(const Case& c) {
+  return conv2d_geometry(c.N, c.C_in, c.H, c.W, c.C_out, c.kh, c.kw, c.p.stride_h, c.p.stride_w,
+                         c.p.pad_h, c.p.pad_w, c.p.dil_h, c.p.dil_w, c.p.groups);
+}
+
+template <class T>
+Tensor<T> randn(const Shape& s, Rng& rng) {
+  Tensor<T> t(s);
+  for (auto& v : t) v = T(rng.normal());
+  return t;
+}
+
+void expect_close(const Tensor<float>& a, const Tensor<float>& ref, const char* what) {
+  ASSERT_EQ(a.shape(), ref.shape()) << what;
+  double worst = 0;
+  for (int64_t i = 0; i < a.numel(); ++i)
+    worst = std::max(worst, std::abs(double(a[i]) - ref[i]) / (1.0 + std::abs(double(ref[i]))));
+  EXPECT_LT(worst, 1e-4) << what;
+}
+
+bool bitwise_equal(const Tensor<float>& a, const Tensor<float>& b) {
+  return a.numel() == b.numel() && std::memcmp(a.data(), b.data(), sizeof(float) * a.numel()) == 0;
+}
+
+// Workaround for a start-up race in core/thread_pool.h (reported to the lead): a worker
+// thread reads the job generation only once it runs, so a job posted before that is
+// missed and the caller spins forever. Give freshly started workers time to start.
+void use_threads(int n) {
+  set_num_threads(n);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+}
+struct SettlePool : ::testing::Environment {
+  void SetUp() override { use_threads(2); }
+};
+const auto* const kSettle = ::testing::AddGlobalTestEnvironment(new SettlePool);
+
+}  // namespace
+
+TEST(Conv2d, OutputShapeFollowsPyTorchFormula) {
+  Rng rng(1);
+  for (const Case& c : kCases) {
+    Var<float> x(randn<float>({c.N, c.C_in, c.H, c.W}, rng));
+    Var<float> w(randn<float>({c.C_out, c.C_in / c.p.groups, c.kh, c.kw}, rng));
+    Var<float> y = conv2d(x, w, Var<float>(), c.p);
+    auto out = [](int64_t in, int64_t k, int64_t s, int64_t p, int64_t d) {
+      return int64_t(std::floor(double(in + 2 * p - d * (k - 1) - 1) / s)) + 1;
+    };
+    EXPECT_EQ(y.shape(), (Shape{c.N, c.C_out, out(c.H, c.kh, c.p.stride_h, c.p.pad_h, c.p.dil_h),
+                                out(c.W, c.kw, c.p.stride_w, c.p.pad_w, c.p.dil_w)}));
+  }
+}
+
+TEST(Conv2d, ForwardHandComputed) {
+  // x = 1..9 in a 3x3 grid, 2x2 kernel [[1,0],[0,-1]] (x[i][j] - x[i+1][j+1] = -4), bias 0.5,
+  // padding 1: corners see a single tap.
+  Var<float> x(Tensor<float>::from({1, 1, 3, 3}, {1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  Var<float> w(Tensor<float>::from({1, 1, 2, 2}, {1, 0, 0, -1}));
+  Var<float> b(Tensor<float>::from({1}, {0.5f}));
+  Var<float> y = conv2d(x, w, b, Conv2dParams::square(1, 1));
+  ASSERT_EQ(y.shape(), (Shape{1, 1, 4, 4}));
+  const float expect[16] = {-0.5f, -1.5f, -2.5f, 0.5f,  -3.5f, -3.5f, -3.5f, 3.5f,
+                            -6.5f, -3.5f, -3.5f, 6.5f, 0.5f, 7.5f, 8.5f, 9.5f};
+  for (int i = 0; i < 16; ++i) EXPECT_FLOAT_EQ(y.value()[i], expect[i]) << "at " << i;
+
+  // Stride 2 with groups 2: each output channel sees only its own input channel.
+  Var<float> x2(Tensor<float>::from({1, 2, 2, 2}, {1, 2, 3, 4, 10, 20, 30, 40}));
+  Var<float> w2(Tensor<float>::from({2, 1, 1, 1}, {2, -1}));
+  Var<float> y2 = conv2d(x2, w2, Var<float>(), Conv2dParams::square(2, 0, 1, 2));
+  ASSERT_EQ(y2.shape(), (Shape{1, 2, 1, 1}));
+  EXPECT_FLOAT_EQ(y2.value()[0], 2.0f);
+  EXPECT_FLOAT_EQ(y2.value()[1], -10.0f);
+}
+
+TEST(Conv2d, FastKernelsMatchReference) {
+  Rng rng(2);
+  for (const Case& c : kCases) {
+    ConvGeometry g = geometry_of(c);
+    auto x = randn<float>({g.N, g.C_in, g.H, g.W}, rng);
+    auto w = randn<float>({g.C_out, g.cin_g(), g.kh, g.kw}, rng);
+    auto b = randn<float>({g.C_out}, rng);
+    auto dy = randn<float>({g.N, g.C_out, g.H_out, g.W_out}, rng);
+    Tensor<float> y(dy.shape()), y_ref(dy.shape());
+    y.fill(NAN);  // forward must assign every element
+    conv2d_forward(y.data(), x.data(), w.data(), b.data(), g);
+    conv2d_forward_reference(y_ref.data(), x.data(), w.data(), b.data(), g);
+    expect_close(y, y_ref, "forward");
+
+    // Backward accumulates: start from the same non-zero buffers on both sides.
+    auto dx = Tensor<float>::full(x.shape(), 0.25f), dx_ref = dx.clone();
+    auto dw = Tensor<float>::full(w.shape(), -0.5f), dw_ref = dw.clone();
+    auto db = Tensor<float>::full(b.shape(), 1.0f), db_ref = db.clone();
+    conv2d_backward(dx.data(), dw.data(), db.data(), dy.data(), x.data(), w.data(), g);
+    conv2d_backward_reference(dx_ref.data(), dw_ref.data(), db_ref.data(), dy.data(), x.data(),
+                              w.data(), g);
+    expect_close(dx, dx_ref, "dinp");
+    expect_close(dw, dw_ref, "dweight");
+    expect_close(db, db_ref, "dbias");
+  }
+}
+
+TEST(Conv2d, OneAndTwoThreadsAgreeBitwise) {
+  // All cases with one thread, then all with two: the pool is resized only twice.
+  std::vector<Tensor<float>> res[2];
+  for (int t = 0; t < 2; ++t) {
+    use_threads(t + 1);
+    Rng rng(3);
+    for (const Case& c : kCases) {
+      ConvGeometry g = geometry_of(c);
+      auto x = randn<float>({g.N, g.C_in, g.H, g.W}, rng);
+      auto w = randn<float>({g.C_out, g.cin_g(), g.kh, g.kw}, rng);
+      auto b = randn<float>({g.C_out}, rng);
+      auto dy = randn<float>({g.N, g.C_out, g.H_out, g.W_out}, rng);
+      Tensor<float> y(dy.shape());
+      auto dx = Tensor<float>::zeros(x.shape()), dw = Tensor<float>::zeros(w.shape());
+      auto db = Tensor<float>::zeros(b.shape());
+      conv2d_forward(y.data(), x.data(), w.data(), b.data(), g);
+      conv2d_backward(dx.data(), dw.data(), db.data(), dy.data(), x.data(), w.data(), g);
+      for (auto* r : {&y, &dx, &dw, &db}) res[t].push_back(*r);
+    }
+  }
+  ASSERT_EQ(res[0].size(), res[1].size());
+  for (size_t i = 0; i < res[0].size(); ++i)
+    EXPECT_TRUE(bitwise_equal(res[0][i], res[1][i])) << "case " << i / 4 << " output " << i % 4;
+}
+
+TEST(Conv2d, GradCheck) {
+  for (size_t i = 0; i + 1 < std::size(kCases); ++i) {  // the last case is only large
+    const Case& c = kCases[i];
+    SCOPED_TRACE("case " + std::to_string(i));
+    Rng rng(10 + i);
+    std::vector<VarD> in = {VarD(random_tensor({c.N, c.C_in, c.H, c.W}, rng), true),
+                            VarD(random_tensor({c.C_out, c.C_in / c.p.groups, c.kh, c.kw}, rng), true),
+                            VarD(random_tensor({c.C_out}, rng), true)};
+    const Conv2dParams p = c.p;
+    gradcheck([p](std::vector<VarD>& v) { return conv2d(v[0], v[1], v[2], p); }, in);
+  }
+}
+
+TEST(Conv2d, GradCheckWithoutBias) {
+  Rng rng(20);
+  std::vector<VarD> in = {VarD(random_tensor({2, 2, 5, 4}, rng), true),
+                          VarD(random_tensor({3, 2, 2, 3}, rng), true)};
+  gradcheck([](std::vector<VarD>& v) { return conv2d(v[0], v[1], VarD(), Conv2dParams::square(2, 1)); },
+            in);
+}
+
+TEST(Conv2d, ModuleParametersAndInit) {
+  Rng rng(5);
+  Conv2d<float> conv(rng, 6, 8, 3, 2, 1, /*bias=*/true, /*dilation=*/1, /*groups=*/2);
+  auto named = conv.named_parameters();
+  ASSERT_EQ(named.size(), 2u);
+  EXPECT_EQ(named[0].first, "weight");
+  EXPECT_EQ(named[1].first, "bias");
+  EXPECT_EQ(conv.weight.shape(), (Shape{8, 3, 3, 3}));
+  EXPECT_EQ(conv.bias.shape(), (Shape{8}));
+  // kaiming_uniform(a=sqrt(5)): U(-1/sqrt(fan_in), 1/sqrt(fan_in)), fan_in = 3*3*3.
+  const double bound = 1.0 / std::sqrt(27.0);
+  double maxabs = 0;
+  for (float v : conv.weight.value()) maxabs = std::max(maxabs, std::abs(double(v)));
+  EXPECT_LE(maxabs, bound);
+  EXPECT_GT(maxabs, 0.8 * bound);  // 216 draws: the largest is close to the bound
+  Var<float> x(randn<float>({1, 6, 7, 5}, rng));
+  EXPECT_EQ(conv.forward(x).shape(), (Shape{1, 8, 4, 3}));
+
+  Conv2d<float> nobias(rng, 4, 4, 1, 1, 0, /*bias=*/false);
+  EXPECT_EQ(nobias.named_parameters().size(), 1u);
+  EXPECT_FALSE(nobias.bias.defined());
+
+  // The same seed gives the same weights.
+  Rng a(9), b(9);
+  Conv2d<float> c1(a, 3, 4, 3), c2(b, 3, 4, 3);
+  EXPECT_TRUE(bitwise_equal(c1.weight.value(), c2.weight.value()));
+}
+
+TEST(Conv2d, BadArgumentsAreNamed) {
+  Rng rng(6);
+  Var<float> x(randn<float>({1, 3, 4, 4}, rng));
+  Var<float> w(randn<float>({2, 2, 3, 3}, rng));
+  try {
+    conv2d(x, w);
+    FAIL() << "channel mismatch accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("conv2d"), std::string::npos);
+  }
+  Var<float> w5(randn<float>({2, 3, 5, 5}, rng));
+  EXPECT_THROW(conv2d(x, w5), std::invalid_argument);  // kernel larger than the input
+  EXPECT_THROW(Conv2d<float>(rng, 3, 4, 3, 1, 0, true, 1, 2), std::invalid_argument);
+}
