@@ -7,10 +7,8 @@
 // a plain double-precision computation.
 #include <benchmark/benchmark.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstring>
-#include <thread>
 
 #include "core/kernels/batch_norm.h"
 #include "core/rng.h"
@@ -19,15 +17,6 @@
 using namespace nns;
 
 namespace {
-
-// core/thread_pool.h can miss the first job of freshly started workers (reported).
-void use_threads(int n) {
-  static bool started = false;
-  if (started && num_threads() == n) return;
-  started = true;
-  set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-}
 
 Tensor<float> randn(const Shape& s, uint64_t seed, double mean = 0) {
   Rng rng(seed);
@@ -86,7 +75,7 @@ void BM_Memcpy(benchmark::State& state) {
 }
 
 void BM_BatchNormForward(benchmark::State& state) {
-  use_threads(int(state.range(3)));
+  set_num_threads(int(state.range(3)));
   Case k(state);
   if (k.check() > 1e-4) state.SkipWithError("batch_norm_forward_train disagrees with the definition");
   for (auto _ : state) {
@@ -98,7 +87,7 @@ void BM_BatchNormForward(benchmark::State& state) {
 }
 
 void BM_BatchNormBackward(benchmark::State& state) {
-  use_threads(int(state.range(3)));
+  set_num_threads(int(state.range(3)));
   Case k(state);
   k.forward();
   Tensor<float> dg = Tensor<float>::zeros({k.C}), db = Tensor<float>::zeros({k.C});

@@ -7,10 +7,8 @@
 // Before timing, each benchmark checks its kernel against a plain loop.
 #include <benchmark/benchmark.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstring>
-#include <thread>
 
 #include "core/kernels/activations.h"
 #include "core/kernels/binary.h"
@@ -21,16 +19,6 @@
 using namespace nns;
 
 namespace {
-
-// core/thread_pool.h can miss the first job of freshly started workers (reported):
-// give them time to start before using them.
-void use_threads(int n) {
-  static bool started = false;
-  if (started && num_threads() == n) return;
-  started = true;
-  set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-}
 
 Tensor<float> randn(const Shape& s, uint64_t seed) {
   Rng rng(seed);
@@ -57,7 +45,7 @@ void BM_Memcpy(benchmark::State& state) {
 
 void BM_AddSameShape(benchmark::State& state) {
   const int64_t n = state.range(0);
-  use_threads(int(state.range(1)));
+  set_num_threads(int(state.range(1)));
   Tensor<float> a = randn({n}, 1), b = randn({n}, 2), c(Shape{n});
   BroadcastPlan p = make_broadcast_plan({n}, {n}, "bench");
   add_forward(c.data(), a.data(), b.data(), p);
@@ -74,7 +62,7 @@ void BM_AddSameShape(benchmark::State& state) {
 // (N, C, H, W) * (C, 1, 1): a per-channel scale, the common broadcast.
 void BM_MulPerChannel(benchmark::State& state) {
   const int64_t n = state.range(0), C = 64, N = 1, HW = n / C;
-  use_threads(int(state.range(1)));
+  set_num_threads(int(state.range(1)));
   Tensor<float> a = randn({N, C, HW}, 1), s = randn({C, 1}, 2), c(Shape{N, C, HW});
   BroadcastPlan p = make_broadcast_plan(a.shape(), s.shape(), "bench");
   mul_forward(c.data(), a.data(), s.data(), p);
@@ -90,7 +78,7 @@ void BM_MulPerChannel(benchmark::State& state) {
 
 void BM_LeakyReluBackward(benchmark::State& state) {
   const int64_t n = state.range(0);
-  use_threads(int(state.range(1)));
+  set_num_threads(int(state.range(1)));
   Tensor<float> x = randn({n}, 1), g = randn({n}, 2), dx = Tensor<float>::zeros({n});
   leaky_relu_backward(dx.data(), g.data(), x.data(), n, 0.2f);
   for (int64_t i = 0; i < n; i += 997)
@@ -105,7 +93,7 @@ void BM_LeakyReluBackward(benchmark::State& state) {
 
 void BM_Dropout(benchmark::State& state) {
   const int64_t n = state.range(0);
-  use_threads(int(state.range(1)));
+  set_num_threads(int(state.range(1)));
   Tensor<float> x = randn({n}, 1), y(Shape{n}), m(Shape{n});
   dropout_forward(y.data(), m.data(), x.data(), n, 0.5, 42);
   int64_t kept = 0;

@@ -9,14 +9,13 @@
 // gradient. Per iteration: G forward + backward (3 F_G, less the first layer's unneeded
 // input gradient, ignored), D forward 3 times (real, fake, fake for G), D backward for
 // weights on 2 passes (2 F_D) and for the input on 1 (1 F_D): 3 F_G + 6 F_D.
-// Peak = threads * clock * 32 FP32 FLOP/cycle (two 256-bit FMA pipes; AVX-512 on Zen 4
-// is double-pumped on the same pipes), clock from /proc/cpuinfo.
+// Peak: the measured FP32 FMA peak of the same number of threads (benchmarks/fma_peak.h).
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
-#include <fstream>
 #include <string>
 
+#include "benchmarks/fma_peak.h"
 #include "core/thread_pool.h"
 #include "models/gi/gan_trainer.h"
 
@@ -55,15 +54,10 @@ double patchgan_flops(const PatchGanConfig& c, int64_t S) {
 }
 
 double peak_flops(int threads) {
-  std::ifstream f("/proc/cpuinfo");
-  std::string line;
-  double mhz = 0;
-  while (std::getline(f, line))
-    if (line.rfind("cpu MHz", 0) == 0) {
-      mhz = std::stod(line.substr(line.find(':') + 1));
-      break;
-    }
-  return threads * mhz * 1e6 * 32;
+  static double cached[3] = {0, 0, 0};  // measured once per thread count
+  if (threads > 2) return threads * peak_flops(1);
+  if (cached[threads] == 0) cached[threads] = bench::measure_fma_peak_gflops(threads) * 1e9;
+  return cached[threads];
 }
 
 double peak_rss_mib() {
@@ -94,7 +88,11 @@ void set_counters(benchmark::State& state, double flops, int threads) {
   state.counters["s_per_iter"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["GFLOP/s"] = benchmark::Counter(flops * double(state.iterations()) / 1e9, benchmark::Counter::kIsRate);
   state.counters["GFLOP_per_iter"] = flops / 1e9;
-  state.counters["peak_GFLOP/s"] = peak_flops(threads) / 1e9;
+  const double peak = peak_flops(threads);
+  state.counters["peak_GFLOP/s"] = peak / 1e9;
+  // A rate counter divides by the elapsed time: 100 * achieved / peak.
+  state.counters["pct_of_peak"] = benchmark::Counter(100.0 * flops * double(state.iterations()) / peak,
+                                                     benchmark::Counter::kIsRate);
   state.counters["peak_RSS_MiB"] = peak_rss_mib();
 }
 

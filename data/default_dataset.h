@@ -15,7 +15,7 @@
 namespace nns::data {
 
 // Bumped whenever the renderer, the scenes or the sizes below change the pixels.
-inline constexpr int kDefaultDatasetVersion = 1;
+inline constexpr int kDefaultDatasetVersion = 2;
 
 // The job that renders the default dataset of `preset` ("nnao", "surround", "gi"):
 // sizes, views and sample counts live here, in one place (docs/renderer.md explains

@@ -38,7 +38,7 @@ class Adam : public Optimizer<T> {
 
   // For each parameter p with gradient g, at its step t = 1, 2, ...:
   //   g <- g + weight_decay * p
-  //   m <- beta1 * m + (1 - beta1) * g
+  //   m <- beta1 * m + (1 - beta1) * g       (computed as PyTorch's lerp, see adam_kernel.h)
   //   v <- beta2 * v + (1 - beta2) * g^2
   //   p <- p - (lr / (1 - beta1^t)) * m / (sqrt(v) / sqrt(1 - beta2^t) + eps)
   // eps is added to the bias-corrected sqrt(v), outside the root, as in PyTorch; the

@@ -20,13 +20,24 @@ struct AdamCoeffs {
   T beta1, one_minus_beta1, beta2, one_minus_beta2, weight_decay, bc2_sqrt, eps, step_size;
 };
 
+// m <- beta1 * m + (1 - beta1) * g, written as PyTorch writes it: m.lerp_(g, w) with
+// w = 1 - beta1, which is m + w * (g - m) for w < 0.5 and g - (g - m) * (1 - w) otherwise
+// (the form that stays exact at its end point). Same value, PyTorch's rounding.
+template <class T>
+inline T lerp_moment(T m, T g, T w) {
+  return w < T(0.5) ? m + w * (g - m) : g - (g - m) * (T(1) - w);
+}
+
 #if defined(__AVX__)
 // Eight elements, in the same operation order as the scalar loop below.
 inline void adam_update8(float* w, float* m, float* v, const float* g, const AdamCoeffs<float>& c) {
   __m256 wk = _mm256_loadu_ps(w);
   __m256 gk = _mm256_add_ps(_mm256_loadu_ps(g), _mm256_mul_ps(_mm256_set1_ps(c.weight_decay), wk));
-  __m256 mk = _mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(c.beta1), _mm256_loadu_ps(m)),
-                            _mm256_mul_ps(_mm256_set1_ps(c.one_minus_beta1), gk));
+  __m256 mk = _mm256_loadu_ps(m);
+  __m256 diff = _mm256_sub_ps(gk, mk);
+  mk = c.one_minus_beta1 < 0.5f
+           ? _mm256_add_ps(mk, _mm256_mul_ps(_mm256_set1_ps(c.one_minus_beta1), diff))
+           : _mm256_sub_ps(gk, _mm256_mul_ps(diff, _mm256_set1_ps(1.0f - c.one_minus_beta1)));
   __m256 vk = _mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(c.beta2), _mm256_loadu_ps(v)),
                             _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(c.one_minus_beta2), gk), gk));
   __m256 denom = _mm256_add_ps(_mm256_div_ps(_mm256_sqrt_ps(vk), _mm256_set1_ps(c.bc2_sqrt)),
@@ -60,7 +71,7 @@ inline void adam_update(T* __restrict w, T* __restrict m, T* __restrict v, const
 #endif
   for (int64_t k = 0; k < n; ++k) {
     T gk = g[k] + c.weight_decay * w[k];
-    m[k] = c.beta1 * m[k] + c.one_minus_beta1 * gk;
+    m[k] = lerp_moment(m[k], gk, c.one_minus_beta1);
     v[k] = c.beta2 * v[k] + c.one_minus_beta2 * gk * gk;
     T denom = std::sqrt(v[k]) / c.bc2_sqrt + c.eps;
     w[k] -= c.step_size * m[k] / denom;

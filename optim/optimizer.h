@@ -6,6 +6,7 @@
 // State tensors are named by the parameter's position in the list ("<prefix>3.m"), so
 // a checkpoint restores into an optimizer built over the same model the same way.
 #include <cstdint>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -46,10 +47,16 @@ class Optimizer {
 
  protected:
   Optimizer(std::vector<Var<T>> params, double lr) : params_(std::move(params)) {
-    for (size_t i = 0; i < params_.size(); ++i)
+    std::set<const void*> seen;
+    for (size_t i = 0; i < params_.size(); ++i) {
       if (!params_[i].defined() || !params_[i].requires_grad())
         throw std::invalid_argument("optimizer: parameter " + std::to_string(i) +
                                     " is undefined or does not require grad");
+      // A parameter listed twice would be stepped twice per step().
+      if (!seen.insert(params_[i].node().get()).second)
+        throw std::invalid_argument("optimizer: parameter " + std::to_string(i) +
+                                    " appears twice in the list");
+    }
     set_lr(lr);
   }
 

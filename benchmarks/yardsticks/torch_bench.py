@@ -92,12 +92,12 @@ def bench_conv(args, transposed):
         emit(s, args.threads, timed(fn, args.reps, args.min_seconds), flops)
 
 
-# ---- batchnorm (shapes C,HW for 1 x C x HW x HW, train mode, forward + backward) ----------
+# ---- batchnorm (shapes N,C,HW for N x C x HW x HW, train mode, forward + backward) -------
 def bench_batchnorm(args):
     for s in args.shapes:
-        c, hw = (int(v) for v in s.split(","))
+        n, c, hw = (int(v) for v in s.split(","))
         bn = nn.BatchNorm2d(c).train()
-        x = torch.randn(1, c, hw, hw, requires_grad=True)
+        x = torch.randn(n, c, hw, hw, requires_grad=True)
         emit(s, args.threads, timed(fwd_bwd(bn, x), args.reps, args.min_seconds), None)
 
 
@@ -236,7 +236,7 @@ def main():
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--min-seconds", type=float, default=0.2)
     ap.add_argument("--shapes", nargs="*", default=[],
-                    help="sgemm: M,N,K,TA,TB; conv/convT: Cin,Cout,k,stride,pad,HW; batchnorm: C,HW")
+                    help="sgemm: M,N,K,TA,TB; conv/convT: Cin,Cout,k,stride,pad,HW; batchnorm: N,C,HW")
     ap.add_argument("--pass", dest="pass_", choices=["fwd", "fwdbwd"], default="fwdbwd")
     ap.add_argument("--window", type=int, default=31, help="nnao_step: input window (features = 4 w^2)")
     ap.add_argument("--batch", type=int, default=16)

@@ -4,9 +4,8 @@
 //   gamma, beta, dgamma, dbeta (C) or null (affine = false: gamma 1, beta 0);
 //   mean, rstd (C): the statistics used, saved for the backward pass.
 // Work is split over channels and each channel is reduced by one worker in a fixed
-// order, so results do not depend on the thread count. A channel's three passes (mean,
-// variance, output) run back to back while its data is still in cache; sums are in
-// double.
+// order, so results do not depend on the thread count. A channel's passes (statistics,
+// then output) run back to back while its data is still in cache; sums are in double.
 #include <cmath>
 #include <cstdint>
 
@@ -23,7 +22,9 @@ inline int64_t bn_channel_grain(int64_t N, int64_t S) {
 
 // sum of f(i) over [0, n) in 16 independent double lanes: one accumulator would chain
 // every add on the previous one (4 cycles each) and keep the loop from vectorizing. The
-// lanes combine in a fixed order, so the result is deterministic.
+// lanes combine in a fixed order, so the result is deterministic. (Two sums fused in
+// one loop did not vectorize with GCC 12: each sum gets its own pass over data that is
+// still in cache.)
 template <class F>
 inline double lane_sum(int64_t n, F f) {
   double acc[16] = {};
@@ -53,7 +54,7 @@ void batch_norm_forward_train(T* out, T* mean, T* var, T* rstd, const T* inp, co
             s += detail::lane_sum(S, [x](int64_t i) { return double(x[i]); });
           }
           const double mu = s / M;
-          double q = 0;
+          double q = 0;  // second pass around the mean: no cancellation
           for (int64_t n = 0; n < N; ++n) {
             const T* x = inp + (n * C + c) * S;
             q += detail::lane_sum(S, [x, mu](int64_t i) {
@@ -61,7 +62,8 @@ void batch_norm_forward_train(T* out, T* mean, T* var, T* rstd, const T* inp, co
               return d * d;
             });
           }
-          const double v = q / M, r = 1.0 / std::sqrt(v + eps);
+          const double v = q / M;
+          const double r = 1.0 / std::sqrt(v + eps);
           mean[c] = T(mu);
           var[c] = T(v);
           rstd[c] = T(r);

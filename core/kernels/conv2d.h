@@ -200,7 +200,8 @@ void conv2d_backward_weight(T* dweight, const T* dout, const T* inp, const ConvG
   }
   Tensor<T> scratch({(kChunks - 1) * g.groups * wg});
   // Job j = (group, chunk); a chunk is a contiguous run of that group's blocks.
-  parallel_for(g.groups * kChunks, [&](int64_t j0, int64_t j1) {
+  const int64_t jobs = g.groups * kChunks;
+  parallel_for(jobs, [&](int64_t j0, int64_t j1) {
     Tensor<T> col({blocks.col_elems(g)});
     for (int64_t j = j0; j < j1; ++j) {
       const int64_t grp = j / kChunks, c = j % kChunks;
@@ -209,7 +210,7 @@ void conv2d_backward_weight(T* dweight, const T* dout, const T* inp, const ConvG
       for (int64_t u = u0; u < u1; ++u)
         add_block(blocks(g, grp * per_group + u), col.data(), dw, c == 0 || u > u0 ? T(1) : T(0));
     }
-  });
+  }, g.macs() < double(1 << 18) ? jobs : 1);  // small convolutions stay on one thread
   parallel_for(g.groups * wg, [&](int64_t i0, int64_t i1) {
     for (int64_t c = 1; c < kChunks; ++c) {
       const T* s = scratch.data() + (c - 1) * g.groups * wg;

@@ -22,8 +22,9 @@ namespace nns {
 
 namespace gemm_detail {
 
-// Below this many multiply-adds a second thread costs more than it saves.
-inline constexpr int64_t kParallelMinMacs = int64_t(1) << 18;
+// Below this many multiply-adds (~10 us on one core) a second thread costs more than
+// it saves: waking a worker and waiting for the slower half.
+inline constexpr int64_t kParallelMinMacs = int64_t(1) << 20;
 
 inline void scale_c(int64_t M, int64_t N, float beta, float* C, int64_t ldc) {
   for (int64_t i = 0; i < M; ++i)
@@ -40,8 +41,16 @@ inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, f
   }
   if (use_gemm_dot(trans_a, trans_b, M, N, K))
     return gemm_dot(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
-  if (use_gemm_rows(trans_b, M, N, K))
-    return gemm_rows(trans_a, M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
+  if (use_gemm_rows(trans_b, M, N, K)) {
+    // Column blocks of 64 are computed independently: any split gives the same bits.
+    parallel_for(
+        N,
+        [&](int64_t j0, int64_t j1) {
+          gemm_rows(trans_a, M, j1 - j0, K, alpha, A, lda, B + j0, ldb, beta, C + j0, ldc);
+        },
+        std::max<int64_t>(64, kParallelMinMacs / std::max<int64_t>(1, M * K)), 64);
+    return;
+  }
   const MatView a{A, lda, trans_a}, b{B, ldb, trans_b};
   ThreadPool& pool = ThreadPool::global();
   const int nt = pool.threads();

@@ -19,6 +19,13 @@
 #include <cstdint>
 #include <utility>
 
+#ifndef NNS_GEMM_C_HINT
+#define NNS_GEMM_C_HINT _MM_HINT_T0
+#endif
+#ifndef NNS_GEMM_PREFETCH_A
+#define NNS_GEMM_PREFETCH_A 16  // k steps ahead
+#endif
+
 namespace nns::gemm_detail {
 
 template <int MR, int NV>
@@ -42,8 +49,10 @@ struct Avx512Kernel {
   }
 
   // ROWS x (V * 16) of C; the panels keep their full strides MR and nr.
+  // noipa: a clone specialised on constant arguments (alpha = 1) keeps one more zmm
+  // live across the k loop and spills a B vector in the full 14 x 32 tile (-30%).
   template <int ROWS, int V>
-  static void tile(int64_t kc, const float* __restrict a, const float* __restrict b,
+  __attribute__((noipa)) static void tile(int64_t kc, const float* __restrict a, const float* __restrict b,
                    float* __restrict c, int64_t ldc, float alpha, float beta, int m, int n) {
     __m512 acc[ROWS][V];
 #pragma GCC unroll 32
@@ -55,15 +64,18 @@ struct Avx512Kernel {
     // The C tile is touched only after the k loop: start fetching it now.
 #pragma GCC unroll 32
     for (int r = 0; r < ROWS; ++r) {
-      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc), _MM_HINT_T0);
-      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc + V * 16 - 1), _MM_HINT_T0);
+      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc), NNS_GEMM_C_HINT);
+      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc + V * 16 - 1), NNS_GEMM_C_HINT);
     }
 #endif
     for (int64_t k = 0; k < kc; ++k) {
       __m512 bv[V];
 #pragma GCC unroll 4
       for (int v = 0; v < V; ++v) bv[v] = _mm512_load_ps(b + v * 16);
-      _mm_prefetch(reinterpret_cast<const char*>(b + 8 * nr), _MM_HINT_T0);
+      // The B micro-panel stays in L1 across the IR loop; the A micro-panel streams
+      // from L2, so that is the one to fetch ahead (prefetching B as well measured no
+      // better).
+      _mm_prefetch(reinterpret_cast<const char*>(a + NNS_GEMM_PREFETCH_A * MR), _MM_HINT_T0);
 #pragma GCC unroll 32
       for (int r = 0; r < ROWS; ++r) {
         __m512 ar = _mm512_set1_ps(a[r]);

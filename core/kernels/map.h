@@ -18,8 +18,12 @@ void map_unary(T* out, const T* x, int64_t n, F f) {
   parallel_for(
       n,
       [=](int64_t b, int64_t e) {
-        // By-value copies: through a captured reference GCC would not vectorize.
-        for (int64_t i = b; i < e; ++i) out[i] = f(x[i]);
+        // Local copies of the functor and pointers: a float written through `out` could
+        // alias a float captured in `f`, and GCC then falls back to a scalar loop.
+        const F fn = f;
+        T* o = out;
+        const T* in = x;
+        for (int64_t i = b; i < e; ++i) o[i] = fn(in[i]);
       },
       kElementwiseGrain, 16);
 }
@@ -30,7 +34,10 @@ void map_unary_grad(T* dx, const T* dout, const T* x, const T* y, int64_t n, DF 
   parallel_for(
       n,
       [=](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) dx[i] += dout[i] * df(x[i], y[i]);
+        const DF fn = df;  // see map_unary
+        T* d = dx;
+        const T *g = dout, *in = x, *res = y;
+        for (int64_t i = b; i < e; ++i) d[i] += g[i] * fn(in[i], res[i]);
       },
       kElementwiseGrain, 16);
 }

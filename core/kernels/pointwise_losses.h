@@ -18,11 +18,17 @@ template <class T, class DP, class DT>
 void loss_grad(T* dpred, T* dtarget, const T* pred, const T* target, int64_t n, DP dp, DT dt) {
   parallel_for(
       n,
-      [&](int64_t b, int64_t e) {
-        if (dpred)
-          for (int64_t i = b; i < e; ++i) dpred[i] += dp(pred[i], target[i]);
-        if (dtarget)
-          for (int64_t i = b; i < e; ++i) dtarget[i] += dt(pred[i], target[i]);
+      [=](int64_t b, int64_t e) {
+        // Local copies: a float captured in dp/dt could alias the gradient buffers, and
+        // GCC then keeps the loop scalar.
+        const DP fp = dp;
+        const DT ft = dt;
+        T *gp = dpred, *gt = dtarget;
+        const T *p = pred, *t = target;
+        if (gp)
+          for (int64_t i = b; i < e; ++i) gp[i] += fp(p[i], t[i]);
+        if (gt)
+          for (int64_t i = b; i < e; ++i) gt[i] += ft(p[i], t[i]);
       },
       kElementwiseGrain, 16);
 }

@@ -38,11 +38,13 @@ void sum_forward(T* out, const T* inp, int64_t n) {
 // Backward of sum (scale 1) and mean (scale 1/n).
 template <class T>
 void sum_backward(T* dinp, const T* dout, int64_t n, T scale) {
-  const T g = *dout * scale;
+  const T g0 = *dout * scale;
   parallel_for(
       n,
-      [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) dinp[i] += g;
+      [=](int64_t b, int64_t e) {
+        const T g = g0;  // a local: a captured float could alias dinp and block vectorizing
+        T* d = dinp;
+        for (int64_t i = b; i < e; ++i) d[i] += g;
       },
       kElementwiseGrain, 16);
 }

@@ -210,18 +210,18 @@ Scene make_floating(uint64_t seed) {
   uint32_t wall = s.add_material(random_material(rng, 0.4f, 0.8f));
   add_wall(s, true, -far, -40, 40, float(rng.uniform(6, 15)), 0.5f, {}, wall);
   if (rng.below(2)) add_wall(s, false, float(rng.uniform(-25, -10)), -far, 5, 10, 0.5f, {}, wall);
-  for (int k = 0; k < 10 + int(rng.below(10)); ++k) {
+  for (int k = 0; k < 20 + int(rng.below(15)); ++k) {
     uint32_t m = s.add_material(random_material(rng));
-    Vec3 c(float(rng.uniform(-6, 6)), float(rng.uniform(0.5, 3.5)), float(rng.uniform(-6, 1)));
+    Vec3 c(float(rng.uniform(-5, 5)), float(rng.uniform(0.4, 3.0)), float(rng.uniform(-5, 2.5)));
     if (rng.below(2)) {
-      Vec3 half(float(rng.uniform(0.1, 0.6)), float(rng.uniform(0.1, 0.6)), float(rng.uniform(0.1, 0.6)));
+      Vec3 half(float(rng.uniform(0.15, 0.8)), float(rng.uniform(0.15, 0.8)), float(rng.uniform(0.15, 0.8)));
       add_box_yaw(s, c, half, float(rng.uniform(0, kPi)), m);
     } else {
-      add_cylinder(s, c, float(rng.uniform(0.1, 0.4)), float(rng.uniform(0.2, 1.5)), 16, m);
+      add_cylinder(s, c, float(rng.uniform(0.1, 0.5)), float(rng.uniform(0.3, 1.8)), 16, m);
     }
   }
   outdoor_lighting(s, rng);
-  s.cameras = {{-3, 1.0f, 2}, {3, 2.5f, 6}, -15, 10, 0, 70};
+  s.cameras = {{-3, 1.0f, 3.5f}, {3, 2.5f, 7}, -15, 10, 0, 60};
   return s;
 }
 
@@ -231,25 +231,28 @@ Scene make_offscreen(uint64_t seed) {
   Rng rng(seed);
   Scene s;
   add_ground(s, rng, 60);
-  for (int k = 0; k < 4 + int(rng.below(4)); ++k) {
+  // Canopies first, then walls and low blocks beneath and around them.
+  for (int k = 0; k < 3 + int(rng.below(3)); ++k) {
     uint32_t m = s.add_material(random_material(rng));
-    Vec3 c(float(rng.uniform(-6, 6)), 0, float(rng.uniform(-6, 6)));
-    float w = float(rng.uniform(1, 4)), d = float(rng.uniform(1, 4)), y = float(rng.uniform(2.2, 3.5));
-    switch (rng.below(3)) {
-      case 0:  // an overhang: slab on two thin posts
-        add_box(s, c + Vec3(-w, y, -d), c + Vec3(w, y + 0.3f, d), m);
-        add_beam(s, c + Vec3(-w + 0.1f, 0, -d + 0.1f), c + Vec3(-w + 0.1f, y, -d + 0.1f), 0.12f, m);
-        add_beam(s, c + Vec3(w - 0.1f, 0, d - 0.1f), c + Vec3(w - 0.1f, y, d - 0.1f), 0.12f, m);
-        break;
-      case 1:  // a tall wall
-        add_box_yaw(s, c + Vec3(0, 2.5f, 0), {w, 2.5f, 0.2f}, float(rng.uniform(0, kPi)), m);
-        break;
-      default:  // a low block (what the overhangs shade)
-        add_box_yaw(s, c + Vec3(0, 0.4f, 0), {w * 0.3f, 0.4f, d * 0.3f}, float(rng.uniform(0, kPi)), m);
-    }
+    Vec3 c(float(rng.uniform(-5, 5)), 0, float(rng.uniform(-5, 5)));
+    float w = float(rng.uniform(1.5, 4)), d = float(rng.uniform(1.5, 4)), y = float(rng.uniform(2.2, 3.2));
+    add_box(s, c + Vec3(-w, y, -d), c + Vec3(w, y + 0.3f, d), m);
+    add_beam(s, c + Vec3(-w + 0.1f, 0, -d + 0.1f), c + Vec3(-w + 0.1f, y, -d + 0.1f), 0.12f, m);
+    add_beam(s, c + Vec3(w - 0.1f, 0, d - 0.1f), c + Vec3(w - 0.1f, y, d - 0.1f), 0.12f, m);
+  }
+  for (int k = 0; k < 3 + int(rng.below(3)); ++k) {  // tall walls
+    uint32_t m = s.add_material(random_material(rng));
+    Vec3 c(float(rng.uniform(-7, 7)), 2.5f, float(rng.uniform(-7, 7)));
+    add_box_yaw(s, c, {float(rng.uniform(1, 4)), 2.5f, 0.2f}, float(rng.uniform(0, kPi)), m);
+  }
+  for (int k = 0; k < 10 + int(rng.below(10)); ++k) {  // low blocks: what the overhangs shade
+    uint32_t m = s.add_material(random_material(rng));
+    Vec3 half(float(rng.uniform(0.2, 0.8)), float(rng.uniform(0.2, 0.6)), float(rng.uniform(0.2, 0.8)));
+    Vec3 c(float(rng.uniform(-7, 7)), half.y, float(rng.uniform(-7, 7)));
+    add_box_yaw(s, c, half, float(rng.uniform(0, kPi)), m);
   }
   outdoor_lighting(s, rng);
-  s.cameras = {{-6, 0.8f, -6}, {6, 2.0f, 6}, -40, 0};
+  s.cameras = {{-6, 0.8f, -6}, {6, 1.9f, 6}, -30, 5};
   return s;
 }
 

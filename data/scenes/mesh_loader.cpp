@@ -76,9 +76,10 @@ double read_component(const tinygltf::Model& model, const tinygltf::Accessor& ac
   const auto& view = model.bufferViews.at(size_t(acc.bufferView));
   const auto& buf = model.buffers.at(size_t(view.buffer));
   int stride = acc.ByteStride(view);
-  size_t off = view.byteOffset + acc.byteOffset + i * size_t(stride) +
-               size_t(c) * size_t(tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType)));
-  if (off + 4 > buf.data.size() + 2) throw std::out_of_range("accessor reads past its buffer");
+  int size = tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType));
+  if (stride <= 0 || size <= 0) throw std::out_of_range("accessor with an invalid type or stride");
+  size_t off = view.byteOffset + acc.byteOffset + i * size_t(stride) + size_t(c) * size_t(size);
+  if (off + size_t(size) > buf.data.size()) throw std::out_of_range("accessor reads past its buffer");
   const unsigned char* p = buf.data.data() + off;
   switch (acc.componentType) {
     case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }

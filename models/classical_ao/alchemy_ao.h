@@ -33,9 +33,11 @@ inline void alchemy_ao(const GBuffer& g, int samples, float* out) {
       const float a = 6.2831853f * alpha * turns + rot;
       const float qx = float(x) + std::cos(a) * alpha * r_px;
       const float qy = float(y) + std::sin(a) * alpha * r_px;
-      const int64_t j = g.clamped_index(qx, qy);
+      int jx, jy;
+        g.clamped_pixel(qx, qy, jx, jy);
+        const int64_t j = int64_t(jy) * g.width + jx;
       if (g.sky(j)) continue;
-      const Vec3 v = g.position(int(j % g.width), int(j / g.width)) - P;
+      const Vec3 v = g.position(jx, jy) - P;
       const float vv = dot(v, v);
       if (vv >= r2) continue;
       sum += std::max(0.0f, dot(v, N) - beta) / (vv + eps);

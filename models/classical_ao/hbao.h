@@ -49,9 +49,11 @@ inline void hbao(const GBuffer& g, int samples, float* out) {
         const float t = (float(s) + jitter) * step_px + 1.0f;
         const float qx = float(x) + dx * t, qy = float(y) + dy * t;
         if (!g.on_screen(qx, qy)) break;
-        const int64_t j = g.clamped_index(qx, qy);
+        int jx, jy;
+        g.clamped_pixel(qx, qy, jx, jy);
+        const int64_t j = int64_t(jy) * g.width + jx;
         if (g.sky(j)) continue;
-        const Vec3 V = g.position(int(j % g.width), int(j / g.width)) - P;
+        const Vec3 V = g.position(jx, jy) - P;
         const float d2 = dot(V, V);
         if (d2 > r2 || d2 <= 0) continue;
         const float sin_h = dot(N, V) / std::sqrt(d2);

@@ -113,7 +113,7 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, std::vector<GiSampl
       t.begin_epoch(epoch);
       // The order of an epoch depends on (seed, epoch) only, so a resumed run replays it.
       Rng order_rng = Rng(o.train.seed).fork(1000 + uint64_t(epoch));
-      std::vector<int64_t> order(size_t(n));
+      std::vector<int64_t> order(static_cast<size_t>(n));
       for (int64_t i = 0; i < n; ++i) order[size_t(i)] = i;
       for (int64_t i = n - 1; i > 0; --i) std::swap(order[size_t(i)], order[order_rng.below(uint64_t(i + 1))]);
       for (int64_t j = 0; j < n; ++j) {

@@ -34,7 +34,8 @@ inline LightMetrics light_metrics(const Tensor<float>& pred, const Tensor<float>
   for (int64_t i = 0; i < 3 * n; ++i)
     if (mask[i % n]) peak = std::max(peak, target[i]);
   LightMetrics m;
-  std::vector<float> pu(size_t(n)), tu(size_t(n)), pl(size_t(n)), tl(size_t(n));
+  const size_t un = static_cast<size_t>(n);
+  std::vector<float> pu(un), tu(un), pl(un), tl(un);
   for (int c = 0; c < 3; ++c) {
     for (int64_t i = 0; i < n; ++i) {
       float p = pred[c * n + i], t = target[c * n + i];

@@ -53,13 +53,15 @@ struct FeatureCentre {
     // Row j's view-space offset is -grid_offset(j) (row 0 = +r, up), and up on screen
     // is a smaller row: the two signs cancel.
     const float sy = cy + grid_offset(j, w, r) * ky;
-    const int64_t s = g->clamped_index(sx, sy);
+    int ix, iy;
+    g->clamped_pixel(sx, sy, ix, iy);
+    const int64_t s = int64_t(iy) * g->width + ix;
     const float zs = g->z[s];
     if (data::is_sky(zs)) {
       o[0] = o[1] = o[2] = o[3] = 0;
       return;
     }
-    const ao::Vec3 Ps = g->position(int(s % g->width), int(s / g->width));
+    const ao::Vec3 Ps = g->position(ix, iy);
     const float d = ao::length(Ps - P) * inv_r;
     const float f = 1.0f - (d < 0 ? 0 : (d > 1 ? 1 : d));
     o[0] = f * (g->nx[s] - N.x);

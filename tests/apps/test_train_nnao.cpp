@@ -108,3 +108,15 @@ TEST_F(TrainNnao, ResumeWithoutCheckpointAndBadFlagsFail) {
   auto b = run(common() + "--epochs x");
   EXPECT_EQ(b.code, 2);
 }
+
+TEST_F(TrainNnao, SweepTrainsTheLadderAndNamesAModel) {
+  auto a = run(common() + "--sweep --sweep-epochs 1 --out " + (root / "sweep").string());
+  ASSERT_EQ(a.code, 0) << a.output;
+  std::ifstream csv(root / "sweep" / "sweep" / "sweep.csv");
+  int rows = 0;
+  for (std::string l; std::getline(csv, l);) ++rows;
+  EXPECT_EQ(rows, 1 + 12);  // header + w {7,15,23,31} x hidden {4,8,16}
+  std::string md = bytes(root / "sweep" / "sweep" / "sweep.md");
+  EXPECT_NE(md.find("Smallest model within 2%"), std::string::npos) << md;
+  EXPECT_TRUE(fs::exists(root / "sweep" / "sweep" / "sweep.svg"));
+}

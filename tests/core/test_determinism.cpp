@@ -98,3 +98,24 @@ TEST(Determinism, AnotherSeedGivesOtherWeights) {
   ASSERT_EQ(a.size(), b.size());
   EXPECT_NE(a, b);
 }
+
+TEST(Determinism, AdamOnALargeTensorAgreesAcrossThreads) {
+  // Above the optimizer's threshold for splitting the update over the workers.
+  auto run = [](int threads) {
+    switch_threads(threads);
+    Rng rng(9);
+    Tensor<float> w({300001});
+    for (auto& v : w) v = float(rng.normal());
+    Var<float> p(w, true);
+    Adam<float> opt({p}, {.lr = 1e-2, .weight_decay = 1e-3});
+    for (int step = 0; step < 3; ++step) {
+      auto& g = p.grad_buffer();
+      for (auto& v : g) v = float(rng.normal());
+      opt.step();
+    }
+    std::vector<float> out(p.value().begin(), p.value().end());
+    switch_threads(2);
+    return out;
+  };
+  expect_bitwise_equal(run(1), run(2));
+}

@@ -154,6 +154,7 @@ TEST(Gemm, BetaZeroNeverReadsNaNs) {
     settle_threads(threads);
     check_against_reference({false, false, 101, 67, 900, 1.0f, 0.0f, 5}, 7);
     check_against_reference({true, true, 29, 300, 450, 0.5f, 0.0f, 0}, 8);
+    check_against_reference({true, false, 8, 20000, 8, 1.0f, 0.0f, 1}, 9);  // direct, split
   }
 }
 
@@ -188,10 +189,12 @@ TEST(Gemm, OneAndTwoThreadsBitwiseEqual) {
   ThreadsGuard guard;
   Rng rng(11);
   // Shapes that split along N, along M, with several K blocks, edge tiles and beta.
+  // (The comparison is exact: bitwise.)
   const Case cases[] = {{false, false, 300, 1000, 1000, 1.0f, 0.5f},
                         {false, true, 1000, 40, 777, 1.0f, 1.0f},
                         {true, false, 64, 4096, 64, 1.0f, 0.0f},
-                        {true, true, 513, 515, 517, -1.5f, 1.0f, 3}};
+                        {true, true, 513, 515, 517, -1.5f, 1.0f, 3},
+                        {false, false, 8, 70001, 8, 1.0f, 0.5f}};  // the short-K direct path
   for (const Case& c : cases) {
     SCOPED_TRACE(c.str());
     Problem p = make_problem(c, rng);

@@ -225,14 +225,26 @@ TEST(MeshLoader, GltfWithNodeTransform) {
     uint32_t v = uint32_t(bytes[i]) << 16 | uint32_t(bytes[i + 1]) << 8 | bytes[i + 2];
     for (int k = 3; k >= 0; --k) enc += b64[(v >> (6 * k)) & 63];
   }
-  std::string path = temp_path("tri.gltf");
-  std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
-                      << R"("nodes":[{"mesh":0,"translation":[0,2,0]}],)"
-                      << R"("materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.2,0.4,0.6,1]}}],)"
-                      << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],)"
-                      << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
-                      << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
-                      << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)" << enc << R"("}]})";
+  auto write = [&](const std::string& path, int count) {
+    std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
+                        << R"("nodes":[{"mesh":0,"translation":[0,2,0]}],)"
+                        << R"("materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.2,0.4,0.6,1]}}],)"
+                        << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],)"
+                        << R"("accessors":[{"bufferView":0,"componentType":5126,"count":)" << count
+                        << R"(,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
+                        << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+                        << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)" << enc
+                        << R"("}]})";
+  };
+  std::string path = temp_path("tri.gltf"), bad = temp_path("bad.gltf");
+  write(path, 3);
+  write(bad, 6);  // an accessor that reads past its buffer: an error naming the file
+  try {
+    load_mesh_scene(bad);
+    ADD_FAILURE() << "no error for an accessor past its buffer";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.gltf"), std::string::npos) << e.what();
+  }
   Scene s = load_mesh_scene(path);
   ASSERT_EQ(s.triangles.size(), 1u);
   EXPECT_NEAR(s.positions[s.triangles[0].v[1]].x, 1.0f, 1e-6);

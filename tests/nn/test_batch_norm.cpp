@@ -1,9 +1,7 @@
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstring>
-#include <thread>
 
 #include "nn/batchnorm.h"
 #include "tests/support/gradcheck.h"
@@ -12,14 +10,6 @@ using namespace nns;
 using namespace nns::testing;
 
 namespace {
-// Works around a start-up race in core/thread_pool.h (reported to the lead): a job
-// posted before a new worker has read the generation counter is never picked up, so
-// give fresh workers a moment to start.
-void settle_threads(int n) {
-  set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-}
-const bool kPoolStarted = (settle_threads(2), true);
 VarD rv(const Shape& s, Rng& rng, double scale = 1.0) { return VarD(random_tensor(s, rng, scale), true); }
 VarD gamma_near_one(int64_t C, Rng& rng) {
   TensorD t({C});
@@ -122,7 +112,7 @@ TEST(BatchNorm, DeterministicAcrossThreadCounts) {
   for (auto& v : x) v = float(rng.normal(0.5, 2));
   for (auto& v : g) v = float(rng.normal());
   auto run = [&](int threads) {
-    settle_threads(threads);
+    set_num_threads(threads);
     BatchNorm2d<float> bn(16);
     Var<float> vx(x.clone(), true);
     Var<float> y = bn.forward(vx);

@@ -1,25 +1,12 @@
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cstring>
-#include <thread>
 
 #include "nn/functional/dropout.h"
 #include "tests/support/gradcheck.h"
 
 using namespace nns;
 using namespace nns::testing;
-
-namespace {
-// Works around a start-up race in core/thread_pool.h (reported to the lead): a job
-// posted before a new worker has read the generation counter is never picked up, so
-// give fresh workers a moment to start.
-void settle_threads(int n) {
-  set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-}
-const bool kPoolStarted = (settle_threads(2), true);
-}  // namespace
 
 TEST(Dropout, StatisticsMatchP) {
   for (double p : {0.1, 0.5, 0.8}) {
@@ -57,7 +44,7 @@ TEST(Dropout, IdentityInEvalOrAtZero) {
 TEST(Dropout, SameSeedSameMaskAndThreadIndependent) {
   Tensor<float> t = Tensor<float>::ones({100003});
   auto run = [&](int threads) {
-    settle_threads(threads);
+    set_num_threads(threads);
     Rng rng(33);
     return dropout(Var<float>(t), 0.3, true, rng).value();
   };

@@ -1,8 +1,6 @@
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
-#include <thread>
 
 #include "nn/losses/dssim.h"
 #include "tests/support/gradcheck.h"
@@ -11,14 +9,6 @@ using namespace nns;
 using namespace nns::testing;
 
 namespace {
-// Works around a start-up race in core/thread_pool.h (reported to the lead): a job
-// posted before a new worker has read the generation counter is never picked up, so
-// give fresh workers a moment to start.
-void settle_threads(int n) {
-  set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-}
-const bool kPoolStarted = (settle_threads(2), true);
 TensorD uniform_tensor(const Shape& s, Rng& rng) {
   TensorD t(s);
   for (auto& v : t) v = rng.uniform();

@@ -1,9 +1,7 @@
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstring>
-#include <thread>
 
 #include "nn/functional/elementwise.h"
 #include "tests/support/gradcheck.h"
@@ -12,14 +10,6 @@ using namespace nns;
 using namespace nns::testing;
 
 namespace {
-// Works around a start-up race in core/thread_pool.h (reported to the lead): a job
-// posted before a new worker has read the generation counter is never picked up, so
-// give fresh workers a moment to start.
-void settle_threads(int n) {
-  set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-}
-const bool kPoolStarted = (settle_threads(2), true);
 VarD rv(const Shape& s, Rng& rng, double scale = 1.0) { return VarD(random_tensor(s, rng, scale), true); }
 // Values bounded away from zero, for divisors, logs and sqrt.
 VarD positive(const Shape& s, Rng& rng) {
@@ -38,6 +28,34 @@ TEST(Broadcast, PlanMergesDims) {
   BroadcastPlan q = make_broadcast_plan({4, 5}, {4, 5}, "test");
   EXPECT_EQ(q.nd, 1);
   EXPECT_THROW(make_broadcast_plan({2, 3}, {4}, "test"), std::invalid_argument);
+}
+
+// Broadcasting straight from the rule, index by index: the reference for the merged
+// plan the kernels walk.
+TEST(Broadcast, MatchesNaiveIndexing) {
+  Rng rng(9);
+  const std::vector<std::pair<Shape, Shape>> cases = {
+      {{2, 1, 3, 1}, {4, 1, 5}}, {{3, 4}, {1}}, {{1, 3, 1, 2}, {2, 3, 4, 1}}, {{5}, {2, 3, 5}}};
+  for (const auto& [sa, sb] : cases) {
+    TensorD a = random_tensor(sa, rng), b = random_tensor(sb, rng);
+    VarD y = sub(VarD(a), VarD(b));
+    const Shape& so = y.shape();
+    const int n = so.dim();
+    std::vector<int64_t> idx(size_t(n), 0);
+    for (int64_t flat = 0; flat < y.numel(); ++flat) {
+      int64_t r = flat;
+      for (int d = n - 1; d >= 0; --d) idx[size_t(d)] = r % so[d], r /= so[d];
+      auto offset = [&](const Shape& s) {
+        int64_t off = 0;
+        for (int d = 0; d < s.dim(); ++d) {
+          const int od = d + (n - s.dim());
+          off = off * s[d] + (s[d] == 1 ? 0 : idx[size_t(od)]);
+        }
+        return off;
+      };
+      ASSERT_EQ(y.value()[flat], a[offset(sa)] - b[offset(sb)]) << sa.str() << " - " << sb.str();
+    }
+  }
 }
 
 TEST(Elementwise, ForwardBroadcastValues) {
@@ -150,7 +168,7 @@ TEST(Elementwise, DeterministicAcrossThreadCounts) {
   for (auto* t : {&a, &b, &c})
     for (auto& v : *t) v = float(rng.normal());
   auto run = [&](int threads) {
-    settle_threads(threads);
+    set_num_threads(threads);
     Var<float> va(a.clone(), true), vb(b.clone(), true);
     Var<float> y = (va * vb + va) / 3.0f;
     y.backward(c);

@@ -55,10 +55,15 @@ TEST(Adam, EpsIsAddedOutsideTheSquareRoot) {
   EXPECT_NEAR(p.value()[0], 1.0 - 0.05 / 0.6, 1e-15);
 }
 
-TEST(Adam, ThreeStepsMatchTheTextbookFormula) {
+class AdamTextbook : public ::testing::TestWithParam<double> {};
+
+// beta1 0.8 and 0.9 take one branch of PyTorch's lerp, pix2pix's 0.5 and 0.3 the other.
+INSTANTIATE_TEST_SUITE_P(Beta1, AdamTextbook, ::testing::Values(0.9, 0.8, 0.5, 0.3));
+
+TEST_P(AdamTextbook, ThreeStepsMatchTheTextbookFormula) {
   // The reference uses the paper's form with explicit m_hat and v_hat; the optimizer
   // uses PyTorch's rearrangement, so they agree to rounding.
-  const double lr = 0.01, b1 = 0.8, b2 = 0.95, eps = 1e-6, wd = 0.05;
+  const double lr = 0.01, b1 = GetParam(), b2 = 0.95, eps = 1e-6, wd = 0.05;
   std::vector<double> w = {0.3, -1.2, 2.0}, m(3, 0), v(3, 0);
   auto p = param(w);
   Adam<double> opt({p}, {.lr = lr, .beta1 = b1, .beta2 = b2, .eps = eps, .weight_decay = wd});
@@ -142,6 +147,7 @@ TEST(Adam, RejectsBadOptions) {
   EXPECT_THROW(Adam<double>({p}, {.beta1 = 1.0}), std::invalid_argument);
   EXPECT_THROW(Adam<double>({p}, {.lr = -1}), std::invalid_argument);
   EXPECT_THROW(Adam<double>({Var<double>(Tensor<double>::zeros({1}))}), std::invalid_argument);
+  EXPECT_THROW(Adam<double>({p, p}), std::invalid_argument);
 }
 
 TEST(Adam, VectorAndScalarPathsAgreeBitwise) {
@@ -156,12 +162,14 @@ TEST(Adam, VectorAndScalarPathsAgreeBitwise) {
     g[k] = float(rng.normal());
   }
   auto w2 = w, m2 = m, v2 = v;
-  const AdamCoeffs<float> c{0.9f, 0.1f, 0.999f, 0.001f, 0.01f, 0.3f, 1e-8f, 0.002f};
-  adam_update(w.data(), m.data(), v.data(), g.data(), n, c);
-  for (int64_t k = 0; k < n; ++k) adam_update(&w2[k], &m2[k], &v2[k], &g[k], 1, c);
-  for (int64_t k = 0; k < n; ++k) {
-    EXPECT_EQ(std::memcmp(&w[k], &w2[k], 4), 0) << k;
-    EXPECT_EQ(std::memcmp(&m[k], &m2[k], 4), 0) << k;
-    EXPECT_EQ(std::memcmp(&v[k], &v2[k], 4), 0) << k;
+  for (float beta1 : {0.9f, 0.5f}) {  // both forms of the moment's lerp
+    const AdamCoeffs<float> c{beta1, 1 - beta1, 0.999f, 0.001f, 0.01f, 0.3f, 1e-8f, 0.002f};
+    adam_update(w.data(), m.data(), v.data(), g.data(), n, c);
+    for (int64_t k = 0; k < n; ++k) adam_update(&w2[k], &m2[k], &v2[k], &g[k], 1, c);
+    for (int64_t k = 0; k < n; ++k) {
+      EXPECT_EQ(std::memcmp(&w[k], &w2[k], 4), 0) << k;
+      EXPECT_EQ(std::memcmp(&m[k], &m2[k], 4), 0) << k;
+      EXPECT_EQ(std::memcmp(&v[k], &v2[k], 4), 0) << k;
+    }
   }
 }
