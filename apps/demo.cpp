@@ -15,7 +15,6 @@
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "apps/args.h"
@@ -101,13 +100,7 @@ int main(int argc, char** argv) {
     if (epochs < 1) a.error("--epochs must be >= 1");
     if (width < 1) a.error("--width must be >= 1");
     a.done();
-    // TODO(thread_pool): remove the pause once core/thread_pool.h hands each new worker
-    // the generation it starts at; until then a job (or resize) sent before a fresh
-    // worker reaches its loop is lost and the program hangs.
-    ThreadPool::global();
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
     set_num_threads(threads);
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
 
     const int64_t batch = 8, steps_per_epoch = 16;
     EdgeNet net(uint64_t(seed), width);

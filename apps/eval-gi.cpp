@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
     int max_frames = a.get_int("--max-frames", 0, "score at most N test frames (0: all)");
     o.previews = a.get_int("--previews", 3, "frames with preview PNGs per model");
     int threads = a.get_int("--threads", 2, "worker threads");
+    o.offscreen_share = float(a.get_double("--offscreen-share", 1.0 / 6,
+                                           "a frame is off-screen-lit when its front face holds less than this share of its direct light"));
     if (o.data.empty()) a.error("--data is required");
     if (o.models.empty()) a.error("at least one --model is required");
     a.done();

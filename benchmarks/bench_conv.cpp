@@ -14,7 +14,6 @@
 #include <cmath>
 #include <map>
 #include <string>
-#include <thread>
 
 #include "benchmarks/fma_peak.h"
 #include "core/kernels/conv2d.h"
@@ -26,21 +25,10 @@ using namespace nns;
 
 namespace {
 
-// A freshly (re)started pool can miss its first job (core/thread_pool.h start-up race,
-// reported): give the workers time to start before using them.
-void use_threads(int n) {
-  static bool started = false;
-  if (started && num_threads() == n) return;
-  started = true;
-  set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-}
-
 double peak_gflops(int threads) {
   static std::map<int, double> cache;
   auto it = cache.find(threads);
   if (it != cache.end()) return it->second;
-  use_threads(threads);  // so that the measurement does not resize the pool itself
   return cache[threads] = bench::measure_fma_peak_gflops(threads);
 }
 
@@ -170,7 +158,7 @@ void run(benchmark::State& state, bool transposed, Pass pass) {
                 p = state.range(4), hw = state.range(5);
   const int threads = int(state.range(6));
   const double peak = peak_gflops(threads);
-  use_threads(threads);
+  set_num_threads(threads);
   ConvGeometry g = transposed
       ? conv_transpose2d_geometry(1, cin, hw, hw, cout, k, k, s, s, p, p, 0, 0, 1, 1, 1)
       : conv2d_geometry(1, cin, hw, hw, cout, k, k, s, s, p, p, 1, 1, 1);

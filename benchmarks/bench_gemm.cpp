@@ -20,14 +20,7 @@
 
 namespace {
 
-// core/thread_pool.h can lose a job sent before a freshly started worker is up.
-// TODO: drop the sleep once thread_pool.h is fixed.
-void use_threads(int n) {
-  if (nns::num_threads() == n) return;
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  nns::set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-}
+void use_threads(int n) { nns::set_num_threads(n); }
 
 double peak_gflops(int threads) {
   static std::map<int, double> cache;

@@ -70,7 +70,12 @@ class ThreadPool {
     in_worker() = false;
     // Spin: most kernels finish their shares within microseconds of each other. The
     // workers must be done with `fn` before it goes out of scope, even on error.
-    while (remaining_.load(std::memory_order_acquire) != 0) pause();
+    // When the cores are oversubscribed a spinning caller would steal the time slice
+    // the late worker needs, so after a short spin it yields instead.
+    for (int spin = 0; remaining_.load(std::memory_order_acquire) != 0; ++spin) {
+      if (spin < 4000) pause();
+      else std::this_thread::yield();
+    }
     job_ = nullptr;
     if (mine) std::rethrow_exception(mine);
     if (error_) std::rethrow_exception(error_);

@@ -24,7 +24,7 @@ DatasetJob default_dataset_job(const std::string& preset) {
     // NNAO (Holden et al. 2016) trained on 5 scenes x ~100 views at 1280x720; here 8
     // families x 2 scenes x 10 views = 160 train views, and 40 test views from another
     // instance of every family, at 320x180 with AO at 256 spp (noise std ~0.006).
-    // ~0.75 CPU-s per view: about 75 s on two idle cores.
+    // 150 CPU-s measured (0.75 per view): about 75 s on two idle cores.
     job.views = 200;
     job.views_per_scene = 10;
     job.width = 320, job.height = 180;
@@ -35,7 +35,7 @@ DatasetJob default_dataset_job(const std::string& preset) {
     // (temporal stability), 256 train frames (2 scenes x 2 paths per family) + 64 test
     // frames (one path in another scene of every family); GI target on front with 256
     // paths (per-pixel noise ~10% of the mean in the window rooms, 2x that at 64).
-    // ~0.7 CPU-s per frame: about 2 minutes on two idle cores.
+    // 248 CPU-s measured (0.78 per frame): about 2 minutes on two idle cores.
     job.views = 320;
     job.views_per_scene = 16;
     job.path_frames = 8;

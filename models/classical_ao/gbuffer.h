@@ -38,6 +38,7 @@ struct GBuffer {
   int width = 0, height = 0;
   float radius = 1;          // world-space AO radius (the view's aoRadius)
   float sx = 1, sy = 1;      // tan(fovY/2) * W/H and tan(fovY/2)
+  float inv_w2 = 1, inv_h2 = 1;  // 2/W and 2/H: position() multiplies, never divides
   const float* z = nullptr;  // planar depth, sky = inf or >= 1e30
   const float* nx = nullptr;
   const float* ny = nullptr;
@@ -49,8 +50,7 @@ struct GBuffer {
 
   // View-space position of a (possibly fractional) pixel coordinate at depth d.
   Vec3 position(float px, float py, float d) const {
-    return {(2 * (px + 0.5f) / float(width) - 1) * sx * d,
-            (1 - 2 * (py + 0.5f) / float(height)) * sy * d, -d};
+    return {((px + 0.5f) * inv_w2 - 1) * sx * d, (1 - (py + 0.5f) * inv_h2) * sy * d, -d};
   }
   Vec3 position(int px, int py) const {
     return position(float(px), float(py), z[int64_t(py) * width + px]);
@@ -88,6 +88,8 @@ inline GBuffer make_gbuffer(int width, int height, float fov_y_deg, float radius
   g.radius = radius;
   g.sy = std::tan(fov_y_deg * 3.14159265358979f / 360.0f);
   g.sx = g.sy * float(width) / float(height);
+  g.inv_w2 = 2.0f / float(width);
+  g.inv_h2 = 2.0f / float(height);
   g.z = z;
   g.nx = nx;
   g.ny = ny;

@@ -172,6 +172,7 @@ void main() {
       if (!(zs < 1e30) || zs <= 0.0) continue;
       vec3 Ps = viewPos(vec2(s), zs, size);
       float f = 1.0 - clamp(length(Ps - P) * invR, 0.0, 1.0);
+      if (f <= 0.0) continue;
       vec4 x = f * vec4(texelFetch(uNormal, s, 0).rgb - N, (zs - z) * invR);
       for (int k = 0; k < H; ++k) h[k] += dot(texelFetch(uFilters, ivec2(k * W + i, j), 0), x);
     }

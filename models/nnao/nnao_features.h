@@ -33,6 +33,7 @@ struct FeatureCentre {
   const ao::GBuffer* g;
   int w;
   float z, r, inv_r, cx, cy, kx, ky;
+  float step;  // grid spacing 2r/(w-1): offset(i) = -r + i * step
   ao::Vec3 P, N;
 
   FeatureCentre(const ao::GBuffer& gb, int px, int py, int window) : g(&gb), w(window) {
@@ -45,29 +46,38 @@ struct FeatureCentre {
     kx = 0.5f * float(gb.width) / (gb.sx * z);
     ky = 0.5f * float(gb.height) / (gb.sy * z);
     gb.project(P, cx, cy);
+    step = window == 1 ? 0.0f : 2.0f * r / float(window - 1);
   }
+  float offset(int i) const { return w == 1 ? 0.0f : float(i) * step - r; }
 
   // The 4 features of grid point (i, j) (column i, row j; row 0 is the top, +r).
-  void sample(int i, int j, float* o) const {
-    const float sx = cx + grid_offset(i, w, r) * kx;
+  // Returns false when they are all zero (sky, or farther than r: falloff 0), so
+  // callers may skip the multiply-adds.
+  bool sample(int i, int j, float* o) const {
+    const float sx = cx + offset(i) * kx;
     // Row j's view-space offset is -grid_offset(j) (row 0 = +r, up), and up on screen
     // is a smaller row: the two signs cancel.
-    const float sy = cy + grid_offset(j, w, r) * ky;
+    const float sy = cy + offset(j) * ky;
     int ix, iy;
     g->clamped_pixel(sx, sy, ix, iy);
     const int64_t s = int64_t(iy) * g->width + ix;
     const float zs = g->z[s];
     if (data::is_sky(zs)) {
       o[0] = o[1] = o[2] = o[3] = 0;
-      return;
+      return false;
     }
-    const ao::Vec3 Ps = g->position(ix, iy);
-    const float d = ao::length(Ps - P) * inv_r;
-    const float f = 1.0f - (d < 0 ? 0 : (d > 1 ? 1 : d));
+    const ao::Vec3 D = g->position(ix, iy) - P;
+    const float d2 = ao::dot(D, D) * (inv_r * inv_r);
+    if (!(d2 < 1.0f)) {
+      o[0] = o[1] = o[2] = o[3] = 0;
+      return false;
+    }
+    const float f = 1.0f - __builtin_sqrtf(d2);
     o[0] = f * (g->nx[s] - N.x);
     o[1] = f * (g->ny[s] - N.y);
     o[2] = f * (g->nz[s] - N.z);
     o[3] = f * (zs - z) * inv_r;
+    return true;
   }
 };
 

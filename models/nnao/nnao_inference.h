@@ -107,20 +107,24 @@ inline void infer_shader_style(const NnaoWeights& m, const ao::GBuffer& g, int s
     const FeatureCentre c(g, x, y, w);
     const uint32_t hsh = ao::pixel_hash(uint32_t(x), uint32_t(y), seed);
     const float jx = ao::hash_unit(hsh), jy = ao::hash_unit(ao::pixel_hash(hsh, 1, seed));
-    float h[64] = {};
+    float h[64] = {}, h4[4] = {0, 0, 0, 0};
     float f[4];
     for (int b = 0; b < my; ++b) {
       const int j = std::min(w - 1, int((float(b) + jy) * float(w) / float(my)));
       for (int a = 0; a < mx; ++a) {
         const int ii = std::min(w - 1, int((float(a) + jx) * float(w) / float(mx)));
-        c.sample(ii, j, f);
-        const int64_t q = (int64_t(j) * w + ii) * 4;
-        for (int k = 0; k < H; ++k) {
-          const float* wk = m.w0.data() + int64_t(k) * F + q;
-          h[k] += wk[0] * f[0] + wk[1] * f[1] + wk[2] * f[2] + wk[3] * f[3];
+        if (!c.sample(ii, j, f)) continue;
+        const float* wq = m.w0.data() + (int64_t(j) * w + ii) * 4;
+        if (H == 4) {  // the paper's size: keep the four sums in registers
+          for (int k = 0; k < 4; ++k, wq += F)
+            h4[k] += wq[0] * f[0] + wq[1] * f[1] + wq[2] * f[2] + wq[3] * f[3];
+        } else {
+          for (int k = 0; k < H; ++k, wq += F)
+            h[k] += wq[0] * f[0] + wq[1] * f[1] + wq[2] * f[2] + wq[3] * f[3];
         }
       }
     }
+    if (H == 4) std::copy(h4, h4 + 4, h);
     for (int k = 0; k < H; ++k) h[k] = h[k] * scale + m.b0[size_t(k)];
     raw[size_t(i)] = m.head(h);
   });

@@ -2,9 +2,7 @@
 // identical weights for two runs with one seed, and for 1 thread vs 2 threads.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cstring>
-#include <thread>
 #include <memory>
 #include <vector>
 
@@ -20,22 +18,6 @@
 using namespace nns;
 
 namespace {
-
-// core/thread_pool.h can lose a wake-up sent before a freshly started worker reaches
-// its loop (reported; test_thread_pool shows it). Until that is fixed, give new
-// workers time to start before the first job.
-void switch_threads(int n) {
-  static bool first = true;
-  if (first) {
-    ThreadPool::global();
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    first = false;
-  }
-  if (n != num_threads()) {
-    set_num_threads(n);
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-}
 
 struct ConvNet : Module<float> {
   explicit ConvNet(uint64_t seed) {
@@ -56,7 +38,7 @@ struct ConvNet : Module<float> {
 
 // Trains for a few steps and returns every parameter and buffer value, in order.
 std::vector<float> train(uint64_t seed, int threads) {
-  switch_threads(threads);
+  set_num_threads(threads);
   ConvNet net(seed);
   Adam<float> opt(net.parameters(), {.lr = 1e-2});
   Rng data(seed + 2);
@@ -71,7 +53,7 @@ std::vector<float> train(uint64_t seed, int threads) {
   std::vector<float> out;
   for (auto& p : net.parameters()) out.insert(out.end(), p.value().begin(), p.value().end());
   for (auto& [name, b] : net.named_buffers()) out.insert(out.end(), b->begin(), b->end());
-  switch_threads(2);
+  set_num_threads(2);
   return out;
 }
 
@@ -102,7 +84,7 @@ TEST(Determinism, AnotherSeedGivesOtherWeights) {
 TEST(Determinism, AdamOnALargeTensorAgreesAcrossThreads) {
   // Above the optimizer's threshold for splitting the update over the workers.
   auto run = [](int threads) {
-    switch_threads(threads);
+    set_num_threads(threads);
     Rng rng(9);
     Tensor<float> w({300001});
     for (auto& v : w) v = float(rng.normal());
@@ -114,7 +96,7 @@ TEST(Determinism, AdamOnALargeTensorAgreesAcrossThreads) {
       opt.step();
     }
     std::vector<float> out(p.value().begin(), p.value().end());
-    switch_threads(2);
+    set_num_threads(2);
     return out;
   };
   expect_bitwise_equal(run(1), run(2));

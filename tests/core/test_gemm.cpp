@@ -95,14 +95,7 @@ void check_against_reference(const Case& c, uint64_t seed) {
   EXPECT_EQ(bad, 0);
 }
 
-// ThreadPool (core/thread_pool.h) loses a job, and hangs, when the job or a stop()
-// arrives before a freshly started worker has read the job generation. Give new
-// workers time to start. TODO: remove once thread_pool.h is fixed.
-void settle_threads(int n) {
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-}
+void settle_threads(int n) { set_num_threads(n); }
 
 class ThreadsGuard {
  public:

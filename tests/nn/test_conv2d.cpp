@@ -1,8 +1,6 @@
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
-#include <thread>
 
 #include "core/kernels/conv2d.h"
 #include "core/kernels/conv2d_reference.h"
@@ -55,18 +53,6 @@ void expect_close(const Tensor<float>& a, const Tensor<float>& ref, const char* 
 bool bitwise_equal(const Tensor<float>& a, const Tensor<float>& b) {
   return a.numel() == b.numel() && std::memcmp(a.data(), b.data(), sizeof(float) * a.numel()) == 0;
 }
-
-// Workaround for a start-up race in core/thread_pool.h (reported to the lead): a worker
-// thread reads the job generation only once it runs, so a job posted before that is
-// missed and the caller spins forever. Give freshly started workers time to start.
-void use_threads(int n) {
-  set_num_threads(n);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-}
-struct SettlePool : ::testing::Environment {
-  void SetUp() override { use_threads(2); }
-};
-const auto* const kSettle = ::testing::AddGlobalTestEnvironment(new SettlePool);
 
 }  // namespace
 
@@ -136,7 +122,7 @@ TEST(Conv2d, OneAndTwoThreadsAgreeBitwise) {
   // All cases with one thread, then all with two: the pool is resized only twice.
   std::vector<Tensor<float>> res[2];
   for (int t = 0; t < 2; ++t) {
-    use_threads(t + 1);
+    set_num_threads(t + 1);
     Rng rng(3);
     for (const Case& c : kCases) {
       ConvGeometry g = geometry_of(c);
