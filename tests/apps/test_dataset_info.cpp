@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "data/exr_io.h"
+#include "tests/support/run_command.h"
 
 using namespace nns::data;
 namespace fs = std::filesystem;
@@ -18,22 +19,9 @@ namespace {
 
 const std::string kBinary = NNSHADE_BINARY_DIR "/bin/dataset-info";
 
-struct Outcome {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
+using Outcome = nns::testing::CommandResult;
 
-Outcome run(const std::string& args) {
-  Outcome r;
-  std::FILE* p = popen((kBinary + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+Outcome run(const std::string& args) { return nns::testing::run_command(kBinary + " " + args); }
 
 // A valid NNAO view: a tilted plane facing the camera, AO in [0,1], some sky.
 View nnao_view(const std::string& scene, int w = 8, int h = 6) {

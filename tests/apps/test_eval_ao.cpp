@@ -13,26 +13,15 @@
 
 #include "data/exr_io.h"
 #include "tests/models/synthetic_gbuffer.h"
+#include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct CommandResult {
-  int code;
-  std::string output;
-};
+using nns::testing::CommandResult;
 
-CommandResult run(const std::string& args) {
-  std::string cmd = std::string(NNSHADE_BINARY_DIR) + "/bin/eval-ao " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+CommandResult run(const std::string& args) { return nns::testing::run_app("eval-ao", args); }
 
 std::string read(const fs::path& p) {
   std::ifstream f(p);

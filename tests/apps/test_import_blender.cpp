@@ -8,27 +8,17 @@
 #include <filesystem>
 
 #include "data/exr_io.h"
+#include "tests/support/run_command.h"
 
 using namespace nns::data;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-  int code = -1;
-  std::string output;
-};
+using Outcome = nns::testing::CommandResult;
 
 Outcome run(const std::string& binary, const std::string& args) {
-  Outcome r;
-  std::FILE* p = popen((std::string(NNSHADE_BINARY_DIR "/bin/") + binary + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return nns::testing::run_app(binary, args);
 }
 
 // The camera looks along world +Y with world +Z up (Blender's usual set-up): camera

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "data/validate.h"
+#include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;
 
@@ -18,13 +19,9 @@ const std::string kBin = std::string(NNSHADE_BINARY_DIR) + "/bin/render-dataset"
 
 // Runs a shell command; returns its exit code and (stdout+stderr) in `output`.
 int run(const std::string& cmd, std::string& output) {
-  output.clear();
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return -1;
-  char buf[512];
-  while (fgets(buf, sizeof buf, p)) output += buf;
-  int status = pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  auto r = nns::testing::run_command(cmd);
+  output = r.output;
+  return r.code;
 }
 
 std::string temp_dir() {
