@@ -8,15 +8,6 @@
 using namespace nns;
 using namespace nns::testing;
 
-namespace {
-// Inputs kept away from 0, where relu's kink would break finite differences.
-VarD away_from_zero(const Shape& s, Rng& rng) {
-  TensorD t = random_tensor(s, rng);
-  for (auto& v : t) v += v >= 0 ? 0.05 : -0.05;
-  return VarD(t, true);
-}
-}  // namespace
-
 TEST(Activations, ForwardValues) {
   Var<double> x(Tensor<double>::from({4}, {-2, -0.5, 0, 3}));
   auto r = relu(x), l = leaky_relu(x, 0.2), t = tanh_act(x), s = sigmoid(x);

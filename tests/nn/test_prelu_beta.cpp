@@ -6,14 +6,6 @@
 using namespace nns;
 using namespace nns::testing;
 
-namespace {
-VarD away_from_zero(const Shape& s, Rng& rng) {
-  TensorD t = random_tensor(s, rng);
-  for (auto& v : t) v += v >= 0 ? 0.05 : -0.05;
-  return VarD(t, true);
-}
-}  // namespace
-
 TEST(PReLUBeta, ForwardHandComputed) {
   // (N=1, C=2): channel 0 alpha 0.1 beta 2, channel 1 alpha 0.5 beta 1.
   Var<float> x(Tensor<float>::from({2, 2}, {-1, -2, 3, 4}));

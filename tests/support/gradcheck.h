@@ -31,6 +31,13 @@ inline TensorD random_tensor(const Shape& s, Rng& rng, double scale = 1.0) {
   return t;
 }
 
+// Inputs kept away from 0, where a kink (relu, prelu) would break finite differences.
+inline VarD away_from_zero(const Shape& s, Rng& rng) {
+  TensorD t = random_tensor(s, rng);
+  for (auto& v : t) v += v >= 0 ? 0.05 : -0.05;
+  return VarD(t, true);
+}
+
 struct GradCheckResult {
   // Max over entries of |a - n| / (max(|a|, |n|) + abs_tol / tol): the combined
   // relative-plus-absolute criterion, so that passing means this is <= tol.
