@@ -5,6 +5,7 @@
 //   train-gan                                  default surround data, default model
 //   train-gan --data DIR --mode front --out runs/front
 //   train-gan --loss l1                        the non-adversarial baseline
+//   train-gan --loss dssim --arch deepshading  Deep Shading's U-Net and loss
 //   train-gan --out runs/x --resume            continue exactly where runs/x stopped
 #include <cstdio>
 #include <filesystem>
@@ -42,6 +43,9 @@ int main(int argc, char** argv) {
     double beta1 = a.get_double("--beta1", 0.5, "Adam beta1");
     std::string coordconv = a.get_choice("--coordconv", "on", {"on", "off"}, "append coordinate channels");
     std::string loss = a.get_choice("--loss", "gan", {"gan", "l1", "dssim"}, "adversarial + L1, or a plain loss (baseline)");
+    std::string g_norm = a.get_choice("--g-norm", def.g_norm, {"batch", "none"}, "normalisation in the pix2pix U-Net (docs/gan.md)");
+    std::string arch = a.get_choice("--arch", "pix2pix", {"pix2pix", "deepshading"}, "generator: pix2pix U-Net, or Deep Shading's U-Net (mean-pool down, bilinear up)");
+    std::string residual = a.get_choice("--residual", def.residual, {"off", "mapped", "linear"}, "predict a correction to the input light: none (pix2pix), in Tanh range, or the indirect light in linear light (docs/gan.md)");
     int threads = a.get_int("--threads", 2, "worker threads");
     int seed = a.get_int("--seed", 1, "random seed (weights, dropout, data order)");
     bool resume = a.get_flag("--resume", "continue from OUT/checkpoint.blob");
@@ -75,6 +79,9 @@ int main(int argc, char** argv) {
     c.inputs.size = size;
     c.ngf = ngf, c.ndf = ndf, c.levels = levels, c.d_layers = d_layers;
     c.loss = parse_loss(loss);
+    c.arch = parse_arch(arch);
+    c.residual = parse_residual(residual);
+    c.g_batchnorm = g_norm == "batch";
     c.lambda = lambda, c.lr = lr, c.beta1 = beta1;
     c.epochs = epochs - decay, c.epochs_decay = decay;
     c.seed = uint64_t(seed);
@@ -82,9 +89,9 @@ int main(int argc, char** argv) {
     GiItemReader rd{c.inputs.mode, size};
     c.inputs.norm = fit_normalisation(listing.train, rd, max_items);
     auto train = load_samples(listing.train, rd, c.inputs, max_items, "loading train");
-    std::fprintf(stderr, "train-gan: %zu training %s from %s, input %s, depth_max %.3g, hdr_scale %.3g\n",
+    std::fprintf(stderr, "train-gan: %zu training %s from %s, input %s, depth_max %.3g, hdr_scale %.3g, light_max %.3g\n",
                  train.size(), c.inputs.mode == GiMode::surround ? "frames" : "views", data_dir.c_str(),
-                 train[0].input.shape().str().c_str(), c.inputs.norm.depth_max, c.inputs.norm.hdr_scale);
+                 train[0].input.shape().str().c_str(), c.inputs.norm.depth_max, c.inputs.norm.hdr_scale, c.inputs.norm.light_max);
 
     GanRunResult r = run_gan_training(o, train);
     train.clear();

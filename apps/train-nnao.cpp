@@ -3,8 +3,9 @@
 //              [--hidden 4] [--radius R] [--dropout 0.5] [--gamma 0.01]
 //              [--points-per-view 1024] [--threads 2] [--seed S] [--resume] [--sweep]
 // Without --data it renders (once, cached) and uses the built-in default dataset.
-// --sweep trains the ladder w in {7,15,23,31} x hidden in {4,8,16} instead: see
-// models/nnao/nnao_sweep.h.
+// --sweep trains the ladder w in {7,15,23,31} x hidden in {4,8,16} instead (with the
+// given --gamma, which its report states; --resume continues an interrupted sweep):
+// see models/nnao/nnao_sweep.h.
 #include <chrono>
 #include <cstdio>
 #include <thread>
@@ -37,7 +38,7 @@ int main(int argc, char** argv) {
     o.seed = uint64_t(args.get_int("--seed", 1, "random seed"));
     o.resume = args.get_flag("--resume", "continue from OUT/checkpoint.nnao.ckpt");
     bool sweep = args.get_flag("--sweep", "train the size ladder (w 7/15/23/31 x hidden 4/8/16) and chart error vs ms/frame");
-    int sweep_epochs = args.get_int("--sweep-epochs", 4, "epochs per model in --sweep");
+    int sweep_epochs = args.get_int("--sweep-epochs", 40, "epochs per model in --sweep (40: converged on the default data, ~11 min of one core for the ladder; the sweep trains with --gamma, which docs/nnao.md sets to 0.0001)");
     args.done();
     set_num_threads(threads);
     if (o.data_dir.empty()) o.data_dir = data::ensure_default_dataset("nnao", threads);

@@ -1,16 +1,22 @@
 // NNAO training step (forward, loss with the L1 penalty, backward, Adam) at the paper's
 // batch of 16 on pre-computed standardised features, as train-nnao runs it; plus the
-// per-frame inference paths. Counters: samples/s (training points per second).
+// per-frame inference paths, vectorised and scalar, next to the classical baselines on
+// the same 320x180 frame (one thread: CPU time per frame without thread-pool effects).
+// Counters: samples/s (training points per second).
 //   bench_nnao_step --benchmark_filter=Step
+//   bench_nnao_step --benchmark_filter='Frame/.*/1$'   (per-frame times, one thread)
 // Paper scale = 500,000 points x 100 epochs = 50M samples: minutes = 50M / samples_per_s / 60.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <vector>
 
 #include "core/rng.h"
 #include "core/thread_pool.h"
 #include "models/nnao/nnao_fast_step.h"
+#include "models/classical_ao/methods.h"
 #include "models/nnao/nnao_inference.h"
+#include "models/nnao/nnao_inference_reference.h"
 #include "models/nnao/nnao_loss.h"
 #include "models/nnao/nnao_model.h"
 #include "optim/adam.h"
@@ -58,9 +64,10 @@ BENCHMARK(BM_NnaoTrainStepAutograd)->Args({31, 16, 1})->Args({31, 16, 2})->UseRe
     ->Unit(benchmark::kMicrosecond);
 
 // What train-nnao runs: gather 16 rows, fused forward/backward, Adam.
+// args: window, batch, threads (benchmarks/compare reads all three from the name).
 static void BM_NnaoTrainStep(benchmark::State& state) {
   const int window = int(state.range(0)), batch = int(state.range(1));
-  set_num_threads(1);
+  set_num_threads(int(state.range(2)));
   const int64_t F = int64_t(window) * window * 4, points = 4096;
   Rng rng(1);
   std::vector<float> X(static_cast<size_t>(points * F)), Y(static_cast<size_t>(points));
@@ -92,24 +99,59 @@ static void BM_NnaoTrainStep(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(step());
   state.counters["samples/s"] = benchmark::Counter(double(state.iterations()) * batch, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_NnaoTrainStep)->Args({31, 16})->Args({15, 16})->Args({7, 16})->UseRealTime()
+BENCHMARK(BM_NnaoTrainStep)->Args({31, 16, 1})->Args({15, 16, 1})->Args({7, 16, 1})
+    ->Args({31, 16, 2})->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
 
+// Args: samples (0 = exact), threads, vectorised (1) or the scalar reference (0).
 static void BM_NnaoInferFrame(benchmark::State& state) {
   const int samples = int(state.range(0));
+  const bool vec = state.range(2) != 0;
   set_num_threads(int(state.range(1)));
   auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(31, 4, 3));
   static data::View v = nns::testing::synthetic_view(320, 180, 1, 1);
   auto g = ao::gbuffer_from_view(v);
   std::vector<float> out(size_t(g.pixels()));
   for (auto _ : state) {
-    if (samples == 0) nnao::infer_exact(m, g, out.data());
-    else nnao::infer_shader_style(m, g, samples, out.data());
+    if (samples == 0) vec ? nnao::infer_exact(m, g, out.data()) : nnao::infer_exact_reference(m, g, out.data());
+    else if (vec) nnao::infer_shader_style(m, g, samples, out.data());
+    else nnao::infer_shader_style_reference(m, g, samples, out.data());
     benchmark::DoNotOptimize(out.data());
   }
   state.counters["frames/s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_NnaoInferFrame)->Args({0, 2})->Args({64, 2})->Args({256, 2})->Args({64, 1})->UseRealTime()
+BENCHMARK(BM_NnaoInferFrame)->ArgNames({"samples", "threads", "vec"})
+    ->Args({0, 2, 1})->Args({64, 2, 1})->Args({256, 2, 1})
+    ->Args({0, 1, 1})->Args({64, 1, 1})->Args({64, 1, 0})->Args({0, 1, 0})
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// Args: method index in classical_methods(), samples, vectorised (1) or scalar (0); one
+// thread. Checks first that the two paths agree on this frame.
+static void BM_ClassicalAoFrame(benchmark::State& state) {
+  set_num_threads(1);
+  const auto& method = ao::classical_methods().at(size_t(state.range(0)));
+  const int samples = int(state.range(1));
+  static data::View v = nns::testing::synthetic_view(320, 180, 1, 1);
+  auto g = ao::gbuffer_from_view(v);
+  std::vector<float> out(size_t(g.pixels())), ref(out.size());
+  method.run(g, samples, out.data());
+  method.reference(g, samples, ref.data());
+  double diff = 0;
+  for (size_t i = 0; i < out.size(); ++i) diff += std::abs(out[i] - ref[i]);
+  if (!(diff / double(out.size()) < 1e-4)) {
+    state.SkipWithError("vectorised and scalar results differ");
+    return;
+  }
+  const auto& run = state.range(2) ? method.run : method.reference;
+  for (auto _ : state) {
+    run(g, samples, out.data());
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetLabel(method.name);
+}
+BENCHMARK(BM_ClassicalAoFrame)->ArgNames({"method", "samples", "vec"})
+    ->Args({0, 32, 1})->Args({0, 32, 0})->Args({1, 32, 1})->Args({1, 32, 0})
+    ->Args({2, 64, 1})->Args({2, 64, 0})->Args({3, 32, 1})->Args({3, 32, 0})
     ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -8,14 +8,13 @@
 #include <cstdint>
 
 #include "core/rng.h"
+#include "nn/conv_parameters.h"
 #include "nn/functional/conv_transpose2d.h"
-#include "nn/linear.h"  // fan_in_uniform_init
-#include "nn/module.h"
 
 namespace nns {
 
 template <class T = float>
-class ConvTranspose2d : public Module<T> {
+class ConvTranspose2d : public ConvLayerBase<T> {
  public:
   // Square kernel, same stride/padding/output padding/dilation in both directions.
   ConvTranspose2d(Rng& rng, int64_t in_channels, int64_t out_channels, int kernel_size,
@@ -29,29 +28,20 @@ class ConvTranspose2d : public Module<T> {
   ConvTranspose2d(Rng& rng, int64_t in_channels, int64_t out_channels, int kernel_h,
                   int kernel_w, const ConvTranspose2dParams& params, bool bias = true)
       : in_channels(in_channels), out_channels(out_channels), params(params) {
-    if (params.groups <= 0 || in_channels % params.groups || out_channels % params.groups)
-      throw std::invalid_argument("ConvTranspose2d: groups=" + std::to_string(params.groups) +
-                                  " must divide in (" + std::to_string(in_channels) +
-                                  ") and out (" + std::to_string(out_channels) + ") channels");
+    this->check_groups("ConvTranspose2d", in_channels, out_channels, params.groups);
     // PyTorch computes fan_in from the weight's dimension 1, which for a transposed
     // convolution is out_channels/groups: reproduce it so the scales match.
     const int64_t fan_in = out_channels / params.groups * kernel_h * kernel_w;
-    Tensor<T> w({in_channels, out_channels / params.groups, kernel_h, kernel_w});
-    fan_in_uniform_init(w, fan_in, rng);
-    weight = this->register_parameter("weight", std::move(w));
-    if (bias) {
-      Tensor<T> b({out_channels});
-      fan_in_uniform_init(b, fan_in, rng);
-      this->bias = this->register_parameter("bias", std::move(b));
-    }
+    this->init_parameters({in_channels, out_channels / params.groups, kernel_h, kernel_w},
+                          out_channels, fan_in, bias, rng);
   }
 
-  Var<T> forward(const Var<T>& x) override { return conv_transpose2d(x, weight, bias, params); }
+  Var<T> forward(const Var<T>& x) override {
+    return conv_transpose2d(x, this->weight, this->bias, params);
+  }
 
   const int64_t in_channels, out_channels;
   const ConvTranspose2dParams params;
-  Var<T> weight;
-  Var<T> bias;  // undefined when built without bias
 };
 
 }  // namespace nns

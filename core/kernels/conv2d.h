@@ -7,6 +7,8 @@
 //   out    (N, C_out, H_out, W_out),  H_out = (H + 2p - d(k-1) - 1)/s + 1
 // Per image, group and row block:  out_blk (C_out/g, R*W_out) = W_g (C_out/g, K) * col (K, R*W_out).
 // 1x1 stride-1 unpadded convolutions skip im2col: the input already is the column matrix.
+// Layers with at most kConvDirectMaxCout output channels per group skip GEMM altogether
+// (core/kernels/conv2d_direct.h).
 //
 // The three passes are separate functions because conv_transpose2d (the same
 // convolution run backwards) reuses them with the roles of input and output swapped.
@@ -17,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/kernels/conv2d_direct.h"
 #include "core/kernels/conv_geometry.h"
 #include "core/kernels/gemm.h"
 #include "core/kernels/im2col.h"
@@ -152,6 +155,7 @@ void for_each_block(const ConvGeometry& g, const ConvBlocks& blocks, F&& f) {
 template <class T>
 void conv2d_gemm_forward(T* out, const T* inp, const T* weight, const T* bias,
                          const ConvGeometry& g, bool accumulate) {
+  if (conv_use_direct(g)) return conv2d_direct_forward(out, inp, weight, bias, g, accumulate);
   const int64_t K = g.col_rows(), cog = g.cout_g(), P = g.out_plane();
   const T beta = accumulate ? T(1) : T(0);
   for_each_block<T>(g, ConvBlocks(g), [&](const ConvBlock& b, T* colbuf) {
@@ -178,6 +182,7 @@ void conv2d_gemm_forward(T* out, const T* inp, const T* weight, const T* bias,
 // order; whatever the thread count, the result is the same.
 template <class T>
 void conv2d_backward_weight(T* dweight, const T* dout, const T* inp, const ConvGeometry& g) {
+  if (conv_use_direct(g)) return conv2d_direct_backward_weight(dweight, dout, inp, g);
   const int64_t K = g.col_rows(), cog = g.cout_g(), P = g.out_plane();
   const ConvBlocks blocks(g);
   const int64_t per_group = g.N * blocks.per_image, wg = cog * K;
@@ -228,6 +233,7 @@ void conv2d_backward_weight(T* dweight, const T* dout, const T* inp, const ConvG
 template <class T>
 void conv2d_backward_input(T* dinp, const T* dout, const T* weight, const ConvGeometry& g,
                            bool accumulate = true) {
+  if (conv_use_direct(g)) return conv2d_direct_backward_input(dinp, dout, weight, g, accumulate);
   const int64_t K = g.col_rows(), cog = g.cout_g(), cig = g.cin_g(), P = g.out_plane();
   if (g.is_pointwise()) {
     for_each_block<T>(g, ConvBlocks(g), [&](const ConvBlock& b, T*) {

@@ -4,7 +4,8 @@
 // beta = 0 assigns (C is not read), beta = 1 accumulates — this is how kernel pairs
 // express the gradient contract of core/autograd.h.
 //
-// float goes to the packed BLIS-style kernel (gemm_packed.h), split between the pool's
+// float goes to the packed BLIS-style kernel (gemm_packed.h) unless a direct path fits the
+// shape better (gemm_small.h: tiny; gemm_skinny.h: a few columns of C), split between the pool's
 // threads in whole micro-tiles of C so that results are bitwise identical for any
 // thread count; double (gradient checks) goes to the simple generic loops. The naive
 // gemm_reference stays beside them for the tests.
@@ -15,6 +16,7 @@
 #include "core/kernels/gemm_generic.h"
 #include "core/kernels/gemm_packed.h"
 #include "core/kernels/gemm_reference.h"
+#include "core/kernels/gemm_skinny.h"
 #include "core/kernels/gemm_small.h"
 #include "core/thread_pool.h"
 
@@ -51,6 +53,10 @@ inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, f
         std::max<int64_t>(64, kParallelMinMacs / std::max<int64_t>(1, M * K)), 64);
     return;
   }
+  if (use_gemm_nn_skinny(trans_a, trans_b, M, N, K))
+    return gemm_nn_skinny(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc, kParallelMinMacs);
+  if (use_gemm_tn_skinny(trans_a, trans_b, M, N, K))
+    return gemm_tn_skinny(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc, kParallelMinMacs);
   const MatView a{A, lda, trans_a}, b{B, ldb, trans_b};
   ThreadPool& pool = ThreadPool::global();
   const int nt = pool.threads();

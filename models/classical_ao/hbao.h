@@ -6,6 +6,11 @@
 // W = 1 - d^2 / r^2 at the sample's distance d. AO = 1 - mean over directions; then a
 // 4x4 box blur. Off-screen samples are invisible to it (a screen-space limitation).
 // samples = dirs x steps: 16 = 4x4, 32 = 8x4, 64 = 8x8.
+//
+// hbao() marches 16 pixels of a row at once (simd16.h; a lane whose march left the
+// screen is masked off, the vector form of `break`), with the directions' cosines and
+// sines from per-row tables and 1/r^2 instead of a division per step; hbao_reference()
+// is the scalar loop it must match (tests compare them).
 #include <cmath>
 #include <vector>
 
@@ -19,7 +24,7 @@ inline void hbao_layout(int samples, int& dirs, int& steps) {
   steps = samples / dirs < 1 ? 1 : samples / dirs;
 }
 
-inline void hbao(const GBuffer& g, int samples, float* out) {
+inline void hbao_reference(const GBuffer& g, int samples, float* out) {
   int dirs, steps;
   hbao_layout(samples, dirs, steps);
   std::vector<float> raw(size_t(g.pixels()));
@@ -65,6 +70,70 @@ inline void hbao(const GBuffer& g, int samples, float* out) {
       sum += ao;
     }
     raw[size_t(i)] = saturate(1.0f - sum / float(dirs));
+  });
+  box_blur_4x4_reference(g, raw.data(), out);
+}
+
+inline void hbao(const GBuffer& g, int samples, float* out) {
+  using namespace simd;
+  int dirs, steps;
+  hbao_layout(samples, dirs, steps);
+  std::vector<float> raw(size_t(g.pixels()));
+  const float r = g.radius, r2 = r * r, inv_r2 = 1.0f / r2;
+  const float angle_bias = 0.1f;
+  const NoiseTile noise;
+  // Per row class yq = y & 3 and lane: each direction's (cos, sin), and the step jitter.
+  std::vector<float> dcos(size_t(4 * dirs * kLanes)), dsin(dcos.size());
+  alignas(64) float jitter[4][kLanes];
+  for (int yq = 0; yq < 4; ++yq)
+    for (int l = 0; l < kLanes; ++l) {
+      jitter[yq][l] = hash_unit(pixel_hash(uint32_t(l & 3), uint32_t(yq), 7));
+      for (int d = 0; d < dirs; ++d) {
+        const float a = noise.angle[yq][l] + 6.2831853f * float(d) / float(dirs);
+        dcos[size_t((yq * dirs + d) * kLanes + l)] = std::cos(a);
+        dsin[size_t((yq * dirs + d) * kLanes + l)] = std::sin(a);
+      }
+    }
+  for_each_block(g, [&](int x0, int y, Mask valid) {
+    const Block b(g, x0, y, valid);
+    const VF zero = splat(0.0f), one = splat(1.0f);
+    const VF r_px = splat(r * 0.5f * float(g.width)) / (splat(g.sx) * b.z);
+    const Mask live = b.live & ~lt(r_px, one);  // under a pixel: nothing to march
+    VF sum = zero;
+    if (live) {
+      VF nx, ny, nz;
+      load_unit_normals(g, b.i0, valid, nx, ny, nz);
+      const VF jit = load(jitter[y & 3]);
+      const VF step_px = r_px / splat(float(steps));
+      for (int d = 0; d < dirs; ++d) {
+        const VF dx = load(dcos.data() + size_t(((y & 3) * dirs + d) * kLanes));
+        const VF dy = load(dsin.data() + size_t(((y & 3) * dirs + d) * kLanes));
+        VF sin_prev = splat(angle_bias), ao = zero;
+        Mask alive = live;
+        for (int s = 0; s < steps && alive; ++s) {
+          const VF t = (splat(float(s)) + jit) * step_px + one;
+          const VF qx = b.X + dx * t, qy = b.Y + dy * t;
+          alive &= on_screen(g, qx, qy);
+          VI ix, iy;
+          clamped_pixel(g, qx, qy, ix, iy);
+          const VF zj = gather(g.z, pixel_index(g, ix, iy), alive, INFINITY);
+          Mask m = alive & ~sky(zj);
+          VF vx, vy;
+          position(g, to_float(ix), to_float(iy), zj, vx, vy);
+          vx = vx - b.px, vy = vy - b.py;
+          const VF vz = b.z - zj;
+          const VF d2 = vx * vx + vy * vy + vz * vz;
+          m &= ~gt(d2, splat(r2)) & ~le(d2, zero);
+          const VF sin_h = (nx * vx + ny * vy + nz * vz) / sqrt(d2);
+          const Mask up = m & gt(sin_h, sin_prev);
+          ao = select(up, ao + (one - d2 * splat(inv_r2)) * (sin_h - sin_prev), ao);
+          sin_prev = select(up, sin_h, sin_prev);
+        }
+        sum = sum + ao;
+      }
+    }
+    const VF res = saturate(one - sum / splat(float(dirs)));
+    store(raw.data() + b.i0, select(live, res, one), valid);
   });
   box_blur_4x4(g, raw.data(), out);
 }

@@ -8,13 +8,17 @@
 // sphere. We report AO = clamp(2 (1 - occluded / n), 0, 1): 1 on an open plane and, in
 // expectation, 0.5 in a right-angle crease — the same values the ground truth gives
 // there, so the comparison measures the method, not a constant offset.
+//
+// ssao() runs 16 pixels of a row at once (simd16.h); ssao_reference() is the scalar
+// per-pixel loop it must match (tests compare them).
 #include <vector>
 
 #include "models/classical_ao/common.h"
+#include "models/classical_ao/simd16.h"
 
 namespace nns::ao {
 
-inline void ssao(const GBuffer& g, int samples, float* out) {
+inline void ssao_reference(const GBuffer& g, int samples, float* out) {
   const std::vector<Vec3> kernel = sphere_kernel(samples, 0x55A0 + uint64_t(samples));
   std::vector<float> raw(size_t(g.pixels()));
   const float r = g.radius;
@@ -36,6 +40,36 @@ inline void ssao(const GBuffer& g, int samples, float* out) {
       occluded += (behind > 0.0f && behind < r);
     }
     raw[size_t(i)] = saturate(2.0f * (1.0f - float(occluded) / float(samples)));
+  });
+  box_blur_4x4_reference(g, raw.data(), out);
+}
+
+inline void ssao(const GBuffer& g, int samples, float* out) {
+  using namespace simd;
+  const std::vector<Vec3> kernel = sphere_kernel(samples, 0x55A0 + uint64_t(samples));
+  const NoiseTile noise;
+  std::vector<float> raw(size_t(g.pixels()));
+  const float r = g.radius;
+  for_each_block(g, [&](int x0, int y, Mask valid) {
+    const Block b(g, x0, y, valid);
+    const VF c = load(noise.cos[y & 3]), s = load(noise.sin[y & 3]), R = splat(r);
+    VF occluded = splat(0.0f);
+    for (const Vec3& k0 : kernel) {
+      const VF kx = splat(k0.x), ky = splat(k0.y);
+      const VF sx = b.px + R * (c * kx - s * ky), sy = b.py + R * (s * kx + c * ky);
+      const VF sz = -b.z + R * splat(k0.z);
+      Mask m = b.live & lt(sz, splat(0.0f));
+      if (!m) continue;
+      VF qx, qy;
+      VI ix, iy;
+      project(g, sx, sy, -sz, qx, qy);
+      clamped_pixel(g, qx, qy, ix, iy);
+      const VF behind = -sz - gather(g.z, pixel_index(g, ix, iy), m, 0.0f);
+      m &= gt(behind, splat(0.0f)) & lt(behind, R);
+      occluded = occluded + select(m, splat(1.0f), splat(0.0f));
+    }
+    const VF ao = saturate(splat(2.0f) * (splat(1.0f) - occluded / splat(float(samples))));
+    store(raw.data() + b.i0, select(b.live, ao, splat(1.0f)), valid);
   });
   box_blur_4x4(g, raw.data(), out);
 }

@@ -5,6 +5,9 @@
 // noise tile, a sample counting as occluded when the depth buffer is in front of it by
 // more than a small bias, weighted by the range check smoothstep(0, 1, r / |z - zbuf|);
 // AO = 1 - occluded / n, then a 4x4 box blur.
+//
+// ssao_plus() runs 16 pixels of a row at once (simd16.h); ssao_plus_reference() is the
+// scalar per-pixel loop it must match (tests compare them).
 #include <vector>
 
 #include "models/classical_ao/common.h"
@@ -28,7 +31,7 @@ inline float smoothstep01(float x) {
   return x * x * (3 - 2 * x);
 }
 
-inline void ssao_plus(const GBuffer& g, int samples, float* out) {
+inline void ssao_plus_reference(const GBuffer& g, int samples, float* out) {
   const std::vector<Vec3> kernel = hemisphere_kernel(samples, 0x5A0B + uint64_t(samples));
   std::vector<float> raw(size_t(g.pixels()));
   const float r = g.radius, bias = 0.05f * r;
@@ -59,6 +62,53 @@ inline void ssao_plus(const GBuffer& g, int samples, float* out) {
       }
     }
     raw[size_t(i)] = 1.0f - occlusion / float(samples);
+  });
+  box_blur_4x4_reference(g, raw.data(), out);
+}
+
+inline void ssao_plus(const GBuffer& g, int samples, float* out) {
+  using namespace simd;
+  const std::vector<Vec3> kernel = hemisphere_kernel(samples, 0x5A0B + uint64_t(samples));
+  const NoiseTile noise;
+  std::vector<float> raw(size_t(g.pixels()));
+  const float r = g.radius, bias = 0.05f * r;
+  for_each_block(g, [&](int x0, int y, Mask valid) {
+    const Block b(g, x0, y, valid);
+    const VF zero = splat(0.0f), one = splat(1.0f), R = splat(r);
+    // normalize(N), with normalize's fallback (0, 0, 1) for a zero vector.
+    VF nx, ny, nz;
+    load_unit_normals(g, b.i0, valid, nx, ny, nz);
+    const VF rvx = load(noise.cos[y & 3]), rvy = load(noise.sin[y & 3]);
+    const VF rn = rvx * nx + rvy * ny;  // dot(rv, N), rv.z = 0
+    VF tx = rvx - rn * nx, ty = rvy - rn * ny, tz = zero - rn * nz;
+    const Mask degenerate = lt(tx * tx + ty * ty + tz * tz, splat(1e-6f));
+    tx = select(degenerate, zero - nz * nx, tx);
+    ty = select(degenerate, zero - nz * ny, ty);
+    tz = select(degenerate, one - nz * nz, tz);
+    normalize(tx, ty, tz);
+    const VF bx = ny * tz - nz * ty, by = nz * tx - nx * tz, bz = nx * ty - ny * tx;
+    const VF pz = -b.z;
+    VF occlusion = zero;
+    for (const Vec3& k : kernel) {
+      const VF kx = splat(k.x), ky = splat(k.y), kz = splat(k.z);
+      const VF sx = b.px + R * (kx * tx + ky * bx + kz * nx);
+      const VF sy = b.py + R * (kx * ty + ky * by + kz * ny);
+      const VF sz = pz + R * (kx * tz + ky * bz + kz * nz);
+      Mask m = b.live & lt(sz, zero);
+      if (!m) continue;
+      VF qx, qy;
+      VI ix, iy;
+      project(g, sx, sy, -sz, qx, qy);
+      clamped_pixel(g, qx, qy, ix, iy);
+      const VF zb = gather(g.z, pixel_index(g, ix, iy), m, 0.0f);
+      m &= lt(zb, -sz - splat(bias));
+      const VF dz = abs(b.z - zb);
+      const VF x = saturate(R / dz);
+      const VF w = select(gt(dz, zero), x * x * (splat(3.0f) - splat(2.0f) * x), one);
+      occlusion = occlusion + select(m, w, zero);
+    }
+    const VF ao = one - occlusion / splat(float(samples));
+    store(raw.data() + b.i0, select(b.live, ao, one), valid);
   });
   box_blur_4x4(g, raw.data(), out);
 }

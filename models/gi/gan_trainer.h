@@ -27,7 +27,6 @@
 #include "models/gi/gi_inputs.h"
 #include "models/gi/gi_losses.h"
 #include "models/gi/patchgan.h"
-#include "models/gi/unet.h"
 #include "models/gi/gi_model_io.h"
 #include "optim/adam.h"
 #include "optim/lr_schedule.h"
@@ -48,6 +47,9 @@ inline const char* loss_name(GiLoss l) {
 struct GanTrainConfig {
   GiInputConfig inputs;
   int ngf = 32, levels = 6;          // generator
+  GiArch arch = GiArch::pix2pix;
+  GiResidual residual = GiResidual::off;  // predict a correction to the input light (generator.h)
+  bool g_batchnorm = true;           // BatchNorm in the pix2pix U-Net (unet.h)
   int ndf = 32, d_layers = 3;        // discriminator
   GiLoss loss = GiLoss::gan;
   double lambda = 100, lr = 2e-4, beta1 = 0.5, beta2 = 0.999;
@@ -59,8 +61,10 @@ struct GanTrainConfig {
     u.in_channels = inputs.channels();
     u.ngf = ngf;
     u.levels = levels;
+    u.batchnorm = g_batchnorm;
     return u;
   }
+  GeneratorConfig generator() const { return {arch, unet(), residual, inputs.norm.hdr_scale}; }
   PatchGanConfig patchgan() const { return {inputs.channels() + 3, ndf, d_layers}; }
   int total_epochs() const { return epochs + epochs_decay; }
 };
@@ -127,7 +131,7 @@ inline void check_finite(const Tensor<float>& t, int64_t step, const std::string
 class GanTrainer {
  public:
   explicit GanTrainer(const GanTrainConfig& c)
-      : config(c), init_rng_(c.seed), G(c.unet(), init_rng_),
+      : config(c), init_rng_(c.seed), G_(make_generator<float>(c.generator(), init_rng_)), G(*G_),
         schedule_(LrSchedule::linear(c.lr, c.epochs, c.epochs_decay)) {
     opt_g_ = std::make_unique<Adam<float>>(G.parameters(),
                                            AdamOptions{.lr = c.lr, .beta1 = c.beta1, .beta2 = c.beta2});
@@ -152,7 +156,7 @@ class GanTrainer {
     StepLosses out;
     Var<float> x(s.input);
     Var<float> y(s.target);
-    Var<float> fake = G.forward(x);
+    Var<float> fake = generate(G, config.generator(), x);
     Var<float> fake_f = crop2d(fake, s.front);
     check_finite(fake.value(), k, "generator output");
 
@@ -202,7 +206,7 @@ class GanTrainer {
     NoGradGuard ng;
     auto saved = snapshot_buffers();  // batch-stat BN would move the running statistics
     G.set_test_modes(bn_batch_stats, dropout_on);
-    Tensor<float> out = crop2d(G.forward(Var<float>(s.input)).value(), s.front);
+    Tensor<float> out = crop2d(generate(G, config.generator(), Var<float>(s.input)).value(), s.front);
     restore_buffers(saved);
     G.train();
     return out;
@@ -250,14 +254,14 @@ class GanTrainer {
   }
   // The generator alone with what rebuilds it and assembles its inputs (gi_model_io.h).
   void save_generator(const std::string& path) {
-    save_generator_blob(path, G, config.inputs, loss_name(config.loss));
+    save_generator_blob(path, G, config.inputs, config.generator(), loss_name(config.loss));
   }
 
   GanTrainConfig config;
 
  private:
   void put_config(Blob& b) const {
-    put_generator_config(b, config.inputs, config.unet(), loss_name(config.loss));
+    put_generator_config(b, config.inputs, config.generator(), loss_name(config.loss));
     b.set_config("ndf", config.ndf);
     b.set_config("d_layers", config.d_layers);
     b.set_config("lambda", config.lambda);
@@ -289,9 +293,10 @@ class GanTrainer {
   }
 
   Rng init_rng_;
+  std::unique_ptr<GiGenerator<float>> G_;
 
  public:
-  UnetGenerator<float> G;
+  GiGenerator<float>& G;
   std::unique_ptr<PatchGan<float>> D;
 
  private:

@@ -185,10 +185,12 @@ void for_each_item(const data::SplitListing& s, const GiItemReader& rd, size_t m
 }
 
 // Depth range: the 99th percentile of geometry depth (a far outlier must not squash the
-// rest); HDR scale: the median of the target light over geometry pixels of front views.
+// rest); HDR scale: the median of the target light over geometry pixels of front views;
+// the light cap: their maximum.
 inline GiNormalisation fit_normalisation(const data::SplitListing& train, const GiItemReader& rd,
                                          size_t max_items) {
   std::vector<float> depths, light;
+  float light_max = 0;
   for_each_item(train, rd, max_items, [&](size_t, const data::View& front,
                                           std::array<data::View, 6>* faces, const std::string&) {
     auto take_depth = [&](const data::View& v) {
@@ -203,8 +205,13 @@ inline GiNormalisation fit_normalisation(const data::SplitListing& train, const 
       const auto& d = front.channel(std::string("direct.") + c);
       const auto& ind = front.channel(std::string("indirect.") + c);
       std::string env = std::string("env.") + c;
-      for (size_t i = 0; i < d.size(); i += 5)
-        if (!data::is_sky(z[i])) light.push_back(d[i] + ind[i] + (front.has(env) ? front.channel(env)[i] : 0.0f));
+      const std::vector<float>* e = front.has(env) ? &front.channel(env) : nullptr;
+      for (size_t i = 0; i < d.size(); ++i) {
+        if (data::is_sky(z[i])) continue;
+        float t = d[i] + ind[i] + (e ? (*e)[i] : 0.0f);
+        light_max = std::max(light_max, t);
+        if (i % 5 == 0) light.push_back(t);
+      }
     }
   });
   GiNormalisation n;
@@ -216,6 +223,7 @@ inline GiNormalisation fit_normalisation(const data::SplitListing& train, const 
   if (!depths.empty()) n.depth_max = std::max(pct(depths, 0.99), 1e-6f);
   if (!light.empty()) n.hdr_scale = pct(light, 0.5);
   if (!(n.hdr_scale > 1e-6f)) n.hdr_scale = 1.0f;
+  if (light_max > 0) n.light_max = light_max;
   return n;
 }
 

@@ -39,6 +39,11 @@ inline const char* mode_name(GiMode m) { return m == GiMode::front ? "front" : "
 struct GiNormalisation {
   float depth_max = 1.0f;  // depth mapped to 1 at and beyond this distance
   float hdr_scale = 1.0f;  // HdrMapping's k
+  // The brightest target light of the training split: predictions are capped there when
+  // mapped back to linear light. Near Tanh's end the inverse mapping x = k u / (1 - u)
+  // turns a tiny output error into an unbounded one (u = 1 - 2^-20 is 1e6 k); light
+  // brighter than anything in training is never a good answer. Infinity: no cap.
+  float light_max = INFINITY;
 };
 
 struct GiInputConfig {

@@ -1,47 +1,57 @@
 #pragma once
 // The generator blob (G.blob): kind "pix2pix-unet", a config that rebuilds the network
-// and assembles its inputs exactly as in training (mode, CoordConv, face size, depth
-// range, HDR scale), and the weights and BatchNorm statistics by name
-// (docs/weights-format.md for the bytes).
+// (arch, residual, widths) and assembles its inputs exactly as in training (mode,
+// CoordConv, face size, depth range, HDR scale), and the weights and BatchNorm
+// statistics by name (docs/weights-format.md for the bytes). Blobs written before
+// `arch` and `residual` existed load as pix2pix, not residual.
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 
 #include "core/blob.h"
 #include "models/gi/gi_inputs.h"
-#include "models/gi/unet.h"
+#include "models/gi/generator.h"
 #include "nn/serialize.h"
 
 namespace nns::gi {
 
 inline constexpr const char* kGeneratorKind = "pix2pix-unet";
 
-inline void put_generator_config(Blob& b, const GiInputConfig& in, const UnetConfig& u,
+inline void put_generator_config(Blob& b, const GiInputConfig& in, const GeneratorConfig& gc,
                                  const std::string& loss) {
+  const UnetConfig& u = gc.unet;
+  b.set_config("arch", arch_name(gc.arch));
+  b.set_config("residual", residual_name(gc.residual));
   b.set_config("mode", mode_name(in.mode));
   b.set_config("coordconv", in.coordconv ? "on" : "off");
   b.set_config("size", in.size);
   b.set_config("depth_max", double(in.norm.depth_max));
   b.set_config("hdr_scale", double(in.norm.hdr_scale));
+  if (std::isfinite(in.norm.light_max)) b.set_config("light_max", double(in.norm.light_max));
   b.set_config("in_channels", u.in_channels);
   b.set_config("out_channels", u.out_channels);
   b.set_config("ngf", u.ngf);
   b.set_config("levels", u.levels);
   b.set_config("dropout", double(u.dropout));
   b.set_config("dropout_blocks", u.dropout_blocks);
+  if (!u.batchnorm) b.set_config("batchnorm", "off");
   b.set_config("loss", loss);
 }
 
-inline void save_generator_blob(const std::string& path, UnetGenerator<float>& g,
-                           const GiInputConfig& in, const std::string& loss) {
+inline void save_generator_blob(const std::string& path, GiGenerator<float>& g,
+                                const GiInputConfig& in, const GeneratorConfig& gc,
+                                const std::string& loss) {
   Blob b(kGeneratorKind);
-  put_generator_config(b, in, g.config(), loss);
+  put_generator_config(b, in, gc, loss);
   put_module(b, g, "G.");
   b.save(path);
 }
 
 struct LoadedGenerator {
   GiInputConfig inputs;
-  std::unique_ptr<UnetGenerator<float>> G;
+  GeneratorConfig config;
+  std::unique_ptr<GiGenerator<float>> G;
   std::string loss;
 };
 
@@ -56,19 +66,24 @@ inline LoadedGenerator load_generator(const std::string& path) {
   g.inputs.size = int(b.config_int("size"));
   g.inputs.norm.depth_max = float(b.config_double("depth_max"));
   g.inputs.norm.hdr_scale = float(b.config_double("hdr_scale"));
-  UnetConfig u;
+  g.config.hdr_scale = g.inputs.norm.hdr_scale;
+  if (b.has_config("light_max")) g.inputs.norm.light_max = float(b.config_double("light_max"));
+  UnetConfig& u = g.config.unet;
+  if (b.has_config("arch")) g.config.arch = parse_arch(b.config_string("arch"));
+  if (b.has_config("residual")) g.config.residual = parse_residual(b.config_string("residual"));
   u.in_channels = int(b.config_int("in_channels"));
   u.out_channels = int(b.config_int("out_channels"));
   u.ngf = int(b.config_int("ngf"));
   u.levels = int(b.config_int("levels"));
   u.dropout = float(b.config_double("dropout"));
   u.dropout_blocks = int(b.config_int("dropout_blocks"));
+  u.batchnorm = !(b.has_config("batchnorm") && b.config_string("batchnorm") == "off");
   if (u.in_channels != g.inputs.channels())
     throw std::runtime_error(path + ": in_channels " + std::to_string(u.in_channels) +
                              " does not match coordconv " + b.config_string("coordconv"));
   g.loss = b.config_string("loss");
   Rng rng(0);
-  g.G = std::make_unique<UnetGenerator<float>>(u, rng);
+  g.G = make_generator<float>(g.config, rng);
   get_module(b, *g.G, "G.");
   return g;
 }
@@ -78,10 +93,11 @@ inline Tensor<float> predict_linear(LoadedGenerator& g, const GiSample& s, bool 
                                     bool dropout_on) {
   NoGradGuard ng;
   g.G->set_test_modes(bn_batch_stats, dropout_on);
-  Tensor<float> y = crop2d(g.G->forward(Var<float>(s.input)).value(), s.front);
+  Tensor<float> y = crop2d(generate(*g.G, g.config, Var<float>(s.input)).value(), s.front);
   const HdrMapping hdr(g.inputs.norm.hdr_scale);
   Tensor<float> out({3, y.size(2), y.size(3)});
-  for (int64_t i = 0; i < out.numel(); ++i) out[i] = hdr.from_tanh(y[i]);
+  const float cap = g.inputs.norm.light_max;  // inputs.h: no light beyond training's
+  for (int64_t i = 0; i < out.numel(); ++i) out[i] = std::min(hdr.from_tanh(y[i]), cap);
   return out;
 }
 

@@ -22,6 +22,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "models/gi/generator_base.h"
 #include "models/gi/pix2pix_layers.h"
 
 namespace nns::gi {
@@ -33,6 +34,10 @@ struct UnetConfig {
   int levels = 8;
   float dropout = 0.5f;
   int dropout_blocks = 3;  // the innermost up blocks with dropout
+  // false: no BatchNorm anywhere (and so a bias on every conv). A measured deviation
+  // (docs/gan.md): BatchNorm at batch 1 normalises every image by its own statistics,
+  // which hides the absolute light level from every level but the outermost skip.
+  bool batchnorm = true;
 };
 
 template <class T = float>
@@ -45,14 +50,15 @@ class UnetBlock : public Module<T> {
     const int inner = c.ngf * std::min(1 << std::min(level, 3), 8);
     const int outer = outermost ? c.out_channels : c.ngf * std::min(1 << std::min(level - 1, 3), 8);
     const int input = outermost ? c.in_channels : outer;
-    const bool down_bn = !outermost && !innermost;
+    const bool down_bn = !outermost && !innermost && c.batchnorm;
     down_ = this->register_module("down", make_conv<T>(input, inner, /*bias=*/!down_bn, rng));
     if (down_bn) down_norm_ = this->register_module("down_norm", make_bn<T>(inner));
     if (!innermost)
       sub_ = this->register_module("sub", std::make_shared<UnetBlock<T>>(c, level + 1, rng));
     const int up_in = innermost ? inner : 2 * inner;
-    up_ = this->register_module("up", make_conv_transpose<T>(up_in, outer, /*bias=*/outermost, rng));
-    if (!outermost) up_norm_ = this->register_module("up_norm", make_bn<T>(outer));
+    const bool up_bn = !outermost && c.batchnorm;
+    up_ = this->register_module("up", make_conv_transpose<T>(up_in, outer, /*bias=*/!up_bn, rng));
+    if (up_bn) up_norm_ = this->register_module("up_norm", make_bn<T>(outer));
     if (!outermost && level >= c.levels - c.dropout_blocks && c.dropout > 0)
       dropout_ = this->register_module(
           "dropout", make_dropout<T>(c.dropout, rng.next_u64()));
@@ -86,7 +92,7 @@ class UnetBlock : public Module<T> {
 };
 
 template <class T = float>
-class UnetGenerator : public Module<T> {
+class UnetGenerator : public GiGenerator<T> {
  public:
   UnetGenerator(const UnetConfig& c, Rng& rng) : config_(c) {
     if (c.levels < 1 || c.ngf < 1 || c.in_channels < 1 || c.out_channels < 1)
@@ -107,10 +113,11 @@ class UnetGenerator : public Module<T> {
   }
 
   // Switches to evaluation with the chosen test-time behaviour; train() undoes it.
-  void set_test_modes(bool bn_batch_stats, bool dropout_on) {
+  void set_test_modes(bool bn_batch_stats, bool dropout_on) override {
     this->eval();
     root_->set_test_modes(bn_batch_stats, dropout_on);
   }
+  int64_t size_multiple() const override { return int64_t(1) << config_.levels; }
 
   const UnetConfig& config() const { return config_; }
 

@@ -4,9 +4,12 @@
 // vector (nnao_features.h) and the ground-truth AO of the centre pixel. The target is
 // AO itself (1 = unoccluded), as the dataset stores it.
 //
-// The features are computed once into one float matrix (points x w*w*4), so a training
-// step only gathers rows: no feature work and no allocation per step. Memory is
-// points * w*w*4 * 4 bytes (61 MB per 1000 views-worth of 1024 points... see docs/nnao.md).
+// The features are computed once into one matrix (points x w*w*4), so a training step
+// only gathers rows: no feature work and no allocation per step. The matrix is stored in
+// IEEE half precision (binary16, 11-bit significand: relative rounding error <= 2^-11),
+// 2 bytes per feature: w = 31 needs 7.7 KB per point instead of 15.4 KB. Rows are
+// widened to float when a batch is gathered (to_float); the network, the statistics
+// and every sum run in float or double. See docs/nnao.md for the measured effect.
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -19,11 +22,23 @@
 
 namespace nns::nnao {
 
+// binary16 via the compiler's _Float16 (F16C's vcvtps2ph / vcvtph2ps where the target
+// has it). Conversion rounds to nearest even and saturates at +-65504, the largest
+// finite half: a standardised feature never reaches it unless its std is ~0.
+using Half = _Float16;
+inline Half to_half(float v) {
+  constexpr float kMax = 65504.0f;
+  return Half(v > kMax ? kMax : (v < -kMax ? -kMax : v));
+}
+inline void to_float(const Half* in, float* out, int64_t n) {
+  for (int64_t i = 0; i < n; ++i) out[i] = float(in[i]);
+}
+
 struct PointSet {
   int window = 31;
   int64_t count = 0, features = 0;
-  std::vector<float> x;  // (count, features), row-major
-  std::vector<float> y;  // (count): AO of the centre pixel
+  std::vector<Half> x;   // (count, features), row-major, half precision
+  std::vector<float> y;  // (count): AO of the centre pixel, float
 
   void reserve(int64_t n) {
     x.reserve(size_t(n * features));
@@ -48,10 +63,12 @@ inline void add_view_points(PointSet& ps, const data::View& v, int per_view, flo
   ps.x.resize(size_t((base + n) * F));
   ps.y.resize(size_t(base + n));
   parallel_for(n, [&](int64_t b, int64_t e) {
+    std::vector<float> row(static_cast<size_t>(F));
     for (int64_t k = b; k < e; ++k) {
       const int64_t p = pix[size_t(k)];
-      compute_features(g, int(p % g.width), int(p / g.width), ps.window,
-                       ps.x.data() + (base + k) * F);
+      compute_features(g, int(p % g.width), int(p / g.width), ps.window, row.data());
+      Half* dst = ps.x.data() + (base + k) * F;
+      for (int64_t f = 0; f < F; ++f) dst[f] = to_half(row[size_t(f)]);
       ps.y[size_t(base + k)] = ao[size_t(p)];
     }
   }, 16);
@@ -63,8 +80,8 @@ struct Standardizer {
   float target_mean = 0, target_std = 1;
 };
 
-// Per-feature mean and standard deviation over the points, in double, feature by
-// feature (each sum runs over the points in order: identical for any thread count).
+// Per-feature mean and standard deviation over the (half-precision) points, in double,
+// feature by feature (each sum runs over the points in order: identical for any thread count).
 // A feature that never varies (the centre sample is always 0) gets std 1.
 inline Standardizer fit_standardizer(const PointSet& ps) {
   const int64_t F = ps.features, n = ps.count;
@@ -74,9 +91,9 @@ inline Standardizer fit_standardizer(const PointSet& ps) {
   parallel_for(F, [&](int64_t f0, int64_t f1) {
     std::vector<double> sum(size_t(f1 - f0), 0), sq(size_t(f1 - f0), 0);
     for (int64_t i = 0; i < n; ++i) {
-      const float* row = ps.x.data() + i * F;
+      const Half* row = ps.x.data() + i * F;
       for (int64_t f = f0; f < f1; ++f) {
-        const double v = row[f];
+        const double v = double(row[f]);
         sum[size_t(f - f0)] += v;
         sq[size_t(f - f0)] += v * v;
       }
@@ -100,8 +117,8 @@ inline void apply_standardizer(PointSet& ps, const Standardizer& s) {
   const int64_t F = ps.features;
   parallel_for(ps.count, [&](int64_t b, int64_t e) {
     for (int64_t i = b; i < e; ++i) {
-      float* row = ps.x.data() + i * F;
-      for (int64_t f = 0; f < F; ++f) row[f] = (row[f] - s.mean[size_t(f)]) / s.std[size_t(f)];
+      Half* row = ps.x.data() + i * F;
+      for (int64_t f = 0; f < F; ++f) row[f] = to_half((float(row[f]) - s.mean[size_t(f)]) / s.std[size_t(f)]);
       ps.y[size_t(i)] = (ps.y[size_t(i)] - s.target_mean) / s.target_std;
     }
   }, 64);

@@ -81,7 +81,7 @@ inline double evaluate_mse(NnaoNet<float>& net, const PointSet& ps, float target
   for (int64_t b = 0; b < ps.count; b += chunk) {
     const int64_t n = std::min(chunk, ps.count - b);
     Tensor<float> x({n, F});
-    std::copy(ps.x.begin() + b * F, ps.x.begin() + (b + n) * F, x.data());
+    to_float(ps.x.data() + b * F, x.data(), n * F);
     Var<float> out = net.forward(Var<float>(x));
     for (int64_t i = 0; i < n; ++i) {
       double d = double(out.value()[i]) - ps.y[size_t(b + i)];
@@ -194,7 +194,7 @@ inline TrainResult train_nnao(const TrainOptions& o) {
     for (int64_t s = 0; s < steps_per_epoch; ++s) {
       for (int64_t b = 0; b < B; ++b) {
         const int64_t p = perm[size_t(s * B + b)];
-        std::copy(train.x.begin() + p * F, train.x.begin() + (p + 1) * F, xb.begin() + b * F);
+        to_float(train.x.data() + p * F, xb.data() + b * F, F);
         yb[size_t(b)] = train.y[size_t(p)];
       }
       for (auto& prm : params) prm.grad_buffer().zero();

@@ -4,6 +4,7 @@
 
 #include <sys/wait.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -44,8 +45,9 @@ TEST(EvalAo, WritesResultsForClassicalMethods) {
   fs::create_directories(d / "data");
   for (int v = 0; v < 3; ++v) {
     auto view = nns::testing::synthetic_view(48, 32, v, 16);
-    view.scene = "path";  // consecutive views of one scene: the temporal check runs
-    nns::data::write_view((d / "data" / ("v" + std::to_string(v) + ".exr")).string(), view);
+    view.scene = "path";  // frames of one camera path (a still camera): the temporal check runs
+    view.world_to_camera = std::array<float, 16>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    nns::data::write_view((d / "data" / ("path-p00-f00" + std::to_string(v) + ".exr")).string(), view);
   }
   CommandResult r = run("--data " + (d / "data").string() + " --out " + (d / "out").string() +
               " --methods SSAO,HBAO --threads 2 --previews 1");
@@ -57,10 +59,13 @@ TEST(EvalAo, WritesResultsForClassicalMethods) {
   EXPECT_EQ(csv.find("nan"), std::string::npos) << csv;
   EXPECT_TRUE(fs::exists(d / "out" / "speed_vs_accuracy.svg"));
   EXPECT_TRUE(fs::exists(d / "out" / "results_by_scene.csv"));
-  EXPECT_TRUE(fs::exists(d / "out" / "previews" / "data_v0_ground_truth.png"));
-  EXPECT_TRUE(fs::exists(d / "out" / "previews" / "data_v0_HBAO_64_error.png"));
+  EXPECT_TRUE(fs::exists(d / "out" / "previews" / "data_path-p00-f000_ground_truth.png"));
+  EXPECT_TRUE(fs::exists(d / "out" / "previews" / "data_path-p00-f000_HBAO_64_error.png"));
   std::string temporal = read(d / "out" / "temporal.csv");
+  EXPECT_EQ(temporal.rfind("method,samples,flicker,ground_truth_flicker,flicker_relative_to_ground_truth,temporal_error,pairs,coverage\n", 0), 0u) << temporal;
   EXPECT_NE(temporal.find("\nHBAO,64,"), std::string::npos) << temporal;
+  EXPECT_NE(temporal.find(",2,"), std::string::npos) << temporal;  // frames 0-1 and 1-2
+  EXPECT_TRUE(fs::exists(d / "out" / "timing.csv"));
   EXPECT_NE(read(d / "out" / "report.md").find("| HBAO | 64 |"), std::string::npos);
   fs::remove_all(d);
 }

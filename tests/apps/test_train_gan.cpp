@@ -163,3 +163,26 @@ TEST_F(TrainGan, EvalGiWritesResultsAndRefusesAFrameWithAMissingFace) {
   EXPECT_NE(log.find("frame0"), std::string::npos) << log;
   EXPECT_NE(log.find("'left'"), std::string::npos) << log;
 }
+
+// The baselines' flags reach the blob: a Deep Shading U-Net with the linear residual and
+// the DSSIM loss trains, and eval-gi rebuilds it from G.blob alone (arch, residual and
+// the light cap are in its config) and scores it.
+TEST_F(TrainGan, DeepShadingDssimBaselineRoundTripsThroughEvalGi) {
+  const std::string run_dir = (root_ / "ds").string();
+  ASSERT_EQ(run(train_cmd(run_dir, "--epochs 1 --arch deepshading --residual linear --loss dssim"),
+                run_dir + ".log"),
+            0)
+      << read_all(run_dir + ".log");
+  std::string blob = read_all(run_dir + "/G.blob");
+  EXPECT_NE(blob.find("deepshading"), std::string::npos);
+  EXPECT_NE(blob.find("light_max"), std::string::npos);
+  const std::string out = (root_ / "ds_out").string();
+  ASSERT_EQ(run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + run_dir +
+                    "/G.blob --out " + out,
+                out + ".log"),
+            0)
+      << read_all(out + ".log");
+  std::string csv = read_all(out + "/results.csv");
+  EXPECT_NE(csv.find("ds/G,surround,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find("nan"), std::string::npos) << csv;
+}

@@ -178,6 +178,24 @@ TEST(Gemm, NnaoMlpShapes) {
   }
 }
 
+TEST(Gemm, SkinnyShapes) {
+  // The U-Net's innermost layers: C with 1-16 columns, a long K or many rows, both thread
+  // counts, alpha/beta, padded leading dimensions, a ragged last 64-row block.
+  ThreadsGuard guard;
+  uint64_t seed = 400;
+  for (int threads : {1, 2}) {
+    settle_threads(threads);
+    for (int64_t N : {1, 3, 4, 5, 16})
+      for (float beta : {0.0f, 1.0f, 0.25f}) {
+        const float alpha = beta == 0.25f ? -0.5f : 1.0f;
+        check_against_reference({true, false, 1000, N, 300, alpha, beta, int64_t(N % 3)}, seed++);
+        check_against_reference({false, false, 300, N, 1100, alpha, beta, int64_t(N % 3)}, seed++);
+      }
+  }
+  EXPECT_TRUE(gemm_detail::use_gemm_tn_skinny(true, false, 1000, 16, 300));
+  EXPECT_TRUE(gemm_detail::use_gemm_nn_skinny(false, false, 300, 4, 1100));
+}
+
 TEST(Gemm, OneAndTwoThreadsBitwiseEqual) {
   ThreadsGuard guard;
   Rng rng(11);
@@ -187,7 +205,9 @@ TEST(Gemm, OneAndTwoThreadsBitwiseEqual) {
                         {false, true, 1000, 40, 777, 1.0f, 1.0f},
                         {true, false, 64, 4096, 64, 1.0f, 0.0f},
                         {true, true, 513, 515, 517, -1.5f, 1.0f, 3},
-                        {false, false, 8, 70001, 8, 1.0f, 0.5f}};  // the short-K direct path
+                        {false, false, 8, 70001, 8, 1.0f, 0.5f},  // the short-K direct path
+                        {true, false, 8192, 4, 512, 1.0f, 0.0f},  // skinny paths
+                        {false, false, 512, 1, 8192, 1.0f, 1.0f}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.str());
     Problem p = make_problem(c, rng);

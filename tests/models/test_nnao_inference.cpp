@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "models/nnao/nnao_inference.h"
+#include "models/nnao/nnao_inference_reference.h"
 #include "tests/models/nnao_test_blob.h"
 #include "tests/models/synthetic_gbuffer.h"
 
@@ -129,4 +130,52 @@ TEST(NnaoInference, SampleGridLayouts) {
   nnao::sample_grid(16, 31, mx, my);
   EXPECT_EQ(mx, 4);
   EXPECT_EQ(my, 4);
+}
+
+namespace {
+
+// Vectorised against scalar reference: the same expressions, so almost every pixel is
+// equal to float precision; a sample on an exact half-pixel boundary may still round
+// to the neighbouring pixel when the compiler fuses a multiply-add differently, and
+// the blur's exp is a polynomial (relative error < 2e-7).
+void expect_close_to_reference(const std::vector<float>& fast, const std::vector<float>& ref,
+                               const std::string& what) {
+  size_t off = 0;
+  double worst = 0, sum = 0;
+  for (size_t i = 0; i < ref.size(); ++i) {
+    ASSERT_FALSE(std::isnan(fast[i])) << what << " pixel " << i;
+    const double d = std::abs(double(fast[i]) - ref[i]);
+    off += d > 1e-5;
+    worst = std::max(worst, d);
+    sum += d;
+  }
+  std::printf("[vector vs scalar] %s: %zu of %zu pixels differ by > 1e-5, max %.3g\n", what.c_str(), off,
+              ref.size(), worst);
+  EXPECT_LE(double(off), 0.002 * double(ref.size())) << what;
+  EXPECT_LT(sum / double(ref.size()), 1e-5) << what;
+}
+
+}  // namespace
+
+TEST(NnaoInference, VectorisedPathsMatchScalarReferences) {
+  // 50 wide: three full 16-pixel blocks and a 2-pixel tail; H = 4 (the compile-time
+  // path) and H = 6 (the general one).
+  for (int H : {4, 6}) {
+    auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(9, H, 11 + H));
+    for (int variant : {0, 3}) {
+      auto v = nns::testing::synthetic_view(50, 30, variant, 1);
+      auto g = ao::gbuffer_from_view(v);
+      const std::string tag = "H" + std::to_string(H) + " variant " + std::to_string(variant);
+      std::vector<float> a(size_t(g.pixels())), b(a.size());
+      nnao::infer_exact(m, g, a.data());
+      nnao::infer_exact_reference(m, g, b.data());
+      expect_close_to_reference(a, b, "exact " + tag);
+      for (bool blur : {false, true})
+        for (int n : {16, 64}) {
+          nnao::infer_shader_style(m, g, n, a.data(), blur, 3);
+          nnao::infer_shader_style_reference(m, g, n, b.data(), blur, 3);
+          expect_close_to_reference(a, b, "shader " + std::to_string(n) + (blur ? " blurred " : " raw ") + tag);
+        }
+    }
+  }
 }

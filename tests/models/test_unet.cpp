@@ -145,3 +145,18 @@ TEST(Unet, GradCheckWholeNetwork) {
       },
       inputs);
 }
+
+// --g-norm none: no BatchNorm (no buffers), a bias on every conv; same hand count as
+// ParameterCountByHand minus the BN parameters (8 + 4 + 8) plus the biases of the three
+// convs that lost their BN (level 1 down 4, up 2; level 2 up 4).
+TEST(Unet, WithoutBatchNormEveryConvHasABias) {
+  Rng rng(1);
+  UnetConfig c = tiny(12, 2, 3);
+  c.batchnorm = false;
+  UnetGenerator<float> g(c, rng);
+  EXPECT_EQ(g.parameter_count(), 386 + 195 + 128 + 256 + 520 + 512 + 4 + 2 + 4);
+  EXPECT_TRUE(g.named_buffers().empty());
+  int biases = 0;
+  for (auto& [name, p] : g.named_parameters()) biases += name.ends_with(".bias");
+  EXPECT_EQ(biases, 6);
+}

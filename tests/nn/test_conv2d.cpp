@@ -7,6 +7,7 @@
 #include "nn/conv2d.h"
 #include "nn/functional/conv2d.h"
 #include "tests/support/gradcheck.h"
+#include "tests/support/kernel_pair_check.h"
 
 using namespace nns;
 using namespace nns::testing;
@@ -35,32 +36,13 @@ ConvGeometry geometry_of(const Case& c) {
                          c.p.pad_h, c.p.pad_w, c.p.dil_h, c.p.dil_w, c.p.groups);
 }
 
-template <class T>
-Tensor<T> randn(const Shape& s, Rng& rng) {
-  Tensor<T> t(s);
-  for (auto& v : t) v = T(rng.normal());
-  return t;
-}
-
-void expect_close(const Tensor<float>& a, const Tensor<float>& ref, const char* what) {
-  ASSERT_EQ(a.shape(), ref.shape()) << what;
-  double worst = 0;
-  for (int64_t i = 0; i < a.numel(); ++i)
-    worst = std::max(worst, std::abs(double(a[i]) - ref[i]) / (1.0 + std::abs(double(ref[i]))));
-  EXPECT_LT(worst, 1e-4) << what;
-}
-
-bool bitwise_equal(const Tensor<float>& a, const Tensor<float>& b) {
-  return a.numel() == b.numel() && std::memcmp(a.data(), b.data(), sizeof(float) * a.numel()) == 0;
-}
-
 }  // namespace
 
 TEST(Conv2d, OutputShapeFollowsPyTorchFormula) {
   Rng rng(1);
   for (const Case& c : kCases) {
-    Var<float> x(randn<float>({c.N, c.C_in, c.H, c.W}, rng));
-    Var<float> w(randn<float>({c.C_out, c.C_in / c.p.groups, c.kh, c.kw}, rng));
+    Var<float> x(randn_float({c.N, c.C_in, c.H, c.W}, rng));
+    Var<float> w(randn_float({c.C_out, c.C_in / c.p.groups, c.kh, c.kw}, rng));
     Var<float> y = conv2d(x, w, Var<float>(), c.p);
     auto out = [](int64_t in, int64_t k, int64_t s, int64_t p, int64_t d) {
       return int64_t(std::floor(double(in + 2 * p - d * (k - 1) - 1) / s)) + 1;
@@ -91,56 +73,43 @@ TEST(Conv2d, ForwardHandComputed) {
   EXPECT_FLOAT_EQ(y2.value()[1], -10.0f);
 }
 
+// Buffers for one case of kCases; the fast pair or the reference pair on them.
+LayerBuffers random_buffers(const ConvGeometry& g, Rng& rng) {
+  return random_layer_buffers({g.N, g.C_in, g.H, g.W}, {g.C_out, g.cin_g(), g.kh, g.kw},
+                              {g.C_out}, {g.N, g.C_out, g.H_out, g.W_out}, rng);
+}
+
+std::array<Tensor<float>, 4> run_fast(const LayerBuffers& in, const ConvGeometry& g) {
+  return forward_backward(
+      in, [&](auto... a) { conv2d_forward(a..., g); }, [&](auto... a) { conv2d_backward(a..., g); });
+}
+
 TEST(Conv2d, FastKernelsMatchReference) {
   Rng rng(2);
   for (const Case& c : kCases) {
     ConvGeometry g = geometry_of(c);
-    auto x = randn<float>({g.N, g.C_in, g.H, g.W}, rng);
-    auto w = randn<float>({g.C_out, g.cin_g(), g.kh, g.kw}, rng);
-    auto b = randn<float>({g.C_out}, rng);
-    auto dy = randn<float>({g.N, g.C_out, g.H_out, g.W_out}, rng);
-    Tensor<float> y(dy.shape()), y_ref(dy.shape());
-    y.fill(NAN);  // forward must assign every element
-    conv2d_forward(y.data(), x.data(), w.data(), b.data(), g);
-    conv2d_forward_reference(y_ref.data(), x.data(), w.data(), b.data(), g);
-    expect_close(y, y_ref, "forward");
-
-    // Backward accumulates: start from the same non-zero buffers on both sides.
-    auto dx = Tensor<float>::full(x.shape(), 0.25f), dx_ref = dx.clone();
-    auto dw = Tensor<float>::full(w.shape(), -0.5f), dw_ref = dw.clone();
-    auto db = Tensor<float>::full(b.shape(), 1.0f), db_ref = db.clone();
-    conv2d_backward(dx.data(), dw.data(), db.data(), dy.data(), x.data(), w.data(), g);
-    conv2d_backward_reference(dx_ref.data(), dw_ref.data(), db_ref.data(), dy.data(), x.data(),
-                              w.data(), g);
-    expect_close(dx, dx_ref, "dinp");
-    expect_close(dw, dw_ref, "dweight");
-    expect_close(db, db_ref, "dbias");
+    LayerBuffers in = random_buffers(g, rng);
+    expect_close(run_fast(in, g),
+                 forward_backward(
+                     in, [&](auto... a) { conv2d_forward_reference(a..., g); },
+                     [&](auto... a) { conv2d_backward_reference(a..., g); }));
   }
 }
 
 TEST(Conv2d, OneAndTwoThreadsAgreeBitwise) {
   // All cases with one thread, then all with two: the pool is resized only twice.
-  std::vector<Tensor<float>> res[2];
+  std::vector<std::array<Tensor<float>, 4>> res[2];
   for (int t = 0; t < 2; ++t) {
     set_num_threads(t + 1);
     Rng rng(3);
     for (const Case& c : kCases) {
       ConvGeometry g = geometry_of(c);
-      auto x = randn<float>({g.N, g.C_in, g.H, g.W}, rng);
-      auto w = randn<float>({g.C_out, g.cin_g(), g.kh, g.kw}, rng);
-      auto b = randn<float>({g.C_out}, rng);
-      auto dy = randn<float>({g.N, g.C_out, g.H_out, g.W_out}, rng);
-      Tensor<float> y(dy.shape());
-      auto dx = Tensor<float>::zeros(x.shape()), dw = Tensor<float>::zeros(w.shape());
-      auto db = Tensor<float>::zeros(b.shape());
-      conv2d_forward(y.data(), x.data(), w.data(), b.data(), g);
-      conv2d_backward(dx.data(), dw.data(), db.data(), dy.data(), x.data(), w.data(), g);
-      for (auto* r : {&y, &dx, &dw, &db}) res[t].push_back(*r);
+      res[t].push_back(run_fast(random_buffers(g, rng), g));
     }
   }
-  ASSERT_EQ(res[0].size(), res[1].size());
   for (size_t i = 0; i < res[0].size(); ++i)
-    EXPECT_TRUE(bitwise_equal(res[0][i], res[1][i])) << "case " << i / 4 << " output " << i % 4;
+    for (int k = 0; k < 4; ++k)
+      EXPECT_TRUE(bitwise_equal(res[0][i][k], res[1][i][k])) << "case " << i << " " << kLayerOutputNames[k];
 }
 
 TEST(Conv2d, GradCheck) {
@@ -179,7 +148,7 @@ TEST(Conv2d, ModuleParametersAndInit) {
   for (float v : conv.weight.value()) maxabs = std::max(maxabs, std::abs(double(v)));
   EXPECT_LE(maxabs, bound);
   EXPECT_GT(maxabs, 0.8 * bound);  // 216 draws: the largest is close to the bound
-  Var<float> x(randn<float>({1, 6, 7, 5}, rng));
+  Var<float> x(randn_float({1, 6, 7, 5}, rng));
   EXPECT_EQ(conv.forward(x).shape(), (Shape{1, 8, 4, 3}));
 
   Conv2d<float> nobias(rng, 4, 4, 1, 1, 0, /*bias=*/false);
@@ -194,15 +163,15 @@ TEST(Conv2d, ModuleParametersAndInit) {
 
 TEST(Conv2d, BadArgumentsAreNamed) {
   Rng rng(6);
-  Var<float> x(randn<float>({1, 3, 4, 4}, rng));
-  Var<float> w(randn<float>({2, 2, 3, 3}, rng));
+  Var<float> x(randn_float({1, 3, 4, 4}, rng));
+  Var<float> w(randn_float({2, 2, 3, 3}, rng));
   try {
     conv2d(x, w);
     FAIL() << "channel mismatch accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("conv2d"), std::string::npos);
   }
-  Var<float> w5(randn<float>({2, 3, 5, 5}, rng));
+  Var<float> w5(randn_float({2, 3, 5, 5}, rng));
   EXPECT_THROW(conv2d(x, w5), std::invalid_argument);  // kernel larger than the input
   EXPECT_THROW(Conv2d<float>(rng, 3, 4, 3, 1, 0, true, 1, 2), std::invalid_argument);
 }

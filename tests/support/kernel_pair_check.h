@@ -1,0 +1,72 @@
+#pragma once
+// Runs a fast forward/backward kernel pair and its naive reference on the same random
+// buffers, so a test can compare them (or compare 1 thread against 2). The pair's
+// contract is the project's: forward assigns every output element, backward accumulates.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstring>
+
+#include "core/rng.h"
+#include "core/tensor.h"
+
+namespace nns::testing {
+
+// Input x, weight w, bias b and output gradient dy of one layer call.
+struct LayerBuffers {
+  Tensor<float> x, w, b, dy;
+};
+
+inline Tensor<float> randn_float(const Shape& s, Rng& rng) {
+  Tensor<float> t(s);
+  for (auto& v : t) v = float(rng.normal());
+  return t;
+}
+
+inline LayerBuffers random_layer_buffers(const Shape& x, const Shape& w, const Shape& b,
+                                         const Shape& y, Rng& rng) {
+  LayerBuffers in;
+  in.x = randn_float(x, rng);
+  in.w = randn_float(w, rng);
+  in.b = randn_float(b, rng);
+  in.dy = randn_float(y, rng);
+  return in;
+}
+
+// {y, dx, dw, db}. The output starts as NaN (forward must assign it); the gradients start
+// non-zero (backward must add to them).
+// fwd(y, x, w, b); bwd(dx, dw, db, dy, x, w).
+template <class Fwd, class Bwd>
+std::array<Tensor<float>, 4> forward_backward(const LayerBuffers& in, Fwd fwd, Bwd bwd) {
+  Tensor<float> y(in.dy.shape());
+  y.fill(NAN);
+  fwd(y.data(), in.x.data(), in.w.data(), in.b.data());
+  auto dx = Tensor<float>::full(in.x.shape(), 0.25f);
+  auto dw = Tensor<float>::full(in.w.shape(), -0.5f);
+  auto db = Tensor<float>::full(in.b.shape(), 1.0f);
+  bwd(dx.data(), dw.data(), db.data(), in.dy.data(), in.x.data(), in.w.data());
+  return {std::move(y), std::move(dx), std::move(dw), std::move(db)};
+}
+
+inline constexpr const char* kLayerOutputNames[4] = {"forward", "dinp", "dweight", "dbias"};
+
+inline void expect_close(const Tensor<float>& a, const Tensor<float>& ref, const char* what) {
+  ASSERT_EQ(a.shape(), ref.shape()) << what;
+  double worst = 0;
+  for (int64_t i = 0; i < a.numel(); ++i)
+    worst = std::max(worst, std::abs(double(a[i]) - ref[i]) / (1.0 + std::abs(double(ref[i]))));
+  EXPECT_LT(worst, 1e-4) << what;
+}
+
+inline void expect_close(const std::array<Tensor<float>, 4>& fast,
+                         const std::array<Tensor<float>, 4>& reference) {
+  for (int i = 0; i < 4; ++i) expect_close(fast[i], reference[i], kLayerOutputNames[i]);
+}
+
+inline bool bitwise_equal(const Tensor<float>& a, const Tensor<float>& b) {
+  return a.numel() == b.numel() &&
+         std::memcmp(a.data(), b.data(), sizeof(float) * a.numel()) == 0;
+}
+
+}  // namespace nns::testing
