@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
     int epochs = a.get_int("--epochs", def.epochs, "epochs in all");
     int decay = a.get_int("--decay-epochs", -1, "of which the last N decay the rate linearly to 0 (default: half)");
     double lambda = a.get_double("--lambda", 100, "weight of the L1 term in the generator loss");
+    double dssim_weight = a.get_double("--dssim-weight", -1, "add this times DSSIM to the L1 term (default: 1 with --loss gan, 0 with l1; 0 is pix2pix's L1 alone)");
     double lr = a.get_double("--lr", 2e-4, "Adam learning rate");
     double beta1 = a.get_double("--beta1", 0.5, "Adam beta1");
     std::string coordconv = a.get_choice("--coordconv", "on", {"on", "off"}, "append coordinate channels");
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
     std::string test_dropout = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time");
     int poison = a.get_int("--debug-poison-step", -1, "testing only: a NaN enters the input at this step");
     int stop_after = a.get_int("--debug-stop-after-epochs", -1, "testing only: stop after N epochs as if interrupted");
+    if (dssim_weight < 0) dssim_weight = loss == "gan" ? def.dssim_weight : 0;  // --loss l1 stays L1 alone
     if (epochs < 1) a.error("--epochs must be >= 1");
     if (decay < 0) decay = epochs / 2;
     if (decay > epochs) a.error("--decay-epochs must be <= --epochs");
@@ -82,7 +84,7 @@ int main(int argc, char** argv) {
     c.arch = parse_arch(arch);
     c.residual = parse_residual(residual);
     c.g_batchnorm = g_norm == "batch";
-    c.lambda = lambda, c.lr = lr, c.beta1 = beta1;
+    c.lambda = lambda, c.lr = lr, c.beta1 = beta1, c.dssim_weight = dssim_weight;
     c.epochs = epochs - decay, c.epochs_decay = decay;
     c.seed = uint64_t(seed);
 

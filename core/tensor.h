@@ -13,6 +13,7 @@
 
 #include "core/allocator.h"
 #include "core/shape.h"
+#include "core/thread_pool.h"
 
 namespace nns {
 
@@ -75,9 +76,17 @@ class Tensor {
   T& operator[](int64_t i) { return data()[i]; }
   const T& operator[](int64_t i) const { return data()[i]; }
 
-  void fill(T v) { std::fill(begin(), end(), v); }
+  // Large fills (gradient buffers of whole layers) are split over the workers: one
+  // thread writing 100 MB of zeros left the other idle for ~3% of a GAN iteration.
+  void fill(T v) {
+    T* p = data();
+    parallel_for(numel(), [&](int64_t b, int64_t e) { std::fill(p + b, p + e, v); }, kParallelFill);
+  }
   void zero() {
-    if (numel()) std::memset(static_cast<void*>(data()), 0, sizeof(T) * size_t(numel()));
+    T* p = data();
+    parallel_for(numel(), [&](int64_t b, int64_t e) {
+      std::memset(static_cast<void*>(p + b), 0, sizeof(T) * size_t(e - b));
+    }, kParallelFill);
   }
 
   // A view of the same storage with another shape of the same size.
@@ -103,6 +112,7 @@ class Tensor {
   bool shares_storage(const Tensor& o) const { return storage_ == o.storage_; }
 
  private:
+  static constexpr int64_t kParallelFill = int64_t(1) << 17;  // elements per worker, at least
   Shape shape_;
   std::shared_ptr<Storage<T>> storage_;
 };

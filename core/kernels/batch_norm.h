@@ -6,8 +6,14 @@
 // Work is split over channels and each channel is reduced by one worker in a fixed
 // order, so results do not depend on the thread count. A channel's passes (statistics,
 // then output) run back to back while its data is still in cache; sums are in double.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
+
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 
 #include "core/thread_pool.h"
 
@@ -36,6 +42,50 @@ inline double lane_sum(int64_t n, F f) {
   for (double a : acc) s += a;
   return s;
 }
+
+#if defined(__AVX512F__)
+// One pass over n floats for two double sums, 4 vector chains each (a single chain is
+// latency-bound). Lanes and chains combine in a fixed order: deterministic.
+//   shifted: s1 = sum(x - k), s2 = sum((x - k)^2)
+//   grad:    s1 = sum(g),     s2 = sum(g * (x - k))
+template <bool kGrad>
+inline void fused_sums(const float* g, const float* x, int64_t n, double k, double& s1,
+                       double& s2) {
+  auto halves = [](__m512 v, __m512d& lo, __m512d& hi) {
+    lo = _mm512_cvtps_pd(_mm512_castps512_ps256(v));
+    hi = _mm512_cvtps_pd(_mm256_castsi256_ps(_mm512_extracti64x4_epi64(_mm512_castps_si512(v), 1)));
+  };
+  const __m512d kv = _mm512_set1_pd(k);
+  __m512d a[4], q[4];
+  for (int c = 0; c < 4; ++c) a[c] = q[c] = _mm512_setzero_pd();
+  int64_t i = 0;
+  for (; i + 32 <= n; i += 32)
+    for (int h = 0; h < 2; ++h) {
+      __m512d xl, xh;
+      halves(_mm512_loadu_ps(x + i + 16 * h), xl, xh);
+      xl = _mm512_sub_pd(xl, kv), xh = _mm512_sub_pd(xh, kv);
+      if constexpr (kGrad) {
+        __m512d gl, gh;
+        halves(_mm512_loadu_ps(g + i + 16 * h), gl, gh);
+        a[2 * h] = _mm512_add_pd(a[2 * h], gl), a[2 * h + 1] = _mm512_add_pd(a[2 * h + 1], gh);
+        q[2 * h] = _mm512_fmadd_pd(gl, xl, q[2 * h]);
+        q[2 * h + 1] = _mm512_fmadd_pd(gh, xh, q[2 * h + 1]);
+      } else {
+        a[2 * h] = _mm512_add_pd(a[2 * h], xl), a[2 * h + 1] = _mm512_add_pd(a[2 * h + 1], xh);
+        q[2 * h] = _mm512_fmadd_pd(xl, xl, q[2 * h]);
+        q[2 * h + 1] = _mm512_fmadd_pd(xh, xh, q[2 * h + 1]);
+      }
+    }
+  double t1 = _mm512_reduce_add_pd(_mm512_add_pd(_mm512_add_pd(a[0], a[1]), _mm512_add_pd(a[2], a[3])));
+  double t2 = _mm512_reduce_add_pd(_mm512_add_pd(_mm512_add_pd(q[0], q[1]), _mm512_add_pd(q[2], q[3])));
+  for (; i < n; ++i) {
+    const double d = double(x[i]) - k;
+    const double v = kGrad ? double(g[i]) : d;
+    t1 += v, t2 += v * d;
+  }
+  s1 += t1, s2 += t2;
+}
+#endif
 }  // namespace detail
 
 // Train mode: normalizes with the batch mean and biased variance; writes them to mean
@@ -48,21 +98,37 @@ void batch_norm_forward_train(T* out, T* mean, T* var, T* rstd, const T* inp, co
       C,
       [&](int64_t c0, int64_t c1) {
         for (int64_t c = c0; c < c1; ++c) {
-          double s = 0;
-          for (int64_t n = 0; n < N; ++n) {
-            const T* x = inp + (n * C + c) * S;
-            s += detail::lane_sum(S, [x](int64_t i) { return double(x[i]); });
+          double mu, v;
+#if defined(__AVX512F__)
+          if constexpr (std::is_same_v<T, float>) {
+            // One pass in double around a sample of the channel: sum(d^2)/M - (sum(d)/M)^2
+            // loses only ~(1 + (mean - k)^2 / var) double epsilons, no float cancellation.
+            const double k = double(inp[c * S]);
+            double s1 = 0, s2 = 0;
+            for (int64_t n = 0; n < N; ++n)
+              detail::fused_sums<false>(nullptr, inp + (n * C + c) * S, S, k, s1, s2);
+            const double d = s1 / M;
+            mu = k + d;
+            v = std::max(0.0, s2 / M - d * d);
+          } else
+#endif
+          {
+            double s = 0;
+            for (int64_t n = 0; n < N; ++n) {
+              const T* x = inp + (n * C + c) * S;
+              s += detail::lane_sum(S, [x](int64_t i) { return double(x[i]); });
+            }
+            mu = s / M;
+            double q = 0;  // second pass around the mean: no cancellation
+            for (int64_t n = 0; n < N; ++n) {
+              const T* x = inp + (n * C + c) * S;
+              q += detail::lane_sum(S, [x, mu](int64_t i) {
+                const double d = double(x[i]) - mu;
+                return d * d;
+              });
+            }
+            v = q / M;
           }
-          const double mu = s / M;
-          double q = 0;  // second pass around the mean: no cancellation
-          for (int64_t n = 0; n < N; ++n) {
-            const T* x = inp + (n * C + c) * S;
-            q += detail::lane_sum(S, [x, mu](int64_t i) {
-              const double d = double(x[i]) - mu;
-              return d * d;
-            });
-          }
-          const double v = q / M;
           const double r = 1.0 / std::sqrt(v + eps);
           mean[c] = T(mu);
           var[c] = T(v);
@@ -122,6 +188,12 @@ void batch_norm_backward(T* dinp, T* dgamma, T* dbeta, const T* dout, const T* i
           for (int64_t n = 0; n < N; ++n) {
             const T* x = inp + (n * C + c) * S;
             const T* g = dout + (n * C + c) * S;
+#if defined(__AVX512F__)
+            if constexpr (std::is_same_v<T, float>) {
+              detail::fused_sums<true>(g, x, S, mu, sg, sgx);
+              continue;
+            }
+#endif
             sg += detail::lane_sum(S, [g](int64_t i) { return double(g[i]); });
             sgx += detail::lane_sum(S, [g, x, mu](int64_t i) { return double(g[i]) * (double(x[i]) - mu); });
           }

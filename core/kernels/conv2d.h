@@ -16,6 +16,8 @@
 // Every reduction runs in an order fixed by the shapes, so 1 and 2 threads agree bitwise.
 #include <algorithm>
 #include <cstdint>
+#include <memory>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -150,6 +152,37 @@ void for_each_block(const ConvGeometry& g, const ConvBlocks& blocks, F&& f) {
   for_each_block<T>(g, blocks, nullptr, blocks.count, std::forward<F>(f));
 }
 
+// op(W_g) * B for the row blocks of one call: with several blocks and one group the
+// float weights are packed once (GemmPackedA) instead of once per block, same bits.
+//   op(W_g) (M x K) = W_g (cog x K) or its transpose; W_g starts at weight + grp*cog*K.
+template <class T>
+class WeightGemm {
+ public:
+  WeightGemm(const ConvGeometry& g, const ConvBlocks& blocks, bool transposed, const T* weight,
+             int64_t M, int64_t K, int64_t ldw)
+      : trans_(transposed), M_(M), K_(K), ld_(ldw), group_stride_(g.cout_g() * g.col_rows()),
+        weight_(weight) {
+    if constexpr (std::is_same_v<T, float>)
+      if (g.groups == 1 && blocks.count > 1)
+        packed_ = std::make_unique<GemmPackedA>(transposed, M, K, weight, ldw,
+                                                blocks.rows * g.W_out);
+  }
+  // C (M x N) := op(W_grp) * B + beta * C.
+  void operator()(int64_t grp, int64_t N, const T* B, int64_t ldb, T beta, T* C,
+                  int64_t ldc) const {
+    if constexpr (std::is_same_v<T, float>)
+      if (packed_) return packed_->multiply(false, N, 1.0f, B, ldb, beta, C, ldc);
+    gemm<T>(trans_, false, M_, N, K_, T(1), weight_ + grp * group_stride_, ld_, B, ldb, beta, C,
+            ldc);
+  }
+
+ private:
+  bool trans_;
+  int64_t M_, K_, ld_, group_stride_;
+  const T* weight_;
+  std::unique_ptr<GemmPackedA> packed_;
+};
+
 // out = conv(inp, weight) (+ bias), or out += conv(inp, weight) when accumulate.
 // Per block: out_blk (C_out/g, cols) = W_g (C_out/g, K) * col (K, cols).
 template <class T>
@@ -158,12 +191,14 @@ void conv2d_gemm_forward(T* out, const T* inp, const T* weight, const T* bias,
   if (conv_use_direct(g)) return conv2d_direct_forward(out, inp, weight, bias, g, accumulate);
   const int64_t K = g.col_rows(), cog = g.cout_g(), P = g.out_plane();
   const T beta = accumulate ? T(1) : T(0);
-  for_each_block<T>(g, ConvBlocks(g), [&](const ConvBlock& b, T* colbuf) {
+  const ConvBlocks blocks(g);
+  const WeightGemm<T> wg(g, blocks, /*transposed=*/false, weight, cog, K, K);
+  for_each_block<T>(g, blocks, [&](const ConvBlock& b, T* colbuf) {
     int64_t cols;
     const T* col = lower_block(colbuf, inp, g, b, cols);
     T* y = out + (b.n * g.C_out + b.grp * cog) * P + b.oh0 * g.W_out;
     const int64_t ncols = (b.oh1 - b.oh0) * g.W_out;
-    gemm<T>(false, false, cog, ncols, K, T(1), weight + b.grp * cog * K, K, col, cols, beta, y, P);
+    wg(b.grp, ncols, col, cols, beta, y, P);
     // The bias goes in while this block of the output is still in cache.
     if (bias)
       parallel_for(cog, [&](int64_t c0, int64_t c1) {
@@ -248,10 +283,10 @@ void conv2d_backward_input(T* dinp, const T* dout, const T* weight, const ConvGe
     parallel_for(total, [&](int64_t b, int64_t e) { std::fill(dinp + b, dinp + e, T(0)); }, 65536);
   }
   const ConvBlocks blocks(g);
+  const WeightGemm<T> wg(g, blocks, /*transposed=*/true, weight, K, cog, K);
   auto add_block = [&](const ConvBlock& b, T* dcol) {
     const int64_t cols = (b.oh1 - b.oh0) * g.W_out;
-    gemm<T>(true, false, K, cols, cog, T(1), weight + b.grp * cog * K, K,
-            dout + (b.n * g.C_out + b.grp * cog) * P + b.oh0 * g.W_out, P, T(0), dcol, cols);
+    wg(b.grp, cols, dout + (b.n * g.C_out + b.grp * cog) * P + b.oh0 * g.W_out, P, T(0), dcol, cols);
     col2im_add(dinp + (b.n * g.C_in + b.grp * cig) * g.in_plane(), dcol, g, b.oh0, b.oh1);
   };
   // Block i writes input rows [oh0*s - p, (oh1-1)*s - p + d(k-1)]; blocks i and i+2 are

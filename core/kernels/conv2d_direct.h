@@ -2,8 +2,9 @@
 // Direct (loop) convolution for layers with very few output channels per group, such as
 // PatchGAN's final 512 -> 1 layer. Lowering those to GEMM fills a 14-row micro-tile with
 // one useful row and writes an im2col buffer 16x the input for a few million
-// multiply-adds (measured: 2 GFLOP/s, 55 ms per pix2pix iteration); here each tap is a
-// short row update over an output row that stays in L1.
+// multiply-adds (measured: 2 GFLOP/s, 55 ms per pix2pix iteration, ~2 ms here). Each tap
+// is a row update that stays in L1: with stride 1 over whole zero-padded rows at once,
+// with other strides one output row at a time.
 //
 // Same shapes and contract as the GEMM passes in core/kernels/conv2d.h (which dispatch
 // here), so conv_transpose2d gets the same path when its in-channels are few.

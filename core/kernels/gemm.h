@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "core/allocator.h"
 #include "core/kernels/gemm_generic.h"
 #include "core/kernels/gemm_packed.h"
 #include "core/kernels/gemm_reference.h"
@@ -31,6 +32,29 @@ inline constexpr int64_t kParallelMinMacs = int64_t(1) << 20;
 inline void scale_c(int64_t M, int64_t N, float beta, float* C, int64_t ldc) {
   for (int64_t i = 0; i < M; ++i)
     for (int64_t j = 0; j < N; ++j) C[i * ldc + j] = beta == 0.0f ? 0.0f : beta * C[i * ldc + j];
+}
+
+// Runs f(m0, m1, n0, n1) on each thread's share of C: the pool's threads split C along
+// the dimension whose largest per-thread share (in whole micro-tiles) is smaller. Row
+// shares start on a micro-tile (a multiple of kMR), which GemmPackedA relies on.
+template <class F>
+void split_packed(int64_t M, int64_t N, int64_t K, F&& f) {
+  ThreadPool& pool = ThreadPool::global();
+  const int nt = pool.threads();
+  if (nt == 1 || M * N * K < kParallelMinMacs) return f(int64_t(0), M, int64_t(0), N);
+  const int64_t tiles_m = (M + kMR - 1) / kMR, tiles_n = (N + kNR - 1) / kNR;
+  const int64_t share_m = (tiles_m + nt - 1) / nt * kMR * N;
+  const int64_t share_n = (tiles_n + nt - 1) / nt * kNR * M;
+  const bool split_n = share_n <= share_m;
+  pool.run([&](int w, int nw) {
+    const int64_t tiles = split_n ? tiles_n : tiles_m, tile = split_n ? kNR : kMR;
+    const int64_t extent = split_n ? N : M;
+    const int64_t b0 = std::min(extent, tiles * w / nw * tile);
+    const int64_t b1 = std::min(extent, tiles * (w + 1) / nw * tile);
+    if (b0 >= b1) return;
+    if (split_n) f(int64_t(0), M, b0, b1);
+    else f(b0, b1, int64_t(0), N);
+  });
 }
 
 inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, float alpha,
@@ -58,32 +82,82 @@ inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, f
   if (use_gemm_tn_skinny(trans_a, trans_b, M, N, K))
     return gemm_tn_skinny(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc, kParallelMinMacs);
   const MatView a{A, lda, trans_a}, b{B, ldb, trans_b};
-  ThreadPool& pool = ThreadPool::global();
-  const int nt = pool.threads();
-  if (nt == 1 || M * N * K < kParallelMinMacs) {
-    gemm_packed(a, b, M, N, K, alpha, beta, C, ldc);
-    return;
-  }
-  // Cut along the dimension whose largest per-thread share (in whole tiles) is smaller.
-  const int64_t tiles_m = (M + kMR - 1) / kMR, tiles_n = (N + kNR - 1) / kNR;
-  const int64_t share_m = (tiles_m + nt - 1) / nt * kMR * N;
-  const int64_t share_n = (tiles_n + nt - 1) / nt * kNR * M;
-  const bool split_n = share_n <= share_m;
-  pool.run([&](int w, int nw) {
-    const int64_t tiles = split_n ? tiles_n : tiles_m, tile = split_n ? kNR : kMR;
-    const int64_t extent = split_n ? N : M;
-    const int64_t b0 = std::min(extent, tiles * w / nw * tile);
-    const int64_t b1 = std::min(extent, tiles * (w + 1) / nw * tile);
-    if (b0 >= b1) return;
-    if (split_n)
-      gemm_packed(a, MatView{b.ptr(0, b0), ldb, trans_b}, M, b1 - b0, K, alpha, beta, C + b0, ldc);
-    else
-      gemm_packed(MatView{a.ptr(b0, 0), lda, trans_a}, b, b1 - b0, N, K, alpha, beta,
-                  C + b0 * ldc, ldc);
+  split_packed(M, N, K, [&](int64_t m0, int64_t m1, int64_t n0, int64_t n1) {
+    gemm_packed(MatView{a.ptr(m0, 0), lda, trans_a}, MatView{b.ptr(0, n0), ldb, trans_b}, m1 - m0,
+                n1 - n0, K, alpha, beta, C + m0 * ldc + n0, ldc);
   });
 }
 
+// The shapes sgemm sends to the packed kernel.
+inline bool takes_packed_path(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K) {
+  return M > 0 && N > 0 && K > 0 && !use_gemm_dot(trans_a, trans_b, M, N, K) &&
+         !use_gemm_rows(trans_b, M, N, K) && !use_gemm_nn_skinny(trans_a, trans_b, M, N, K) &&
+         !use_gemm_tn_skinny(trans_a, trans_b, M, N, K);
+}
+
 }  // namespace gemm_detail
+
+// op(A) packed once for several products against different B, such as a convolution's
+// weights against each block of its rows: gemm() would pack it again for every block.
+// multiply() gives the same bits as gemm() with the same operands (same K blocks, same
+// micro-kernel, same split between threads). The packing is only done when the product
+// shape given to the constructor takes the packed kernel; otherwise multiply() is gemm().
+class GemmPackedA {
+ public:
+  GemmPackedA(bool trans_a, int64_t M, int64_t K, const float* A, int64_t lda, int64_t typical_n)
+      : trans_a_(trans_a), M_(M), K_(K), A_(A), lda_(lda) {
+    using namespace gemm_detail;
+    if (!takes_packed_path(trans_a, false, M, typical_n, K) ||
+        !takes_packed_path(trans_a, true, M, typical_n, K))
+      return;
+    kb_ = k_block(K);
+    mpad_ = (M + kMR - 1) / kMR * kMR;
+    bytes_ = size_t(mpad_ * K) * sizeof(float);
+    data_ = static_cast<float*>(CachingAllocator::instance().allocate(bytes_));
+    // Units = (K block, MC block of rows): the layout gemm_packed_loops reads back.
+    const int64_t kblocks = (K + kb_ - 1) / kb_, mblocks = (M + kMC - 1) / kMC;
+    const MatView a{A, lda, trans_a};
+    parallel_for(kblocks * mblocks, [&](int64_t u0, int64_t u1) {
+      for (int64_t u = u0; u < u1; ++u) {
+        const int64_t pc = u / mblocks * kb_, ic = u % mblocks * kMC;
+        const int64_t kc = std::min(kb_, K - pc), mc = std::min(kMC, M - ic);
+        pack_a<kMR>(data_ + pc * mpad_ + ic * kc, a, ic, mc, pc, kc);
+      }
+    });
+  }
+  ~GemmPackedA() {
+    if (data_) CachingAllocator::instance().release(data_, bytes_);
+  }
+  GemmPackedA(const GemmPackedA&) = delete;
+  GemmPackedA& operator=(const GemmPackedA&) = delete;
+
+  // C (M x N) := alpha * op(A) * op(B) + beta * C.
+  void multiply(bool trans_b, int64_t N, float alpha, const float* B, int64_t ldb, float beta,
+                float* C, int64_t ldc) const {
+    using namespace gemm_detail;
+    if (!data_ || alpha == 0.0f || !takes_packed_path(trans_a_, trans_b, M_, N, K_))
+      return sgemm(trans_a_, trans_b, M_, N, K_, alpha, A_, lda_, B, ldb, beta, C, ldc);
+    const MatView b{B, ldb, trans_b};
+    split_packed(M_, N, K_, [&](int64_t m0, int64_t m1, int64_t n0, int64_t n1) {
+      gemm_packed_loops(
+          [&](int64_t pc, int64_t kc, int64_t ic, int64_t) {
+            return static_cast<const float*>(data_ + pc * mpad_ + (m0 + ic) * kc);
+          },
+          MatView{b.ptr(0, n0), ldb, trans_b}, m1 - m0, n1 - n0, K_, alpha, beta,
+          C + m0 * ldc + n0, ldc);
+    });
+  }
+
+ private:
+  bool trans_a_;
+  int64_t M_, K_;
+  const float* A_;
+  int64_t lda_;
+  int64_t kb_ = 0, mpad_ = 0;
+  float* data_ = nullptr;
+  size_t bytes_ = 0;
+};
+
 
 template <class T>
 void gemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, T alpha, const T* A,

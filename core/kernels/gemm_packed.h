@@ -54,14 +54,14 @@ inline int64_t k_block(int64_t K) {
   return (K + nblocks - 1) / nblocks;
 }
 
-// C[0:M, 0:N] := alpha * op(A) op(B) + beta * C, single-threaded.
-inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N, int64_t K,
-                        float alpha, float beta, float* C, int64_t ldc) {
+// C[0:M, 0:N] := alpha * op(A) op(B) + beta * C, single-threaded. packed_a(pc, kc, ic, mc)
+// returns op(A)[ic : ic+mc, pc : pc+kc] packed (pack_a's layout).
+template <class PackedA>
+void gemm_packed_loops(PackedA&& packed_a, const MatView& B, int64_t M, int64_t N, int64_t K,
+                       float alpha, float beta, float* C, int64_t ldc) {
   const int64_t kb = k_block(K);
   const int64_t nc_max = std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
-  const int64_t mc_max = std::min<int64_t>(kMC, (M + kMR - 1) / kMR * kMR);
   float* bpack = thread_pack_b().get(size_t(kb * nc_max));
-  float* apack = thread_pack_a().get(size_t(kb * mc_max));
 
   for (int64_t jc = 0; jc < N; jc += kNC) {
     const int64_t nc = std::min(kNC, N - jc);
@@ -71,7 +71,7 @@ inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N
       pack_b<kNR>(bpack, B, pc, kc, jc, nc);
       for (int64_t ic = 0; ic < M; ic += kMC) {
         const int64_t mc = std::min(kMC, M - ic);
-        pack_a<kMR>(apack, A, ic, mc, pc, kc);
+        const float* apack = packed_a(pc, kc, ic, mc);
         for (int64_t jr = 0; jr < nc; jr += kNR) {
           const int n = int(std::min<int64_t>(kNR, nc - jr));
           const float* bp = bpack + jr * kc;
@@ -84,6 +84,18 @@ inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N
       }
     }
   }
+}
+
+inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N, int64_t K,
+                        float alpha, float beta, float* C, int64_t ldc) {
+  const int64_t mc_max = std::min<int64_t>(kMC, (M + kMR - 1) / kMR * kMR);
+  float* apack = thread_pack_a().get(size_t(k_block(K) * mc_max));
+  gemm_packed_loops(
+      [&](int64_t pc, int64_t kc, int64_t ic, int64_t mc) {
+        pack_a<kMR>(apack, A, ic, mc, pc, kc);
+        return static_cast<const float*>(apack);
+      },
+      B, M, N, K, alpha, beta, C, ldc);
 }
 
 }  // namespace nns::gemm_detail

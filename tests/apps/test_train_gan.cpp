@@ -185,4 +185,10 @@ TEST_F(TrainGan, DeepShadingDssimBaselineRoundTripsThroughEvalGi) {
   std::string csv = read_all(out + "/results.csv");
   EXPECT_NE(csv.find("ds/G,surround,"), std::string::npos) << csv;
   EXPECT_EQ(csv.find("nan"), std::string::npos) << csv;
+
+  // GAN with L1 + DSSIM reconstruction: trains, and the weight is part of the checkpoint.
+  const std::string mixed = (root_ / "mixed").string();
+  ASSERT_EQ(run(train_cmd(mixed, "--epochs 1 --dssim-weight 1"), mixed + ".log"), 0) << read_all(mixed + ".log");
+  EXPECT_NE(read_all(mixed + "/checkpoint.blob").find("dssim_weight"), std::string::npos);
+  EXPECT_NE(read_all(mixed + "/summary.json").find("\"finished\":true"), std::string::npos);
 }

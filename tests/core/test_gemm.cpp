@@ -196,6 +196,30 @@ TEST(Gemm, SkinnyShapes) {
   EXPECT_TRUE(gemm_detail::use_gemm_nn_skinny(false, false, 300, 4, 1100));
 }
 
+TEST(Gemm, PackedAGivesTheBitsOfGemm) {
+  // A packed once and multiplied by several B: bitwise what gemm() gives, with edge
+  // micro-panels, several K and MC blocks, both transposes, beta, 1 and 2 threads.
+  ThreadsGuard guard;
+  Rng rng(31);
+  for (int threads : {1, 2}) {
+    settle_threads(threads);
+    for (bool ta : {false, true})
+      for (bool tb : {false, true}) {
+        const Case c{ta, tb, 701, 203, 600, 1.0f, 0.5f, 3};
+        SCOPED_TRACE(c.str() + " threads=" + std::to_string(threads));
+        Problem p = make_problem(c, rng);
+        GemmPackedA packed(ta, c.M, c.K, p.A.data(), p.lda, c.N);
+        for (int64_t n : {c.N, int64_t(61)}) {  // the typical N and a narrower block
+          std::vector<float> want = p.C0, got = p.C0;
+          gemm<float>(ta, tb, c.M, n, c.K, 1.0f, p.A.data(), p.lda, p.B.data(), p.ldb, 0.5f,
+                      want.data(), p.ldc);
+          packed.multiply(tb, n, 1.0f, p.B.data(), p.ldb, 0.5f, got.data(), p.ldc);
+          EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0);
+        }
+      }
+  }
+}
+
 TEST(Gemm, OneAndTwoThreadsBitwiseEqual) {
   ThreadsGuard guard;
   Rng rng(11);
