@@ -19,7 +19,8 @@ struct Case {
   Conv2dParams p;
 };
 
-// Odd shapes: non-square, batch > 1, stride 2, padding, dilation 2, groups 2, 1x1.
+// Odd shapes: non-square, batch > 1, stride 2, padding, dilation 2, groups 2, 1x1, one
+// output channel (core/kernels/conv2d_direct.h instead of im2col + GEMM).
 const Case kCases[] = {
     {2, 3, 7, 6, 4, 3, 3, Conv2dParams::square(1, 1)},
     {1, 4, 9, 8, 6, 4, 4, Conv2dParams::square(2, 1)},
@@ -27,6 +28,7 @@ const Case kCases[] = {
     {1, 2, 9, 9, 3, 3, 3, Conv2dParams::square(1, 2, 2)},  // dilation 2
     {3, 5, 4, 3, 2, 1, 1, {}},                       // 1x1: skips im2col
     {2, 4, 5, 6, 4, 1, 1, {2, 2, 0, 0, 1, 1, 2}},    // 1x1 with stride 2 and groups 2: im2col path
+    {2, 3, 7, 6, 1, 4, 4, Conv2dParams::square(2, 1)},  // one output channel: direct path
     {2, 16, 64, 64, 8, 3, 3, Conv2dParams::square(1, 1)},  // several row blocks per image
     {1, 64, 3, 512, 4, 3, 3, Conv2dParams::square(1, 1)},  // one-row blocks that overlap
 };
