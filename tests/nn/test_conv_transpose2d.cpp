@@ -140,18 +140,14 @@ TEST(ConvTranspose2d, FastKernelsMatchReference) {
 
 TEST(ConvTranspose2d, OneAndTwoThreadsAgreeBitwise) {
   // All cases with one thread, then all with two: the pool is resized only twice.
-  std::vector<std::array<Tensor<float>, 4>> res[2];
-  for (int t = 0; t < 2; ++t) {
-    set_num_threads(t + 1);
-    Rng rng(3);
+  expect_same_bits_on_1_and_2_threads(3, [](Rng& rng) {
+    std::vector<std::array<Tensor<float>, 4>> out;
     for (const Case& c : kCases) {
       ConvGeometry g = geometry_of(c);
-      res[t].push_back(run_fast(random_buffers(c, g, rng), g));
+      out.push_back(run_fast(random_buffers(c, g, rng), g));
     }
-  }
-  for (size_t i = 0; i < res[0].size(); ++i)
-    for (int k = 0; k < 4; ++k)
-      EXPECT_TRUE(bitwise_equal(res[0][i][k], res[1][i][k])) << "case " << i << " " << kLayerOutputNames[k];
+    return out;
+  });
 }
 
 TEST(ConvTranspose2d, GradCheck) {

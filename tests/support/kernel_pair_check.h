@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "core/rng.h"
 #include "core/tensor.h"
@@ -67,6 +68,23 @@ inline void expect_close(const std::array<Tensor<float>, 4>& fast,
 inline bool bitwise_equal(const Tensor<float>& a, const Tensor<float>& b) {
   return a.numel() == b.numel() &&
          std::memcmp(a.data(), b.data(), sizeof(float) * a.numel()) == 0;
+}
+
+// run_all(rng) returns one {y, dx, dw, db} per case. It runs with 1 thread, then with 2,
+// from the same seed: the results must be the same bits (DEVELOPERS.md, determinism).
+template <class RunAll>
+void expect_same_bits_on_1_and_2_threads(uint64_t seed, RunAll run_all) {
+  std::vector<std::array<Tensor<float>, 4>> res[2];
+  for (int t = 0; t < 2; ++t) {
+    set_num_threads(t + 1);
+    Rng rng(seed);
+    res[t] = run_all(rng);
+  }
+  ASSERT_EQ(res[0].size(), res[1].size());
+  for (size_t i = 0; i < res[0].size(); ++i)
+    for (int k = 0; k < 4; ++k)
+      EXPECT_TRUE(bitwise_equal(res[0][i][k], res[1][i][k]))
+          << "case " << i << " " << kLayerOutputNames[k];
 }
 
 }  // namespace nns::testing
