@@ -7,6 +7,7 @@
 //   int epochs = args.get_int("--epochs", 100, "training epochs");
 //   bool resume = args.get_flag("--resume", "continue from the last checkpoint");
 //   args.done();  // handles --help and reports every problem found
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -78,10 +79,11 @@ class Args {
     try {
       size_t pos;
       double r = std::stod(*v, &pos);
-      if (pos != v->size()) throw std::exception();
+      // std::stod accepts "nan" and "inf": no flag of ours means either.
+      if (pos != v->size() || !std::isfinite(r)) throw std::exception();
       return r;
     } catch (...) {
-      errors_.push_back(name + ": expected a number, got '" + *v + "'");
+      errors_.push_back(name + ": expected a finite number, got '" + *v + "'");
       return def;
     }
   }

@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
     std::string test_dropout = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time");
     int poison = a.get_int("--debug-poison-step", -1, "testing only: a NaN enters the input at this step");
     int stop_after = a.get_int("--debug-stop-after-epochs", -1, "testing only: stop after N epochs as if interrupted");
-    if (dssim_weight < 0) dssim_weight = loss == "gan" ? def.dssim_weight : 0;  // --loss l1 stays L1 alone
+    if (dssim_weight < 0 && dssim_weight != -1) a.error("--dssim-weight must be >= 0");
+    if (dssim_weight == -1) dssim_weight = loss == "gan" ? def.dssim_weight : 0;  // --loss l1 stays L1 alone
     if (epochs < 1) a.error("--epochs must be >= 1");
     if (decay < 0) decay = epochs / 2;
     if (decay > epochs) a.error("--decay-epochs must be <= --epochs");

@@ -192,3 +192,20 @@ TEST_F(TrainGan, DeepShadingDssimBaselineRoundTripsThroughEvalGi) {
   EXPECT_NE(read_all(mixed + "/checkpoint.blob").find("dssim_weight"), std::string::npos);
   EXPECT_NE(read_all(mixed + "/summary.json").find("\"finished\":true"), std::string::npos);
 }
+
+// Bad flags stop before any work with a message naming the flag, and write nothing.
+TEST_F(TrainGan, BadFlagsNameTheFlagAndWriteNothing) {
+  const std::string out = (root_ / "badflags").string();
+  const std::pair<const char*, const char*> cases[] = {
+      {"--dssim-weight nan", "--dssim-weight: expected a finite number"},
+      {"--lr inf", "--lr: expected a finite number"},
+      {"--dssim-weight -2", "--dssim-weight must be >= 0"},
+      {"--arch foo", "--arch: expected one of"},
+  };
+  for (auto [flags, message] : cases) {
+    SCOPED_TRACE(flags);
+    EXPECT_NE(run(train_cmd(out, flags), out + ".log"), 0);
+    EXPECT_NE(read_all(out + ".log").find(message), std::string::npos) << read_all(out + ".log");
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+}
