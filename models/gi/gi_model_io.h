@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "core/blob.h"
@@ -67,10 +68,20 @@ inline LoadedGenerator load_generator(const std::string& path) {
   g.inputs.norm.depth_max = float(b.config_double("depth_max"));
   g.inputs.norm.hdr_scale = float(b.config_double("hdr_scale"));
   g.config.hdr_scale = g.inputs.norm.hdr_scale;
-  if (b.has_config("light_max")) g.inputs.norm.light_max = float(b.config_double("light_max"));
+  if (b.has_config("light_max")) {
+    const double light_max = b.config_double("light_max");
+    if (!(std::isfinite(light_max) && light_max > 0))
+      throw std::runtime_error(path + ": light_max " + std::to_string(light_max) +
+                               " is not a positive finite number");
+    g.inputs.norm.light_max = float(light_max);
+  }
   UnetConfig& u = g.config.unet;
-  if (b.has_config("arch")) g.config.arch = parse_arch(b.config_string("arch"));
-  if (b.has_config("residual")) g.config.residual = parse_residual(b.config_string("residual"));
+  try {
+    if (b.has_config("arch")) g.config.arch = parse_arch(b.config_string("arch"));
+    if (b.has_config("residual")) g.config.residual = parse_residual(b.config_string("residual"));
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
   u.in_channels = int(b.config_int("in_channels"));
   u.out_channels = int(b.config_int("out_channels"));
   u.ngf = int(b.config_int("ngf"));

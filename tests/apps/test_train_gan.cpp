@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/blob.h"
 #include "core/rng.h"
 #include "data/exr_io.h"
 
@@ -207,5 +208,32 @@ TEST_F(TrainGan, BadFlagsNameTheFlagAndWriteNothing) {
     EXPECT_NE(run(train_cmd(out, flags), out + ".log"), 0);
     EXPECT_NE(read_all(out + ".log").find(message), std::string::npos) << read_all(out + ".log");
     EXPECT_FALSE(std::filesystem::exists(out));
+  }
+}
+
+// A G.blob whose config names an unknown architecture or an impossible light cap is
+// refused by eval-gi with the file named, before any frame is read.
+TEST_F(TrainGan, EvalGiRefusesABlobWithABadConfig) {
+  const std::string run_dir = (root_ / "cfg").string();
+  ASSERT_EQ(run(train_cmd(run_dir, "--epochs 1"), run_dir + ".log"), 0) << read_all(run_dir + ".log");
+  const std::pair<std::pair<const char*, const char*>, const char*> cases[] = {
+      {{"arch", "bogus"}, "unknown generator architecture 'bogus'"},
+      {{"residual", "sideways"}, "unknown residual mode 'sideways'"},
+      {{"light_max", "nan"}, "is not a positive finite number"},
+  };
+  for (auto [kv, message] : cases) {
+    SCOPED_TRACE(kv.first);
+    nns::Blob b = nns::Blob::load(run_dir + "/G.blob");
+    b.set_config(kv.first, kv.second);
+    const std::string bad = (root_ / (std::string("bad_") + kv.first + ".blob")).string();
+    b.save(bad);
+    const std::string out = (root_ / "cfg_out").string();
+    EXPECT_NE(run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + bad +
+                      " --out " + out,
+                  out + ".log"),
+              0);
+    const std::string log = read_all(out + ".log");
+    EXPECT_NE(log.find(bad), std::string::npos) << log;
+    EXPECT_NE(log.find(message), std::string::npos) << log;
   }
 }
