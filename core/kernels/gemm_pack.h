@@ -64,6 +64,10 @@ inline void pack_b(float* __restrict dst, const MatView& B, int64_t k0, int64_t 
         const float* src = B.ptr(k0 + k, j0 + jp);
         float* d = dst + k * NR;
         if (n == NR) {
+          // Rows of B are usually far apart (a page or more): fetch this row's part of
+          // the next panel now, so packing one panel at a time (gemm_packed.h) finds it
+          // in cache instead of paying a miss per row.
+          for (int j = 0; j < NR; j += 16) __builtin_prefetch(src + NR + j);
           std::memcpy(d, src, sizeof(float) * NR);
         } else {
           for (int j = 0; j < n; ++j) d[j] = src[j];

@@ -231,7 +231,9 @@ TEST(Gemm, OneAndTwoThreadsBitwiseEqual) {
                         {true, true, 513, 515, 517, -1.5f, 1.0f, 3},
                         {false, false, 8, 70001, 8, 1.0f, 0.5f},  // the short-K direct path
                         {true, false, 8192, 4, 512, 1.0f, 0.0f},  // skinny paths
-                        {false, false, 512, 1, 8192, 1.0f, 1.0f}};
+                        {false, false, 512, 1, 8192, 1.0f, 1.0f},
+                        {false, false, 512, 64, 3000, 1.0f, 0.0f},  // few columns: rows split
+                        {false, false, 100, 333, 600, 1.0f, 1.0f}};  // B packed a panel at a time
   for (const Case& c : cases) {
     SCOPED_TRACE(c.str());
     Problem p = make_problem(c, rng);
