@@ -6,9 +6,6 @@
 
 #include <cstdint>
 
-#ifndef NNS_PACK_PF
-#define NNS_PACK_PF 0
-#endif
 namespace nns::gemm_detail {
 
 // r[i] holds row i of a 16 x 16 block; afterwards r[c] holds column c.
@@ -48,10 +45,6 @@ inline void pack_transposed16(float* dst, int W, int width, const float* src, in
     const int n = kc - k >= 16 ? 16 : int(kc - k);
     const __mmask16 kmask = __mmask16((1u << n) - 1u);
     __m512 r[16];
-    // The rows are usually far apart in memory (whole pages): one prefetch stream per
-    // row, a few lines ahead, measured faster than leaving it to the hardware.
-    if (NNS_PACK_PF > 0)
-      for (int i = 0; i < rows; ++i) __builtin_prefetch(src + i * ld + k + NNS_PACK_PF);
     for (int i = 0; i < 16; ++i)
       r[i] = i < rows ? _mm512_maskz_loadu_ps(kmask, src + i * ld + k) : _mm512_setzero_ps();
     transpose16x16(r);
