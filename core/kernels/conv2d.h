@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/kernels/conv2d_direct.h"
+#include "core/kernels/conv2d_implicit.h"
 #include "core/kernels/conv_geometry.h"
 #include "core/kernels/gemm.h"
 #include "core/kernels/im2col.h"
@@ -189,6 +190,8 @@ template <class T>
 void conv2d_gemm_forward(T* out, const T* inp, const T* weight, const T* bias,
                          const ConvGeometry& g, bool accumulate) {
   if (conv_use_direct(g)) return conv2d_direct_forward(out, inp, weight, bias, g, accumulate);
+  if constexpr (std::is_same_v<T, float>)
+    if (conv2d_implicit_forward(out, inp, weight, bias, g, accumulate)) return;
   const int64_t K = g.col_rows(), cog = g.cout_g(), P = g.out_plane();
   const T beta = accumulate ? T(1) : T(0);
   const ConvBlocks blocks(g);
@@ -269,6 +272,8 @@ template <class T>
 void conv2d_backward_input(T* dinp, const T* dout, const T* weight, const ConvGeometry& g,
                            bool accumulate = true) {
   if (conv_use_direct(g)) return conv2d_direct_backward_input(dinp, dout, weight, g, accumulate);
+  if constexpr (std::is_same_v<T, float>)
+    if (conv2d_implicit_backward_input(dinp, dout, weight, g, accumulate)) return;
   const int64_t K = g.col_rows(), cog = g.cout_g(), cig = g.cin_g(), P = g.out_plane();
   if (g.is_pointwise()) {
     for_each_block<T>(g, ConvBlocks(g), [&](const ConvBlock& b, T*) {

@@ -146,14 +146,29 @@ class GemmPackedA {
     using namespace gemm_detail;
     if (!data_ || alpha == 0.0f || !takes_packed_path(trans_a_, trans_b, M_, N, K_))
       return sgemm(trans_a_, trans_b, M_, N, K_, alpha, A_, lda_, B, ldb, beta, C, ldc);
-    const MatView b{B, ldb, trans_b};
+    multiply_packing_b(N, alpha, packer_b(MatView{B, ldb, trans_b}), beta, C, ldc);
+  }
+
+  // Whether multiply_packing_b can be used for products with N columns.
+  bool packs_for(int64_t N) const {
+    return data_ && gemm_detail::takes_packed_path(trans_a_, false, M_, N, K_);
+  }
+
+  // The same product with a B that exists only through pack_b(dst, pc, kc, jc, nc), which
+  // packs op(B)[pc : pc+kc, jc : jc+nc] (gemm_pack.h's layout). Needs packs_for(N).
+  template <class PackB>
+  void multiply_packing_b(int64_t N, float alpha, PackB&& pack_b, float beta, float* C,
+                          int64_t ldc) const {
+    using namespace gemm_detail;
     split_packed(M_, N, K_, [&](int64_t m0, int64_t m1, int64_t n0, int64_t n1) {
       gemm_packed_loops(
           [&](int64_t pc, int64_t kc, int64_t ic, int64_t) {
             return static_cast<const float*>(data_ + pc * mpad_ + (m0 + ic) * kc);
           },
-          MatView{b.ptr(0, n0), ldb, trans_b}, m1 - m0, n1 - n0, K_, alpha, beta,
-          C + m0 * ldc + n0, ldc);
+          [&](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) {
+            pack_b(dst, pc, kc, n0 + jc, nc);
+          },
+          m1 - m0, n1 - n0, K_, alpha, beta, C + m0 * ldc + n0, ldc);
     });
   }
 

@@ -55,9 +55,12 @@ inline int64_t k_block(int64_t K) {
 }
 
 // C[0:M, 0:N] := alpha * op(A) op(B) + beta * C, single-threaded. packed_a(pc, kc, ic, mc)
-// returns op(A)[ic : ic+mc, pc : pc+kc] packed (pack_a's layout).
-template <class PackedA>
-void gemm_packed_loops(PackedA&& packed_a, const MatView& B, int64_t M, int64_t N, int64_t K,
+// returns op(A)[ic : ic+mc, pc : pc+kc] packed (pack_a's layout); pack_b(dst, pc, kc, jc, nc)
+// packs op(B)[pc : pc+kc, jc : jc+nc] into dst (pack_b's layout). B is only ever seen
+// through pack_b, so it need not exist as a matrix (conv2d_implicit.h packs a
+// convolution's column matrix straight from the image).
+template <class PackedA, class PackB>
+void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int64_t N, int64_t K,
                        float alpha, float beta, float* C, int64_t ldc) {
   const int64_t kb = k_block(K);
   const int64_t nc_max = M <= kMC ? kNR : std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
@@ -73,13 +76,13 @@ void gemm_packed_loops(PackedA&& packed_a, const MatView& B, int64_t M, int64_t 
     for (int64_t pc = 0; pc < K; pc += kb) {
       const int64_t kc = std::min(kb, K - pc);
       const float beta_block = pc == 0 ? beta : 1.0f;
-      if (!panel_at_a_time) pack_b<kNR>(bpack, B, pc, kc, jc, nc);
+      if (!panel_at_a_time) pack_b_block(bpack, pc, kc, jc, nc);
       for (int64_t ic = 0; ic < M; ic += kMC) {
         const int64_t mc = std::min(kMC, M - ic);
         const float* apack = packed_a(pc, kc, ic, mc);
         for (int64_t jr = 0; jr < nc; jr += kNR) {
           const int n = int(std::min<int64_t>(kNR, nc - jr));
-          if (panel_at_a_time) pack_b<kNR>(bpack, B, pc, kc, jc + jr, n);
+          if (panel_at_a_time) pack_b_block(bpack, pc, kc, jc + jr, int64_t(n));
           const float* bp = panel_at_a_time ? bpack : bpack + jr * kc;
           for (int64_t ir = 0; ir < mc; ir += kMR) {
             const int m = int(std::min<int64_t>(kMR, mc - ir));
@@ -92,6 +95,13 @@ void gemm_packed_loops(PackedA&& packed_a, const MatView& B, int64_t M, int64_t 
   }
 }
 
+// pack_b for an op(B) held in memory.
+inline auto packer_b(const MatView& B) {
+  return [B](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) {
+    pack_b<kNR>(dst, B, pc, kc, jc, nc);
+  };
+}
+
 inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N, int64_t K,
                         float alpha, float beta, float* C, int64_t ldc) {
   const int64_t mc_max = std::min<int64_t>(kMC, (M + kMR - 1) / kMR * kMR);
@@ -101,7 +111,7 @@ inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N
         pack_a<kMR>(apack, A, ic, mc, pc, kc);
         return static_cast<const float*>(apack);
       },
-      B, M, N, K, alpha, beta, C, ldc);
+      packer_b(B), M, N, K, alpha, beta, C, ldc);
 }
 
 }  // namespace nns::gemm_detail
