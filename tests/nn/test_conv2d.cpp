@@ -36,6 +36,10 @@ const Case kCases[] = {
     {1, 8, 13, 37, 20, 3, 3, Conv2dParams::square(1, 1)},
     {2, 8, 10, 35, 24, 4, 4, Conv2dParams::square(1, 1)},
     {1, 6, 11, 40, 16, 3, 3, {2, 1, 2, 1, 2, 2, 1}},
+    // Strided rows (im2col; implicit measured no faster there): k4 s2 p1 with W_out 35, and
+    // stride_w 3 with dilation 2.
+    {1, 5, 6, 70, 18, 4, 4, Conv2dParams::square(2, 1)},
+    {1, 4, 7, 50, 9, 3, 3, {1, 3, 1, 2, 1, 2, 1}},
 };
 // The cases from here on are too large for the double-precision gradient check.
 constexpr size_t kFirstLargeCase = 7;
