@@ -8,7 +8,10 @@
 // Per image, group and row block:  out_blk (C_out/g, R*W_out) = W_g (C_out/g, K) * col (K, R*W_out).
 // 1x1 stride-1 unpadded convolutions skip im2col: the input already is the column matrix.
 // Layers with at most kConvDirectMaxCout output channels per group skip GEMM altogether
-// (core/kernels/conv2d_direct.h).
+// (core/kernels/conv2d_direct.h). Stride-1 layers with output rows at least a GEMM
+// micro-panel wide skip im2col: the GEMM packs its B panels from the input rows
+// (core/kernels/conv2d_implicit.h), and their input gradient runs as that forward pass
+// with the weights flipped.
 //
 // The three passes are separate functions because conv_transpose2d (the same
 // convolution run backwards) reuses them with the roles of input and output swapped.
