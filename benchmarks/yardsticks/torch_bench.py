@@ -5,7 +5,8 @@
 
 Prints one JSON object per measured row and line:
     {"key": shape or configuration, "threads": N, "seconds": [mean time of one call, per repetition],
-     "flops": work per call or null, "peak_rss_mib": ...}
+     "flops": work per call or null, "peak_rss_mib": ..., "import_rss_mib": ...}
+(peak RSS of this process so far, and its RSS once Python and torch were imported).
 Run by benchmarks/compare (which also picks the allocator environment); never by CMake.
 Keys: sgemm, conv, convT, batchnorm, nnao_step, gan_iteration.
 """
@@ -18,6 +19,9 @@ import time
 import torch
 import torch.nn as nn
 import torch.nn.functional as F
+
+# Part of every peak below, but the runtime's rather than the workload's.
+IMPORT_RSS_MIB = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
 def timed(fn, reps, min_seconds):
@@ -42,7 +46,7 @@ def peak_rss_mib():
 
 def emit(key, threads, seconds, flops=None, **extra):
     row = {"key": key, "threads": threads, "seconds": seconds, "flops": flops,
-           "peak_rss_mib": peak_rss_mib()}
+           "peak_rss_mib": peak_rss_mib(), "import_rss_mib": IMPORT_RSS_MIB}
     row.update(extra)
     print(json.dumps(row), flush=True)
 
