@@ -26,6 +26,7 @@
 
 #include "core/kernels/conv2d_direct.h"
 #include "core/kernels/conv2d_implicit.h"
+#include "core/kernels/conv_units.h"
 #include "core/kernels/conv_geometry.h"
 #include "core/kernels/gemm.h"
 #include "core/kernels/im2col.h"
@@ -130,26 +131,14 @@ const T* lower_block(T* col, const T* inp, const ConvGeometry& g, const ConvBloc
   return col;
 }
 
-// Runs f(block, col) over the blocks units[0..n). When there are enough blocks for
-// every thread, each thread takes whole blocks with its own column buffer (one pool
-// round-trip per call; the GEMMs run single-threaded inside); otherwise the blocks run
-// in order and GEMM and im2col split each one. f must give the same result either way:
-// the blocks must not add into the same memory.
+// Runs f(block, col) over the blocks units[0..n) (all blocks when units is null), each
+// thread with its own column buffer (for_each_unit, core/kernels/conv_units.h).
 template <class T, class F>
 void for_each_block(const ConvGeometry& g, const ConvBlocks& blocks, const int64_t* units,
                     int64_t n, F&& f) {
-  // Below this many multiply-adds a pool round-trip costs more than a second thread saves.
-  constexpr double kParallelMinMacs = double(1 << 18);
-  const int nt = num_threads();
-  if (nt > 1 && g.macs() >= kParallelMinMacs && (n % nt == 0 || n >= 4 * nt)) {
-    parallel_for(n, [&](int64_t i0, int64_t i1) {
-      Tensor<T> col({blocks.col_elems(g)});
-      for (int64_t i = i0; i < i1; ++i) f(blocks(g, units ? units[i] : i), col.data());
-    });
-    return;
-  }
-  Tensor<T> col({blocks.col_elems(g)});
-  for (int64_t i = 0; i < n; ++i) f(blocks(g, units ? units[i] : i), col.data());
+  for_each_unit<T>(g, n, blocks.col_elems(g), [&](int64_t i, T* col) {
+    f(blocks(g, units ? units[i] : i), col);
+  });
 }
 template <class T, class F>
 void for_each_block(const ConvGeometry& g, const ConvBlocks& blocks, F&& f) {
