@@ -55,8 +55,8 @@ std::array<Tensor<float>, 4> run_direct(const LayerBuffers& in, const ConvGeomet
       });
 }
 
-std::array<Tensor<float>, 4> run_reference(const LayerBuffers& in, const ConvGeometry& g) {
-  return forward_backward(
+std::array<Tensor<double>, 4> run_reference(const LayerBuffers& in, const ConvGeometry& g) {
+  return forward_backward<double>(
       in, [&](auto... a) { conv2d_forward_reference(a..., g); },
       [&](auto... a) { conv2d_backward_reference(a..., g); });
 }

@@ -103,7 +103,7 @@ TEST(Conv2d, FastKernelsMatchReference) {
     ConvGeometry g = geometry_of(c);
     LayerBuffers in = random_buffers(g, rng);
     expect_close(run_fast(in, g),
-                 forward_backward(
+                 forward_backward<double>(
                      in, [&](auto... a) { conv2d_forward_reference(a..., g); },
                      [&](auto... a) { conv2d_backward_reference(a..., g); }));
   }

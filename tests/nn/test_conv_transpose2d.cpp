@@ -132,7 +132,7 @@ TEST(ConvTranspose2d, FastKernelsMatchReference) {
     ConvGeometry g = geometry_of(c);
     LayerBuffers in = random_buffers(c, g, rng);
     expect_close(run_fast(in, g),
-                 forward_backward(
+                 forward_backward<double>(
                      in, [&](auto... a) { conv_transpose2d_forward_reference(a..., g); },
                      [&](auto... a) { conv_transpose2d_backward_reference(a..., g); }));
   }

@@ -35,24 +35,28 @@ inline LayerBuffers random_layer_buffers(const Shape& x, const Shape& w, const S
   return in;
 }
 
-// {y, dx, dw, db}. The output starts as NaN (forward must assign it); the gradients start
-// non-zero (backward must add to them).
-// fwd(y, x, w, b); bwd(dx, dw, db, dy, x, w).
-template <class Fwd, class Bwd>
-std::array<Tensor<float>, 4> forward_backward(const LayerBuffers& in, Fwd fwd, Bwd bwd) {
-  Tensor<float> y(in.dy.shape());
-  y.fill(NAN);
-  fwd(y.data(), in.x.data(), in.w.data(), in.b.data());
-  auto dx = Tensor<float>::full(in.x.shape(), 0.25f);
-  auto dw = Tensor<float>::full(in.w.shape(), -0.5f);
-  auto db = Tensor<float>::full(in.b.shape(), 1.0f);
-  bwd(dx.data(), dw.data(), db.data(), in.dy.data(), in.x.data(), in.w.data());
+// {y, dx, dw, db} in T. The output starts as NaN (forward must assign it); the gradients
+// start non-zero (backward must add to them). fwd(y, x, w, b); bwd(dx, dw, db, dy, x, w).
+// Naive references run in double (forward_backward<double>): their long float sums
+// would carry more rounding than the blocked fast kernels they check, and on the portable
+// build a 16384-term weight gradient already differed by 1.06e-4 between two float runs.
+template <class T = float, class Fwd, class Bwd>
+std::array<Tensor<T>, 4> forward_backward(const LayerBuffers& in, Fwd fwd, Bwd bwd) {
+  const Tensor<T> x = in.x.cast<T>(), w = in.w.cast<T>(), b = in.b.cast<T>(), dy = in.dy.cast<T>();
+  Tensor<T> y(in.dy.shape());
+  y.fill(T(NAN));
+  fwd(y.data(), x.data(), w.data(), b.data());
+  auto dx = Tensor<T>::full(in.x.shape(), T(0.25));
+  auto dw = Tensor<T>::full(in.w.shape(), T(-0.5));
+  auto db = Tensor<T>::full(in.b.shape(), T(1));
+  bwd(dx.data(), dw.data(), db.data(), dy.data(), x.data(), w.data());
   return {std::move(y), std::move(dx), std::move(dw), std::move(db)};
 }
 
 inline constexpr const char* kLayerOutputNames[4] = {"forward", "dinp", "dweight", "dbias"};
 
-inline void expect_close(const Tensor<float>& a, const Tensor<float>& ref, const char* what) {
+template <class R>
+void expect_close(const Tensor<float>& a, const Tensor<R>& ref, const char* what) {
   ASSERT_EQ(a.shape(), ref.shape()) << what;
   double worst = 0;
   for (int64_t i = 0; i < a.numel(); ++i)
@@ -60,8 +64,9 @@ inline void expect_close(const Tensor<float>& a, const Tensor<float>& ref, const
   EXPECT_LT(worst, 1e-4) << what;
 }
 
-inline void expect_close(const std::array<Tensor<float>, 4>& fast,
-                         const std::array<Tensor<float>, 4>& reference) {
+template <class R>
+void expect_close(const std::array<Tensor<float>, 4>& fast,
+                  const std::array<Tensor<R>, 4>& reference) {
   for (int i = 0; i < 4; ++i) expect_close(fast[i], reference[i], kLayerOutputNames[i]);
 }
 
