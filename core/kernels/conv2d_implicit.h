@@ -143,31 +143,37 @@ class ImplicitColumns {
   const int64_t* k_off_;
 };
 
+// Input rows read by `rows` consecutive output rows.
+inline int64_t implicit_input_rows(const ConvGeometry& g, int64_t rows) {
+  return (rows - 1) * g.stride_h + (g.kh - 1) * g.dil_h + 1;
+}
+
 // Output rows per block: about kCols GEMM columns, fewer if the padded rows would pass
 // kBufferFloats; equal blocks.
 inline int64_t implicit_rows_per_block(const ConvGeometry& g) {
   constexpr int64_t kCols = 2048, kBufferFloats = int64_t(1) << 17;
   int64_t rows = std::clamp<int64_t>((kCols + g.W_out - 1) / g.W_out, 1, g.H_out);
-  auto in_rows = [&](int64_t r) { return (r - 1) * g.stride_h + (g.kh - 1) * g.dil_h + 1; };
-  while (rows > 1 && PaddedRows::layout(g, in_rows(rows)).chan * g.C_in > kBufferFloats) --rows;
+  while (rows > 1 &&
+         PaddedRows::layout(g, implicit_input_rows(g, rows)).chan * g.C_in > kBufferFloats)
+    --rows;
   const int64_t blocks = (g.H_out + rows - 1) / rows;
   return (g.H_out + blocks - 1) / blocks;
 }
 
 // out (+)= conv(inp, weight) + bias: per image and block of output rows,
 // out_blk (C_out, cols) = W (C_out, K) * col_blk (K, cols), with W packed once per call.
-// Returns false (and does nothing) when the shapes do not take the packed GEMM; the
-// caller then lowers with im2col.
+// Returns false (and does nothing) when the shapes do not take the packed GEMM, or for a
+// bias added on top of an accumulating call (no layer does that); the caller then
+// lowers with im2col.
 inline bool conv2d_implicit_forward(float* out, const float* inp, const float* weight,
                                     const float* bias, const ConvGeometry& g, bool accumulate) {
-  if (!conv_use_implicit(g)) return false;
+  if (!conv_use_implicit(g) || (bias && accumulate)) return false;
   const int64_t K = g.col_rows(), P = g.out_plane();
   const int64_t rows = implicit_rows_per_block(g);
   const GemmPackedA w(false, g.C_out, K, weight, K, rows * g.W_out);
   const int64_t last_cols = (g.H_out - (g.H_out - 1) / rows * rows) * g.W_out;
   if (!w.packs_for(rows * g.W_out) || !w.packs_for(last_cols)) return false;
-  const int64_t in_rows = (rows - 1) * g.stride_h + (g.kh - 1) * g.dil_h + 1;
-  const PaddedRows layout = PaddedRows::layout(g, in_rows);
+  const PaddedRows layout = PaddedRows::layout(g, implicit_input_rows(g, rows));
   const std::vector<int64_t> k_off = ImplicitColumns::k_offsets(g, layout);
   const int64_t per_image = (g.H_out + rows - 1) / rows;
   for_each_unit<float>(g, g.N * per_image, layout.chan * g.C_in, [&](int64_t u, float* buffer) {
@@ -175,16 +181,11 @@ inline bool conv2d_implicit_forward(float* out, const float* inp, const float* w
     const int64_t oh1 = std::min(g.H_out, oh0 + rows), cols = (oh1 - oh0) * g.W_out;
     layout.fill(buffer, inp + n * g.C_in * g.in_plane(), g, oh0 * g.stride_h - g.pad_h);
     float* y = out + n * g.C_out * P + oh0 * g.W_out;
-    float beta = accumulate ? 1.0f : 0.0f;
-    if (bias && !accumulate) {
-      // The bias goes in as C with beta = 1: the GEMM adds to it in the same pass.
+    // The bias goes in as C with beta = 1: the GEMM adds to it in the same pass.
+    if (bias)
       for (int64_t c = 0; c < g.C_out; ++c) std::fill(y + c * P, y + c * P + cols, bias[c]);
-      beta = 1.0f;
-    }
+    const float beta = accumulate || bias ? 1.0f : 0.0f;
     w.multiply_packing_b(cols, 1.0f, ImplicitColumns(g, layout, buffer, k_off), beta, y, P);
-    if (bias && accumulate)
-      for (int64_t c = 0; c < g.C_out; ++c)
-        for (int64_t j = 0; j < cols; ++j) y[c * P + j] += bias[c];
   });
   return true;
 }

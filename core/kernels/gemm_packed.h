@@ -62,15 +62,15 @@ inline int64_t k_block(int64_t K) {
 template <class PackedA, class PackB>
 void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int64_t N, int64_t K,
                        float alpha, float beta, float* C, int64_t ldc) {
-  const int64_t kb = k_block(K);
-  const int64_t nc_max = M <= kMC ? kNR : std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
-  float* bpack = thread_pack_b().get(size_t(kb * nc_max));
-
   // With a single MC block of rows, each packed B micro-panel is used by one sweep of
   // the IR loop only: packing it just before that sweep keeps it in L1 instead of
   // writing the whole KC x NC block out to L3 and reading it back (-19% time at
   // M = 128, N = 4096, K = 1024). Same micro-kernel calls in the same order either way.
   const bool panel_at_a_time = M <= kMC;
+  const int64_t kb = k_block(K);
+  const int64_t nc_max =
+      panel_at_a_time ? kNR : std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
+  float* bpack = thread_pack_b().get(size_t(kb * nc_max));
   for (int64_t jc = 0; jc < N; jc += kNC) {
     const int64_t nc = std::min(kNC, N - jc);
     for (int64_t pc = 0; pc < K; pc += kb) {
