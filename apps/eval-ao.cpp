@@ -27,7 +27,7 @@
 #include "core/thread_pool.h"
 #include "data/chart.h"
 #include "data/dataset.h"
-#include "data/default_dataset.h"
+#include "render/default_dataset.h"
 #include "data/exr_io.h"
 #include "data/image_metrics.h"
 #include "data/png_io.h"

@@ -10,8 +10,8 @@
 
 #include "apps/args.h"
 #include "core/thread_pool.h"
-#include "data/render/dataset_writer.h"
-#include "data/scenes/families.h"
+#include "render/dataset_writer.h"
+#include "render/scenes/families.h"
 
 using namespace nns;
 

@@ -17,7 +17,7 @@
 #include "apps/args.h"
 #include "core/thread_pool.h"
 #include "data/chart.h"
-#include "data/default_dataset.h"
+#include "render/default_dataset.h"
 #include "models/gi/gan_defaults.h"
 #include "models/gi/gan_run.h"
 #include "models/gi/gi_data.h"

@@ -12,7 +12,7 @@
 
 #include "apps/args.h"
 #include "core/thread_pool.h"
-#include "data/default_dataset.h"
+#include "render/default_dataset.h"
 #include "models/nnao/nnao_sweep.h"
 #include "models/nnao/nnao_trainer.h"
 

@@ -8,7 +8,7 @@
 #include "data/coord_maps.h"
 #include "data/global_view.h"
 #include "data/png_io.h"
-#include "data/render/surround.h"
+#include "render/surround.h"
 
 using namespace nns;
 using namespace nns::data;
@@ -202,7 +202,7 @@ TEST(GlobalView, LayoutPicture) {
   if (!dir) std::filesystem::remove(path);
 }
 
-// The renderer's cube cameras (data/render/surround.h) and face_direction() must agree,
+// The renderer's cube cameras (render/surround.h) and face_direction() must agree,
 // or the global view would stitch faces the renderer did not render that way.
 TEST(GlobalView, FaceDirectionsMatchTheRenderersCubeCameras) {
   const int F = 8;

@@ -1,0 +1,38 @@
+#pragma once
+// The per-pixel estimators behind the dataset's ground-truth channels. The
+// radiometric definitions are in docs/renderer.md; in short, every lighting channel is
+// irradiance / pi (the radiance a white Lambertian surface would reflect), so that
+// shaded = albedo * (direct + env + indirect) + emission.
+#include "core/rng.h"
+#include "render/ray_tracer.h"
+
+namespace nns::data {
+
+struct RenderSettings {
+  int ao_spp = 256;      // AO rays per pixel (cosine-weighted, stratified)
+  int gi_spp = 128;      // paths per pixel for env + indirect (stratified first bounce)
+  int light_spp = 4;     // samples per area light / sun disc at the visible point
+  int bounces = 3;       // indirect bounces (>= 2 for the GI target)
+  bool ao = true;        // write `AO`
+  bool lighting = true;  // write direct / emission / env (and indirect, below)
+  bool indirect = true;  // with lighting: also path-trace `indirect`, the GI target
+  uint64_t seed = 0;
+};
+
+// Cosine-weighted fraction of the hemisphere around hit.normal whose rays travel
+// `radius` without hitting geometry.
+float ambient_occlusion(const RayTracer& rt, const Hit& hit, float radius, int spp, Rng& rng);
+
+// Direct light from the scene's suns, point and rect lights, with shadow rays:
+// sum_i E_i / pi at the point (before albedo). `spp` samples each extended light.
+Vec3 direct_light(const RayTracer& rt, Vec3 p, Vec3 n, int spp, Rng& rng);
+
+// env = sky radiance reaching the point unoccluded, cosine-averaged (E_sky / pi);
+// indirect = radiance leaving the first surface each cosine-distributed ray meets
+// (its emission plus its albedo times all its own light), cosine-averaged, with up to
+// `bounces` reflections along each path. Both share the same `spp` directions.
+// bounces = 0 computes env alone (shadow rays only) and leaves indirect at 0.
+void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces, Rng& rng, Vec3& env,
+                      Vec3& indirect);
+
+}  // namespace nns::data

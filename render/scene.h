@@ -1,0 +1,91 @@
+#pragma once
+// Scene: what the ground-truth renderer draws. Plain data, no Embree: one triangle soup
+// with a material per triangle, plus the analytic lights and the sky.
+//
+// Units and radiometry (docs/renderer.md): every light colour is given as the radiance
+// a white Lambertian surface facing the light reflects, i.e. irradiance / pi, which is
+// the number a rasterizer multiplies by albedo * cos. Emission is emitted radiance.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render/vec3.h"
+
+namespace nns::data {
+
+struct Material {
+  Vec3 albedo{0.7f, 0.7f, 0.7f};  // diffuse reflectance in [0, 1)
+  Vec3 emission{0, 0, 0};         // emitted radiance, both sides of the surface
+};
+
+struct Triangle {
+  std::array<uint32_t, 3> v;
+  uint32_t material;
+};
+
+// Directional light. `direction` points from the surface towards the sun.
+struct Sun {
+  Vec3 direction{0, 1, 0};
+  Vec3 color{0, 0, 0};         // E_perpendicular / pi
+  float angular_radius = 0;    // radians; 0 = a hard-shadow point sun
+};
+
+// Isotropic point light: direct = color * cos / d^2 (color = intensity / pi).
+struct PointLight {
+  Vec3 position;
+  Vec3 color;
+};
+
+// One-sided rectangle corner + [0,1]^2 * (edge_u, edge_v), emitting radiance `radiance`
+// towards cross(edge_u, edge_v). It is a light, not geometry: rays do not hit it
+// (an emissive surface that rays should see is a Material with emission).
+struct RectLight {
+  Vec3 corner, edge_u, edge_v;
+  Vec3 radiance;
+};
+
+// Sky radiance by direction: zenith..horizon blend above the horizon, `ground` below.
+// A constant sky has all three equal.
+struct Sky {
+  Vec3 zenith{0, 0, 0}, horizon{0, 0, 0}, ground{0, 0, 0};
+  Vec3 radiance(Vec3 dir) const {
+    if (dir.y < 0) return ground;
+    return lerp(horizon, zenith, std::sqrt(dir.y));
+  }
+  static Sky constant(Vec3 c) { return {c, c, c}; }
+};
+
+// Where placement may put cameras (an axis-aligned box) and where they may look:
+// yaw as in Camera::from_yaw_pitch (0 looks down -z), within yaw_range_deg/2 of the
+// centre (360 = any direction).
+struct CameraRegion {
+  Vec3 min{-1, 0.5f, -1}, max{1, 2, 1};
+  float pitch_min_deg = -30, pitch_max_deg = 15;
+  float yaw_center_deg = 0, yaw_range_deg = 360;
+};
+
+struct Scene {
+  std::string name;  // the dataset's `scene` attribute: family-instance or file stem
+  std::vector<Vec3> positions;
+  std::vector<Triangle> triangles;
+  std::vector<Material> materials;
+  std::vector<Sun> suns;
+  std::vector<PointLight> points;
+  std::vector<RectLight> rects;
+  Sky sky;
+  CameraRegion cameras;
+  float ao_radius = 1.0f;  // the world-space radius AO is computed for (`aoRadius`)
+
+  uint32_t add_material(Material m) {
+    materials.push_back(m);
+    return uint32_t(materials.size() - 1);
+  }
+  void bounds(Vec3& lo, Vec3& hi) const {
+    lo = Vec3(1e30f);
+    hi = Vec3(-1e30f);
+    for (auto& p : positions) lo = vmin(lo, p), hi = vmax(hi, p);
+  }
+};
+
+}  // namespace nns::data

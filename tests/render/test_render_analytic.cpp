@@ -1,0 +1,245 @@
+// The renderer against closed forms: AO of an open plane, a crease and a closed box;
+// direct light of a sun on a plane; indirect light in an emissive furnace.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/thread_pool.h"
+#include "render/integrator.h"
+#include "render/render_view.h"
+#include "render/scenes/builder.h"
+
+using namespace nns;
+using namespace nns::data;
+
+namespace {
+// A hit at p with normal n, as the camera would produce it.
+Hit hit_at(const Scene& s, Vec3 p, Vec3 n) {
+  Hit h;
+  h.position = p;
+  h.normal = n;
+  h.material = &s.materials[0];
+  return h;
+}
+
+Scene floor_scene(float half = 1000) {
+  Scene s;
+  s.name = "floor";
+  uint32_t m = s.add_material({});
+  add_quad(s, {-half, 0, -half}, {2 * half, 0, 0}, {0, 0, 2 * half}, m);
+  return s;
+}
+}  // namespace
+
+TEST(RenderAO, OpenPlaneIsUnoccluded) {
+  Scene s = floor_scene();
+  RayTracer rt(s);
+  Rng rng(1);
+  EXPECT_EQ(ambient_occlusion(rt, hit_at(s, {0.3f, 0, -0.2f}, {0, 1, 0}), 5.0f, 256, rng), 1.0f);
+}
+
+// A floor point at distance d from a perpendicular wall (normal along the floor).
+// Cosine-weighted, the wall's half-space x < 0 holds exactly half the hemisphere's
+// weight (the wall plane contains the normal, so the split is symmetric); rays into it
+// escape only if |dir.x| < d / radius. With d = 1e-3 * radius that sliver is ~1e-3.
+TEST(RenderAO, CreaseIsHalfOccluded) {
+  Scene s = floor_scene();
+  add_quad(s, {0, 0, -1000}, {0, 1000, 0}, {0, 0, 2000}, 0);
+  RayTracer rt(s);
+  Rng rng(2);
+  float ao = ambient_occlusion(rt, hit_at(s, {0.001f, 0, 0}, {0, 1, 0}), 1.0f, 4096, rng);
+  EXPECT_NEAR(ao, 0.5f, 0.005f);
+}
+
+TEST(RenderAO, ClosedSmallBoxIsFullyOccluded) {
+  Scene s;
+  s.name = "box";
+  uint32_t m = s.add_material({});
+  add_box(s, {-0.5f, 0, -0.5f}, {0.5f, 1, 0.5f}, m);
+  RayTracer rt(s);
+  Rng rng(3);
+  EXPECT_EQ(ambient_occlusion(rt, hit_at(s, {0.1f, 0, 0.2f}, {0, 1, 0}), 100.0f, 256, rng), 0.0f);
+  // With a radius shorter than the box, the same point is open again: the radius is honoured.
+  EXPECT_EQ(ambient_occlusion(rt, hit_at(s, {0, 0, 0}, {0, 1, 0}), 0.2f, 256, rng), 1.0f);
+}
+
+// direct = color * cos(theta) for a point sun; an occluder puts the point in shadow.
+TEST(RenderDirect, SunOnPlaneIsColorTimesCosine) {
+  Scene s = floor_scene();
+  float theta = 0.7f;
+  s.suns.push_back({{std::sin(theta), std::cos(theta), 0}, {2.0f, 1.0f, 0.5f}, 0});
+  RayTracer rt(s);
+  Rng rng(4);
+  Vec3 d = direct_light(rt, {0, 0, 0}, {0, 1, 0}, 1, rng);
+  EXPECT_NEAR(d.x, 2.0f * std::cos(theta), 1e-5);
+  EXPECT_NEAR(d.z, 0.5f * std::cos(theta), 1e-5);
+  // A sun below the horizon gives nothing.
+  s.suns[0].direction = {0, -1, 0};
+  EXPECT_EQ(direct_light(rt, {0, 0, 0}, {0, 1, 0}, 1, rng).x, 0.0f);
+}
+
+TEST(RenderDirect, SunShadowAndSoftSun) {
+  Scene s = floor_scene();
+  add_box(s, {-1, 2, -1}, {1, 2.1f, 1}, 0);
+  s.suns.push_back({{0, 1, 0}, {1, 1, 1}, 0});
+  RayTracer rt(s);
+  Rng rng(5);
+  EXPECT_EQ(direct_light(rt, {0, 0, 0}, {0, 1, 0}, 1, rng).x, 0.0f);
+  EXPECT_NEAR(direct_light(rt, {5, 0, 0}, {0, 1, 0}, 1, rng).x, 1.0f, 1e-6);
+  // An unoccluded disc of angular radius a straight overhead: mean cos over the cone
+  // = (1 + cos a) / 2.
+  s.suns[0].angular_radius = 0.2f;
+  EXPECT_NEAR(direct_light(rt, {5, 0, 0}, {0, 1, 0}, 64, rng).x, (1 + std::cos(0.2f)) / 2, 1e-3);
+}
+
+// A point light at height h over a plane: color * cos / d^2 = color * h / d^3.
+TEST(RenderDirect, PointLightInverseSquare) {
+  Scene s = floor_scene();
+  s.points.push_back({{0, 2, 0}, {8, 8, 8}});
+  RayTracer rt(s);
+  Rng rng(6);
+  float d = std::sqrt(4.0f + 1.5f * 1.5f);
+  EXPECT_NEAR(direct_light(rt, {1.5f, 0, 0}, {0, 1, 0}, 1, rng).y, 8 * 2 / (d * d * d), 1e-5);
+}
+
+// A large rect light of radiance L close over a point approaches E/pi = L (a full
+// hemisphere of radiance L); a 2x2 square at height 1 gives the form factor
+// 4 * F(unit corner rectangle) = 4 * 0.13853 (parallel-rectangle closed form at a corner).
+TEST(RenderDirect, RectLightFormFactor) {
+  Scene s = floor_scene();
+  s.rects.push_back({{-1, 1, -1}, {2, 0, 0}, {0, 0, 2}, {1, 1, 1}});  // emits downwards
+  RayTracer rt(s);
+  Rng rng(7);
+  auto corner = [](double a, double b) {  // point below a corner of an a x b rectangle at height 1
+    double A = a / std::sqrt(1 + a * a), B = b / std::sqrt(1 + b * b);
+    return (A * std::atan(b / std::sqrt(1 + a * a)) + B * std::atan(a / std::sqrt(1 + b * b))) / (2 * M_PI);
+  };
+  EXPECT_NEAR(direct_light(rt, {0, 0, 0}, {0, 1, 0}, 4096, rng).x, 4 * corner(1, 1), 2e-3);
+}
+
+// Furnace: inside a closed box of albedo a whose walls emit Le, every path sees Le at
+// every vertex, so indirect = Le * (1 + a + ... + a^(B-1)) exactly, with zero variance;
+// env is 0 (no sky is reachable).
+TEST(RenderIndirect, EmissiveFurnaceIsGeometricSeries) {
+  Scene s;
+  s.name = "furnace";
+  float a = 0.6f, le = 0.25f;
+  uint32_t m = s.add_material({{a, a, a}, {le, le, le}});
+  add_box(s, {-1, -1, -1}, {1, 1, 1}, m);
+  s.sky = Sky::constant({5, 5, 5});
+  RayTracer rt(s);
+  for (int bounces : {1, 2, 4}) {
+    Rng rng(8);
+    Vec3 env, ind;
+    env_and_indirect(rt, hit_at(s, {0.2f, -1, 0.3f}, {0, 1, 0}), 16, bounces, rng, env, ind);
+    double expect = le * (1 - std::pow(a, bounces)) / (1 - a);
+    EXPECT_NEAR(ind.x, expect, 1e-5) << bounces;
+    EXPECT_EQ(env.x, 0.0f);
+  }
+}
+
+// Open sky, constant radiance S, over an infinite plane: env = S, indirect = 0.
+TEST(RenderIndirect, ConstantSkyOverPlaneIsEnvOnly) {
+  Scene s = floor_scene();
+  s.sky = Sky::constant({0.5f, 1, 2});
+  RayTracer rt(s);
+  Rng rng(9);
+  Vec3 env, ind;
+  env_and_indirect(rt, hit_at(s, {0, 0, 0}, {0, 1, 0}), 64, 3, rng, env, ind);
+  EXPECT_NEAR(env.z, 2.0f, 1e-6);
+  EXPECT_EQ(ind.z, 0.0f);
+}
+
+// White furnace with a sky: a floor of albedo a in a crease-free world under constant
+// sky S sees only sky -> env = S; inside a box with one open side, env + indirect
+// stays below the sky radiance S / (1 - a) bound, and more bounces never lose light.
+TEST(RenderIndirect, MoreBouncesNeverLoseLight) {
+  Scene s;
+  s.name = "cup";
+  uint32_t m = s.add_material({{0.8f, 0.8f, 0.8f}, {}});
+  add_quad(s, {-1, 0, -1}, {2, 0, 0}, {0, 0, 2}, m);
+  add_quad(s, {-1, 0, -1}, {0, 2, 0}, {0, 0, 2}, m);
+  add_quad(s, {1, 0, -1}, {0, 2, 0}, {0, 0, 2}, m);
+  add_quad(s, {-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, m);
+  add_quad(s, {-1, 0, 1}, {2, 0, 0}, {0, 2, 0}, m);
+  s.sky = Sky::constant({1, 1, 1});
+  RayTracer rt(s);
+  float prev = -1;
+  for (int b : {1, 2, 3, 6}) {
+    Rng rng(10);
+    Vec3 env, ind;
+    env_and_indirect(rt, hit_at(s, {0, 0, 0}, {0, 1, 0}), 4096, b, rng, env, ind);
+    EXPECT_GT(ind.x + 1e-3f, prev);
+    EXPECT_LT(env.x + ind.x, 1.0f / (1 - 0.8f));
+    prev = ind.x;
+  }
+}
+
+// Without bounces env is traced with packets of shadow rays; the directions (and so
+// the estimate) are the same as in the full estimator.
+TEST(RenderIndirect, EnvAloneMatchesEnvOfTheFullEstimator) {
+  Scene s = floor_scene(30);
+  add_box(s, {-1, 0, -3}, {1, 2, -1}, 0);
+  s.sky = Sky{{0.2f, 0.3f, 0.9f}, {0.8f, 0.8f, 0.8f}, {0.1f, 0.1f, 0.1f}};
+  RayTracer rt(s);
+  Vec3 env0, ind0, env3, ind3;
+  Rng a(12), b(12);
+  env_and_indirect(rt, hit_at(s, {0.3f, 0, -0.5f}, {0, 1, 0}), 100, 0, a, env0, ind0);
+  env_and_indirect(rt, hit_at(s, {0.3f, 0, -0.5f}, {0, 1, 0}), 100, 3, b, env3, ind3);
+  EXPECT_NEAR(env0.z, env3.z, 1e-6);
+  EXPECT_LT(env0.z, 0.9f * s.sky.zenith.z);  // the box hides part of the sky
+  EXPECT_EQ(ind0.x, 0.0f);
+  EXPECT_GT(ind3.x, 0.0f);
+}
+
+// The image does not depend on the thread count.
+TEST(RenderView, IdenticalWithOneAndTwoThreads) {
+  Scene s = floor_scene(20);
+  add_box(s, {-1, 0, -4}, {1, 1.5f, -2}, 0);
+  s.suns.push_back({normalize({1, 2, 0.5f}), {1, 1, 1}, 0.05f});
+  s.sky = Sky{{0.2f, 0.3f, 0.6f}, {0.6f, 0.6f, 0.6f}, {0.1f, 0.1f, 0.1f}};
+  RayTracer rt(s);
+  Camera cam = Camera::look_at({0, 1.5f, 2}, {0, 0.5f, -3});
+  cam.width = 24, cam.height = 16;
+  RenderSettings rs;
+  rs.ao_spp = 16, rs.gi_spp = 8;
+  set_num_threads(1);
+  View a = render_view(rt, cam, rs, 3);
+  set_num_threads(2);
+  View b = render_view(rt, cam, rs, 3);
+  ASSERT_EQ(a.channels.size(), b.channels.size());
+  for (auto& [name, plane] : a.channels) EXPECT_EQ(plane, b.channels.at(name)) << name;
+  // A different view id gives a different noise pattern.
+  View c = render_view(rt, cam, rs, 4);
+  EXPECT_NE(a.channel("AO"), c.channel("AO"));
+  EXPECT_EQ(a.channel("Z"), c.channel("Z"));
+}
+
+// Z is planar depth and N is in camera space, per the spec's reconstruction formula.
+TEST(RenderView, DepthAndNormalFollowTheSpec) {
+  Scene s = floor_scene(20);
+  RayTracer rt(s);
+  Camera cam = Camera::look_at({0, 2, 0}, {0, 0, -4});
+  cam.width = 32, cam.height = 20, cam.fov_y_deg = 50;
+  RenderSettings rs;
+  rs.ao = false, rs.lighting = false;
+  View v = render_view(rt, cam, rs, 0);
+  float th = std::tan(50 * M_PI / 360);
+  int hits = 0;
+  for (int py = 0; py < cam.height; ++py)
+    for (int px = 0; px < cam.width; ++px) {
+      float z = v.at("Z", px, py);
+      if (is_sky(z)) continue;
+      ++hits;
+      Vec3 pc((2 * (px + 0.5f) / cam.width - 1) * th * cam.width / cam.height * z,
+              (1 - 2 * (py + 0.5f) / cam.height) * th * z, -z);
+      Vec3 world = cam.eye + cam.right * pc.x + cam.up * pc.y + cam.back * pc.z;
+      EXPECT_NEAR(world.y, 0.0f, 1e-3f * z) << px << "," << py;
+      Vec3 n_expected = cam.to_camera({0, 1, 0});
+      EXPECT_NEAR(v.at("N.Y", px, py), n_expected.y, 1e-5);
+      EXPECT_NEAR(v.at("N.Z", px, py), n_expected.z, 1e-5);
+      EXPECT_GT(v.at("N.Z", px, py), 0.0f);
+    }
+  EXPECT_GT(hits, cam.width * cam.height / 3);
+  EXPECT_TRUE(std::isinf(v.at("Z", 0, 0)));  // the top-left corner sees sky
+}

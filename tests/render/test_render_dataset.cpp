@@ -1,0 +1,141 @@
+// render_dataset end to end: small nnao and surround datasets that the validator
+// passes, disjoint train/test scenes, path-ordered names, reproducible pixels; the
+// default dataset's cache folder rules.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+
+#include "data/dataset.h"
+#include "render/default_dataset.h"
+#include "data/exr_io.h"
+#include "render/dataset_writer.h"
+#include "data/validate.h"
+
+using namespace nns;
+using namespace nns::data;
+namespace fs = std::filesystem;
+
+namespace {
+std::string temp_dir(const std::string& name) {
+  auto d = fs::temp_directory_path() / ("nnshade-render-dataset-" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  return d.string();
+}
+
+DatasetJob tiny(const std::string& preset, const std::string& out) {
+  DatasetJob job;
+  job.preset = preset;
+  job.out = out;
+  job.views = 5;
+  job.views_per_scene = 2;
+  job.width = 24, job.height = 16;
+  job.families = {"room", "floating"};
+  job.settings.ao_spp = 8, job.settings.gi_spp = 4, job.settings.light_spp = 1;
+  job.progress = false;
+  return job;
+}
+
+// Removes this process's temporary folder after the last test.
+class RemoveTempDir : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignore;
+    std::filesystem::remove_all(std::filesystem::temp_directory_path() / ("nnshade-render-dataset-" + std::to_string(::getpid())), ignore);
+  }
+};
+const auto* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
+}  // namespace
+
+TEST(RenderDataset, NnaoValidatesWithDisjointScenes) {
+  std::string out = temp_dir("nnao");
+  DatasetReport r = render_dataset(tiny("nnao", out));
+  EXPECT_EQ(r.train_views + r.test_views, 5);
+  EXPECT_GE(r.test_views, 1);
+  std::set<std::string> train(r.train_scenes.begin(), r.train_scenes.end());
+  for (auto& s : r.test_scenes) EXPECT_EQ(train.count(s), 0u) << s << " is in both splits";
+  ValidationReport v = validate_dataset(out, {Purpose::nnao});
+  for (auto& p : v.problems) ADD_FAILURE() << p.str();
+  EXPECT_TRUE(v.clean());
+  DatasetListing l = list_dataset(out);
+  ASSERT_FALSE(l.train.views.empty());
+  View view = read_view(l.train.views[0]);
+  EXPECT_TRUE(view.has("AO") && view.has("N.Z") && !view.has("indirect.R"));
+  EXPECT_EQ(view.width, 24);
+  ASSERT_TRUE(view.ao_radius.has_value());
+  // The same job renders the same pixels.
+  std::string again = temp_dir("nnao-again");
+  DatasetJob job = tiny("nnao", again);
+  render_dataset(job);
+  View twin = read_view((fs::path(again) / fs::path(l.train.views[0]).lexically_relative(out)).string());
+  EXPECT_EQ(view.channel("AO"), twin.channel("AO"));
+  fs::remove_all(again);
+}
+
+TEST(RenderDataset, SurroundFramesInPathOrder) {
+  std::string out = temp_dir("surround");
+  DatasetJob job = tiny("surround", out);
+  job.width = job.height = 12;
+  job.views = 6;
+  job.path_frames = 3;
+  job.views_per_scene = 3;
+  DatasetReport r = render_dataset(job);
+  EXPECT_EQ(r.train_views + r.test_views, 6);
+  ValidationReport v = validate_dataset(out, {Purpose::gi});
+  for (auto& p : v.problems) ADD_FAILURE() << p.str();
+  DatasetListing l = list_dataset(out);
+  ASSERT_EQ(l.train.frames.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_TRUE(l.train.frames[i].complete());
+    EXPECT_NE(l.train.frames[i].dir.find("-p00-f00" + std::to_string(i)), std::string::npos) << l.train.frames[i].dir;
+  }
+  View front = read_view(l.train.frames[0].faces[0]), back = read_view(l.train.frames[0].faces[1]);
+  EXPECT_TRUE(front.has("indirect.R"));
+  EXPECT_FALSE(back.has("indirect.R"));
+  EXPECT_TRUE(back.has("direct.R"));
+  EXPECT_EQ(front.fov_y_deg, 90.0f);
+}
+
+TEST(RenderDataset, BadJobsFailWithAReason) {
+  DatasetJob job = tiny("nnao", temp_dir("bad"));
+  job.families = {"castle"};
+  EXPECT_THROW(render_dataset(job), std::invalid_argument);
+  job = tiny("pix2pix", temp_dir("bad"));
+  EXPECT_THROW(render_dataset(job), std::invalid_argument);
+}
+
+TEST(DefaultDataset, RenderedOnceAndRenamedWhenComplete) {
+  std::string root = temp_dir("cache");
+  fs::create_directories(fs::path(root) / "tiny.partial-999999999");  // a dead process's debris
+  std::string dir = ensure_rendered_dataset(tiny("nnao", ""), root, "tiny", 2);
+  EXPECT_EQ(dir, (fs::path(root) / "tiny").string());
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "COMPLETE"));
+  EXPECT_FALSE(fs::exists(fs::path(root) / "tiny.partial-999999999"));
+  for (auto& e : fs::directory_iterator(root)) EXPECT_EQ(e.path().filename(), "tiny");
+  // The second call finds it and renders nothing.
+  auto stamp = fs::last_write_time(fs::path(dir) / "COMPLETE");
+  EXPECT_EQ(ensure_rendered_dataset(tiny("nnao", ""), root, "tiny", 2), dir);
+  EXPECT_EQ(fs::last_write_time(fs::path(dir) / "COMPLETE"), stamp);
+  // A folder without the marker (an old interrupted layout) is not taken as done.
+  fs::remove(fs::path(dir) / "COMPLETE");
+  EXPECT_THROW(ensure_rendered_dataset(tiny("nnao", ""), root, "tiny", 2), std::runtime_error);
+}
+
+TEST(DefaultDataset, CacheRootAndSizes) {
+  const char* old = std::getenv("NNSHADE_CACHE");
+  std::string saved = old ? old : "";
+  setenv("NNSHADE_CACHE", "/tmp/nns-cache-test", 1);
+  EXPECT_EQ(default_cache_root(), "/tmp/nns-cache-test");
+  unsetenv("NNSHADE_CACHE");
+  setenv("XDG_CACHE_HOME", "/tmp/xdg", 1);
+  EXPECT_EQ(default_cache_root(), "/tmp/xdg/nnshade");
+  if (!saved.empty()) setenv("NNSHADE_CACHE", saved.c_str(), 1);
+  for (std::string p : {"nnao", "surround", "gi"}) {
+    DatasetJob j = default_dataset_job(p);
+    EXPECT_GE(j.views, 100) << p;
+    EXPECT_EQ(j.preset, p);
+  }
+  EXPECT_THROW(default_dataset_job("nope"), std::invalid_argument);
+}

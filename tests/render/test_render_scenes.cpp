@@ -1,0 +1,273 @@
+// Scene families, camera placement and paths, surround capture geometry, the AO noise
+// level, and mesh loading.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "render/placement.h"
+#include "render/surround.h"
+#include "render/scenes/builder.h"
+#include "render/scenes/families.h"
+#include "render/scenes/mesh_loader.h"
+
+using namespace nns;
+using namespace nns::data;
+
+TEST(SceneFamilies, DeterministicDistinctAndPlaceable) {
+  for (const SceneFamily& f : scene_families()) {
+    Scene a = make_family_scene(f.name, 0, 7), b = make_family_scene(f.name, 0, 7), c = make_family_scene(f.name, 1, 7);
+    ASSERT_GT(a.triangles.size(), 10u) << f.name;
+    EXPECT_EQ(a.name, f.name + "-0");
+    ASSERT_EQ(a.positions.size(), b.positions.size()) << f.name;
+    for (size_t i = 0; i < a.positions.size(); ++i) ASSERT_EQ(a.positions[i].x, b.positions[i].x) << f.name;
+    EXPECT_TRUE(a.positions.size() != c.positions.size() || a.positions[5].x != c.positions[5].x) << f.name;
+    EXPECT_FALSE(a.suns.empty() && a.points.empty() && a.rects.empty()) << f.name << " has no light";
+    RayTracer rt(a);
+    Rng rng(3);
+    Camera cam = place_camera(rt, 64, 36, 60, rng);
+    ProbeResult p = probe_view(rt, cam);
+    EXPECT_TRUE(acceptable(p, {})) << f.name << ": sky " << p.sky_fraction << " plane " << p.plane_fraction
+                                   << " median depth " << p.median_depth << " nearest " << p.nearest;
+  }
+  EXPECT_THROW(scene_family("nope"), std::invalid_argument);
+}
+
+TEST(Placement, RejectsSkyAndFlatWall) {
+  Scene s;
+  s.name = "wall";
+  uint32_t m = s.add_material({});
+  add_quad(s, {-50, 0, -50}, {100, 0, 0}, {0, 0, 100}, m);
+  add_quad(s, {-50, 0, -3}, {100, 0, 0}, {0, 30, 0}, m);
+  RayTracer rt(s);
+  Camera sky = Camera::from_yaw_pitch({0, 1.5f, 0}, 3.14159f, 0.6f);  // away from the wall, up
+  sky.width = 32, sky.height = 18;
+  EXPECT_GT(probe_view(rt, sky).sky_fraction, 0.5f);
+  EXPECT_FALSE(acceptable(probe_view(rt, sky), {}));
+  Camera wall = Camera::from_yaw_pitch({0, 1.5f, 0}, 0, 0.2f);  // straight at the wall
+  wall.width = 32, wall.height = 18;
+  EXPECT_GT(probe_view(rt, wall).plane_fraction, 0.6f);
+  EXPECT_FALSE(acceptable(probe_view(rt, wall), {}));
+}
+
+TEST(Placement, CameraPathIsSmoothAndFree) {
+  Scene s = make_family_scene("room", 0, 11);
+  RayTracer rt(s);
+  Rng rng(5);
+  auto path = camera_path(rt, 32, 18, 60, 12, rng);
+  ASSERT_EQ(path.size(), 12u);
+  for (size_t i = 1; i < path.size(); ++i) {
+    Vec3 step = path[i].eye - path[i - 1].eye;
+    EXPECT_LT(length(step), 0.12f);
+    EXPECT_GT(dot(path[i].forward(), path[i - 1].forward()), 0.995f);  // < ~6 degrees per frame
+    float len = length(step);
+    if (len > 0) {
+      EXPECT_FALSE(rt.occluded(path[i - 1].eye, step / len, 0, len));
+    }
+  }
+}
+
+TEST(Surround, FaceOrientationsFollowTheSpec) {
+  Camera front = Camera::from_yaw_pitch({1, 2, 3}, 0.4f, 0.1f);
+  auto faces = cube_face_cameras(front, 8);
+  auto fwd = [](const Camera& c) { return c.forward(); };
+  auto near = [](Vec3 a, Vec3 b) { return length(a - b) < 1e-5f; };
+  EXPECT_TRUE(near(fwd(faces[0]), front.forward()));
+  EXPECT_TRUE(near(fwd(faces[1]), front.back));                        // back looks +z
+  EXPECT_TRUE(near(fwd(faces[2]), -front.right));                      // left looks -x
+  EXPECT_TRUE(near(fwd(faces[3]), front.right));                       // right looks +x
+  EXPECT_TRUE(near(fwd(faces[4]), front.up));                          // up looks +y
+  EXPECT_TRUE(near(fwd(faces[5]), -front.up));                         // down looks -y
+  for (int i = 0; i < 4; ++i) EXPECT_TRUE(near(faces[i].up, front.up)) << i;  // yawed faces keep up
+  EXPECT_TRUE(near(faces[4].up, front.back));   // up: image up towards the back (+z)
+  EXPECT_TRUE(near(faces[5].up, -front.back));  // down: image up -z
+  for (auto& c : faces) {
+    EXPECT_TRUE(near(cross(c.right, c.up), c.back));  // right-handed
+    EXPECT_EQ(c.fov_y_deg, 90.0f);
+    EXPECT_TRUE(near(c.eye, front.eye));
+  }
+  // Adjacent faces share their edges (ndc = +-1): front's right edge is right's left
+  // edge, front's top edge is up's bottom edge, front's bottom edge is down's top edge.
+  auto dir = [](const Camera& c, float xn, float yn) { return c.right * xn + c.up * yn - c.back; };
+  EXPECT_TRUE(near(dir(faces[0], 1, 0.3f), dir(faces[3], -1, 0.3f)));
+  EXPECT_TRUE(near(dir(faces[0], -1, 0.3f), dir(faces[2], 1, 0.3f)));
+  EXPECT_TRUE(near(dir(faces[0], 0.4f, 1), dir(faces[4], 0.4f, -1)));
+  EXPECT_TRUE(near(dir(faces[0], 0.4f, -1), dir(faces[5], 0.4f, 1)));
+  EXPECT_TRUE(near(dir(faces[3], 1, 0.2f), dir(faces[1], -1, 0.2f)));
+}
+
+// Over an infinite floor, every face's normals are the floor normal in the FRONT
+// camera's space, and the down face sees the floor at planar depth = eye height.
+TEST(Surround, NormalsInFrontSpaceAndOwnPlanarDepth) {
+  Scene s;
+  s.name = "floor";
+  uint32_t m = s.add_material({});
+  add_quad(s, {-1000, 0, -1000}, {2000, 0, 0}, {0, 0, 2000}, m);
+  s.sky = Sky::constant({1, 1, 1});
+  RayTracer rt(s);
+  Camera front = Camera::from_yaw_pitch({0, 1.7f, 0}, 0.7f, 0);  // level: down faces the floor
+  RenderSettings rs;
+  rs.ao_spp = 4, rs.gi_spp = 2;
+  auto views = render_surround(rt, front, 16, rs, 0);
+  Vec3 n = front.to_camera({0, 1, 0});
+  for (int f = 0; f < 6; ++f) {
+    const View& v = views[size_t(f)];
+    EXPECT_EQ(v.width, 16);
+    EXPECT_EQ(v.has("indirect.R"), f == 0) << f;
+    EXPECT_TRUE(v.has("direct.R") && v.has("env.R") && v.has("AO")) << f;
+    for (size_t i = 0; i < v.channel("Z").size(); ++i)
+      if (!is_sky(v.channel("Z")[i])) {
+        EXPECT_NEAR(v.channel("N.Y")[i], n.y, 1e-5) << f;
+      }
+  }
+  for (float z : views[5].channel("Z")) EXPECT_NEAR(z, 1.7f, 1e-4);
+  for (float z : views[4].channel("Z")) EXPECT_TRUE(is_sky(z));
+}
+
+// The Monte-Carlo noise of AO at the default 256 spp, measured as the standard
+// deviation of one estimate from the difference of two independent renders
+// (std(a - b) / sqrt(2)), over the geometry pixels of a furnished room.
+TEST(RenderNoise, AOAtDefaultSppIsWellBelowSSAOErrors) {
+  Scene s = make_family_scene("room", 0, 1);
+  RayTracer rt(s);
+  Rng rng(2);
+  Camera cam = place_camera(rt, 80, 45, 60, rng);
+  RenderSettings a, b;
+  a.lighting = b.lighting = false;
+  a.seed = 1, b.seed = 2;
+  View va = render_view(rt, cam, a, 0), vb = render_view(rt, cam, b, 0);
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (size_t i = 0; i < va.channel("AO").size(); ++i) {
+    if (is_sky(va.channel("Z")[i])) continue;
+    double d = double(va.channel("AO")[i]) - vb.channel("AO")[i];
+    sum += d, sum2 += d * d, ++n;
+  }
+  ASSERT_GT(n, 1000);
+  double noise_std = std::sqrt(sum2 / n / 2);
+  std::printf("AO noise at 256 spp: std %.4f, MSE %.2e (mean difference %.1e)\n", noise_std, noise_std * noise_std,
+              sum / n);
+  EXPECT_LT(noise_std, 0.02);  // MSE < 4e-4, vs SSAO errors of 1e-2..1e-1
+  EXPECT_GT(noise_std, 0.0);   // the two seeds really are independent
+}
+
+// The noise of the GI target in the hardest family (sunlit patches off-screen, found
+// only by the few paths that hit them), as a fraction of the mean indirect light.
+TEST(RenderNoise, IndirectInWindowRoom) {
+  Scene s = make_family_scene("window-room", 0, 1);
+  RayTracer rt(s);
+  Rng rng(4);
+  Camera cam = place_camera(rt, 32, 32, 90, rng);
+  for (int spp : {64, 256}) {
+    RenderSettings a, b;
+    a.ao = b.ao = false;
+    a.gi_spp = b.gi_spp = spp;
+    a.seed = 1, b.seed = 2;
+    View va = render_view(rt, cam, a, 0), vb = render_view(rt, cam, b, 0);
+    double mean = 0, d2 = 0;
+    int n = 0;
+    for (const char* c : {"indirect.R", "indirect.G", "indirect.B"})
+      for (size_t i = 0; i < va.channel(c).size(); ++i) {
+        if (is_sky(va.channel("Z")[i])) continue;
+        double d = double(va.channel(c)[i]) - vb.channel(c)[i];
+        mean += 0.5 * (va.channel(c)[i] + vb.channel(c)[i]), d2 += d * d, ++n;
+      }
+    mean /= n;
+    double rel = std::sqrt(d2 / n / 2) / mean;
+    std::printf("indirect noise at %d paths: std %.3f of mean %.3f (%.1f%%)\n", spp, rel * mean, mean, 100 * rel);
+    EXPECT_LT(rel, spp == 256 ? 0.15 : 0.35);
+  }
+}
+
+namespace {
+std::string temp_path(const std::string& name) {
+  auto dir = std::filesystem::temp_directory_path() / ("nnshade-render-test-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+// Removes this process's temporary folder after the last test.
+class RemoveTempDir : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignore;
+    std::filesystem::remove_all(std::filesystem::temp_directory_path() / ("nnshade-render-test-" + std::to_string(::getpid())), ignore);
+  }
+};
+const auto* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
+}  // namespace
+
+TEST(MeshLoader, ObjWithMaterials) {
+  std::string obj = temp_path("quad.obj"), mtl = temp_path("quad.mtl");
+  std::ofstream(mtl) << "newmtl red\nKd 0.8 0.1 0.1\nKe 0 0 0\nnewmtl glow\nKd 0.5 0.5 0.5\nKe 2 2 1\n";
+  std::ofstream(obj) << "mtllib quad.mtl\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nv 0 1 0\n"
+                        "usemtl red\nf 1 2 3 4\nusemtl glow\nf 1 2 5\n";
+  Scene s = load_mesh_scene(obj);
+  EXPECT_EQ(s.name, "quad");
+  ASSERT_EQ(s.triangles.size(), 3u);
+  EXPECT_NEAR(s.materials[s.triangles[0].material].albedo.x, 0.8f, 1e-6);
+  EXPECT_NEAR(s.materials[s.triangles[2].material].emission.x, 2.0f, 1e-6);
+  EXPECT_FALSE(s.suns.empty());
+  RayTracer rt(s);
+  EXPECT_TRUE(rt.intersect({0, 3, 0.5f}, {0, -1, 0}).valid());
+}
+
+TEST(MeshLoader, GltfWithNodeTransform) {
+  // One triangle (3 float positions, no indices) under a node translated by +2 in y.
+  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 0, 1};
+  const unsigned char* bytes = reinterpret_cast<const unsigned char*>(pos);
+  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string enc;
+  for (int i = 0; i < 36; i += 3) {
+    uint32_t v = uint32_t(bytes[i]) << 16 | uint32_t(bytes[i + 1]) << 8 | bytes[i + 2];
+    for (int k = 3; k >= 0; --k) enc += b64[(v >> (6 * k)) & 63];
+  }
+  auto write = [&](const std::string& path, int count) {
+    std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
+                        << R"("nodes":[{"mesh":0,"translation":[0,2,0]}],)"
+                        << R"("materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.2,0.4,0.6,1]}}],)"
+                        << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],)"
+                        << R"("accessors":[{"bufferView":0,"componentType":5126,"count":)" << count
+                        << R"(,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
+                        << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+                        << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)" << enc
+                        << R"("}]})";
+  };
+  std::string path = temp_path("tri.gltf"), bad = temp_path("bad.gltf");
+  write(path, 3);
+  write(bad, 6);  // an accessor that reads past its buffer: an error naming the file
+  try {
+    load_mesh_scene(bad);
+    ADD_FAILURE() << "no error for an accessor past its buffer";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.gltf"), std::string::npos) << e.what();
+  }
+  Scene s = load_mesh_scene(path);
+  ASSERT_EQ(s.triangles.size(), 1u);
+  EXPECT_NEAR(s.positions[s.triangles[0].v[1]].x, 1.0f, 1e-6);
+  EXPECT_NEAR(s.positions[s.triangles[0].v[1]].y, 2.0f, 1e-6);
+  EXPECT_NEAR(s.materials[s.triangles[0].material].albedo.y, 0.4f, 1e-6);
+}
+
+TEST(MeshLoader, ErrorsNameTheFile) {
+  try {
+    load_mesh_scene("/nonexistent/scene.obj");
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.obj"), std::string::npos);
+  }
+  std::string txt = temp_path("scene.txt");
+  std::ofstream(txt) << "hello";
+  try {
+    load_mesh_scene(txt);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("unsupported"), std::string::npos) << e.what();
+  }
+  std::string empty = temp_path("empty.obj");
+  std::ofstream(empty) << "# nothing\n";
+  EXPECT_THROW(load_mesh_scene(empty), std::runtime_error);
+}
