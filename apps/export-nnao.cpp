@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "apps/args.h"
-#include "data/chart.h"
+#include "report/chart.h"
 #include "models/nnao/nnao_export.h"
 
 using namespace nns;

@@ -9,7 +9,7 @@
 #include "apps/args.h"
 #include "core/thread_pool.h"
 #include "data/exr_io.h"
-#include "data/png_io.h"
+#include "report/png_io.h"
 #include "models/nnao/nnao_inference.h"
 
 using namespace nns;

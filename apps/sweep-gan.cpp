@@ -16,7 +16,7 @@
 
 #include "apps/args.h"
 #include "core/thread_pool.h"
-#include "data/chart.h"
+#include "report/chart.h"
 #include "render/default_dataset.h"
 #include "models/gi/gan_defaults.h"
 #include "models/gi/gan_run.h"

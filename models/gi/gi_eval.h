@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/tensor.h"
-#include "data/image_metrics.h"
+#include "report/image_metrics.h"
 #include "models/gi/hdr_mapping.h"
 
 namespace nns::gi {

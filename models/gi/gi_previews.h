@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "data/chart.h"
-#include "data/png_io.h"
+#include "report/chart.h"
+#include "report/png_io.h"
 #include "models/gi/gi_inputs.h"
 
 namespace nns::gi {

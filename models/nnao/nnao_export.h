@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "data/chart.h"
+#include "report/chart.h"
 #include "data/exr_io.h"
-#include "data/png_io.h"
+#include "report/png_io.h"
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_weights.h"
 

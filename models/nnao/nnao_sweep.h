@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "data/chart.h"
+#include "report/chart.h"
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "models/nnao/nnao_inference.h"

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "core/progress.h"
-#include "data/chart.h"
+#include "report/chart.h"
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "models/nnao/nnao_fast_step.h"

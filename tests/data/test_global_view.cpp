@@ -7,7 +7,7 @@
 
 #include "data/coord_maps.h"
 #include "data/global_view.h"
-#include "data/png_io.h"
+#include "report/png_io.h"
 #include "render/surround.h"
 
 using namespace nns;

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "core/thread_pool.h"
-#include "data/image_metrics.h"
+#include "report/image_metrics.h"
 #include "models/classical_ao/methods.h"
 #include "tests/models/synthetic_gbuffer.h"
 

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "data/chart.h"
+#include "report/chart.h"
 
 using namespace nns::data;
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "data/png_io.h"
+#include "report/png_io.h"
 
 using namespace nns::data;
 namespace fs = std::filesystem;

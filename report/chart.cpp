@@ -1,4 +1,4 @@
-#include "data/chart.h"
+#include "report/chart.h"
 
 #include <unistd.h>
 

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "core/rng.h"
-#include "data/image_metrics.h"
+#include "report/image_metrics.h"
 
 using namespace nns::data;
 

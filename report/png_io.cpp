@@ -1,4 +1,4 @@
-#include "data/png_io.h"
+#include "report/png_io.h"
 
 #include <png.h>
 #include <unistd.h>
