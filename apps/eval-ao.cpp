@@ -8,7 +8,7 @@
 // temporal.csv, timing.csv, speed_vs_accuracy.svg/.png, previews/ and report.md.
 // Temporal stability is measured on camera-path frames (files "<scene>-pNN-fNNN.exr", or
 // surround frame folders of that name, as render-dataset --path-frames writes them),
-// reprojected: models/classical_ao/temporal.h.
+// reprojected: classical_ao/temporal.h.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -31,9 +31,9 @@
 #include "data/exr_io.h"
 #include "report/image_metrics.h"
 #include "report/png_io.h"
-#include "models/classical_ao/failure_bands.h"
-#include "models/classical_ao/methods.h"
-#include "models/classical_ao/temporal.h"
+#include "classical_ao/failure_bands.h"
+#include "classical_ao/methods.h"
+#include "classical_ao/temporal.h"
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_inference_reference.h"
 

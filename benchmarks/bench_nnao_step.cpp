@@ -14,14 +14,14 @@
 #include "core/rng.h"
 #include "core/thread_pool.h"
 #include "models/nnao/nnao_fast_step.h"
-#include "models/classical_ao/methods.h"
+#include "classical_ao/methods.h"
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_inference_reference.h"
 #include "models/nnao/nnao_loss.h"
 #include "models/nnao/nnao_model.h"
 #include "optim/adam.h"
-#include "tests/models/nnao_test_blob.h"
-#include "tests/models/synthetic_gbuffer.h"
+#include "tests/support/nnao_test_blob.h"
+#include "tests/support/synthetic_gbuffer.h"
 
 using namespace nns;
 

@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "models/classical_ao/gbuffer.h"
+#include "screen_space/gbuffer.h"
 
 namespace nns::nnao {
 

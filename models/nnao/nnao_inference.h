@@ -7,7 +7,7 @@
 //    proportional to its cell overlap — then a depth- and normal-aware bilateral blur.
 // The shader-style path is the CPU reference of the exported GLSL shader.
 //
-// Both run 16 pixels of a row at once (models/classical_ao/simd16.h), rows over the
+// Both run 16 pixels of a row at once (screen_space/simd16.h), rows over the
 // thread pool; every pixel is computed the same way whatever the thread count. The
 // exact path broadcasts each W0 weight to the 16 pixels; the shader path gathers them
 // (each pixel has its own jitter, so its own filter taps). The scalar per-pixel loops
@@ -16,8 +16,8 @@
 #include <cmath>
 #include <vector>
 
-#include "models/classical_ao/common.h"
-#include "models/classical_ao/simd16.h"
+#include "screen_space/ao_common.h"
+#include "screen_space/simd16.h"
 #include "models/nnao/nnao_features.h"
 #include "models/nnao/nnao_weights.h"
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/thread_pool.h"
-#include "models/classical_ao/common.h"
+#include "screen_space/ao_common.h"
 #include "models/nnao/nnao_features.h"
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_weights.h"

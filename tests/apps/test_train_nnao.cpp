@@ -12,7 +12,7 @@
 #include <string>
 
 #include "data/exr_io.h"
-#include "tests/models/synthetic_gbuffer.h"
+#include "tests/support/synthetic_gbuffer.h"
 #include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;

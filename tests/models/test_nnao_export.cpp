@@ -6,7 +6,7 @@
 
 #include "data/exr_io.h"
 #include "models/nnao/nnao_export.h"
-#include "tests/models/nnao_test_blob.h"
+#include "tests/support/nnao_test_blob.h"
 
 namespace fs = std::filesystem;
 using namespace nns;

@@ -5,7 +5,7 @@
 
 #include "models/nnao/nnao_features.h"
 #include "models/nnao/nnao_points.h"
-#include "tests/models/synthetic_gbuffer.h"
+#include "tests/support/synthetic_gbuffer.h"
 
 using namespace nns;
 

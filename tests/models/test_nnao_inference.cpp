@@ -5,8 +5,8 @@
 
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_inference_reference.h"
-#include "tests/models/nnao_test_blob.h"
-#include "tests/models/synthetic_gbuffer.h"
+#include "tests/support/nnao_test_blob.h"
+#include "tests/support/synthetic_gbuffer.h"
 
 using namespace nns;
 

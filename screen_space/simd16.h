@@ -11,7 +11,7 @@
 #include <cstdint>
 
 #include "core/thread_pool.h"
-#include "models/classical_ao/gbuffer.h"
+#include "screen_space/gbuffer.h"
 
 #if defined(__AVX512F__)
 #include <immintrin.h>

@@ -12,7 +12,7 @@
 #include <cmath>
 #include <vector>
 
-#include "models/classical_ao/common.h"
+#include "screen_space/ao_common.h"
 
 namespace nns::ao {
 

@@ -10,7 +10,7 @@
 // scalar per-pixel loop it must match (tests compare them).
 #include <vector>
 
-#include "models/classical_ao/common.h"
+#include "screen_space/ao_common.h"
 
 namespace nns::ao {
 

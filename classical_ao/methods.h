@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "models/classical_ao/alchemy_ao.h"
-#include "models/classical_ao/hbao.h"
-#include "models/classical_ao/ssao.h"
-#include "models/classical_ao/ssao_plus.h"
+#include "classical_ao/alchemy_ao.h"
+#include "classical_ao/hbao.h"
+#include "classical_ao/ssao.h"
+#include "classical_ao/ssao_plus.h"
 
 namespace nns::ao {
 

@@ -13,8 +13,8 @@
 // per-pixel loop it must match (tests compare them).
 #include <vector>
 
-#include "models/classical_ao/common.h"
-#include "models/classical_ao/simd16.h"
+#include "screen_space/ao_common.h"
+#include "screen_space/simd16.h"
 
 namespace nns::ao {
 

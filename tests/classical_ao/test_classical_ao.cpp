@@ -5,8 +5,8 @@
 
 #include "core/thread_pool.h"
 #include "report/image_metrics.h"
-#include "models/classical_ao/methods.h"
-#include "tests/models/synthetic_gbuffer.h"
+#include "classical_ao/methods.h"
+#include "tests/support/synthetic_gbuffer.h"
 
 using namespace nns;
 

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "models/classical_ao/gbuffer.h"
+#include "screen_space/gbuffer.h"
 
 namespace nns::ao {
 

@@ -8,8 +8,8 @@
 
 #include "core/rng.h"
 #include "core/thread_pool.h"
-#include "models/classical_ao/gbuffer.h"
-#include "models/classical_ao/simd16.h"
+#include "screen_space/gbuffer.h"
+#include "screen_space/simd16.h"
 
 namespace nns::ao {
 

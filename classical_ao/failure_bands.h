@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "models/classical_ao/gbuffer.h"
+#include "screen_space/gbuffer.h"
 
 namespace nns::ao {
 

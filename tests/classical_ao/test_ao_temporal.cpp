@@ -1,10 +1,10 @@
-// Reprojection for eval-ao's temporal stability (models/classical_ao/temporal.h).
+// Reprojection for eval-ao's temporal stability (classical_ao/temporal.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "models/classical_ao/temporal.h"
+#include "classical_ao/temporal.h"
 
 using namespace nns;
 
