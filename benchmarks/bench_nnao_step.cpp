@@ -20,8 +20,8 @@
 #include "models/nnao/nnao_loss.h"
 #include "models/nnao/nnao_model.h"
 #include "optim/adam.h"
-#include "tests/support/nnao_test_blob.h"
-#include "tests/support/synthetic_gbuffer.h"
+#include "fixtures/random_nnao_blob.h"
+#include "fixtures/synthetic_gbuffer.h"
 
 using namespace nns;
 
@@ -108,8 +108,8 @@ static void BM_NnaoInferFrame(benchmark::State& state) {
   const int samples = int(state.range(0));
   const bool vec = state.range(2) != 0;
   set_num_threads(int(state.range(1)));
-  auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(31, 4, 3));
-  static data::View v = nns::testing::synthetic_view(320, 180, 1, 1);
+  auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(31, 4, 3));
+  static data::View v = nns::fixtures::synthetic_view(320, 180, 1, 1);
   auto g = ao::gbuffer_from_view(v);
   std::vector<float> out(size_t(g.pixels()));
   for (auto _ : state) {
@@ -131,7 +131,7 @@ static void BM_ClassicalAoFrame(benchmark::State& state) {
   set_num_threads(1);
   const auto& method = ao::classical_methods().at(size_t(state.range(0)));
   const int samples = int(state.range(1));
-  static data::View v = nns::testing::synthetic_view(320, 180, 1, 1);
+  static data::View v = nns::fixtures::synthetic_view(320, 180, 1, 1);
   auto g = ao::gbuffer_from_view(v);
   std::vector<float> out(size_t(g.pixels())), ref(out.size());
   method.run(g, samples, out.data());

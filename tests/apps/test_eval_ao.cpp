@@ -13,7 +13,7 @@
 #include <string>
 
 #include "data/exr_io.h"
-#include "tests/support/synthetic_gbuffer.h"
+#include "fixtures/synthetic_gbuffer.h"
 #include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;
@@ -44,7 +44,7 @@ TEST(EvalAo, WritesResultsForClassicalMethods) {
   fs::path d = temp_dir("ok");
   fs::create_directories(d / "data");
   for (int v = 0; v < 3; ++v) {
-    auto view = nns::testing::synthetic_view(48, 32, v, 16);
+    auto view = nns::fixtures::synthetic_view(48, 32, v, 16);
     view.scene = "path";  // frames of one camera path (a still camera): the temporal check runs
     view.world_to_camera = std::array<float, 16>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     nns::data::write_view((d / "data" / ("path-p00-f00" + std::to_string(v) + ".exr")).string(), view);
@@ -72,7 +72,7 @@ TEST(EvalAo, WritesResultsForClassicalMethods) {
 
 TEST(EvalAo, ViewWithoutAoIsExplained) {
   fs::path d = temp_dir("noao");
-  auto view = nns::testing::synthetic_view(16, 12, 0, 4);
+  auto view = nns::fixtures::synthetic_view(16, 12, 0, 4);
   view.channels.erase("AO");
   view.ao_radius.reset();
   nns::data::write_view((d / "a.exr").string(), view);
@@ -85,7 +85,7 @@ TEST(EvalAo, ViewWithoutAoIsExplained) {
 
 TEST(EvalAo, NanDepthIsExplained) {
   fs::path d = temp_dir("nan");
-  auto view = nns::testing::synthetic_view(16, 12, 0, 4);
+  auto view = nns::fixtures::synthetic_view(16, 12, 0, 4);
   view.channels["Z"][20] = NAN;
   nns::data::write_view((d / "b.exr").string(), view);
   CommandResult r = run("--data " + d.string() + " --out " + (d / "out").string() + " --methods HBAO");

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "data/exr_io.h"
-#include "tests/support/synthetic_gbuffer.h"
+#include "fixtures/synthetic_gbuffer.h"
 #include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;
@@ -38,7 +38,7 @@ class TrainNnao : public ::testing::Test {
     fs::create_directories(root / "data" / "train");
     fs::create_directories(root / "data" / "test");
     for (int v = 0; v < 5; ++v) {  // even variants are scene synthetic0, odd synthetic1
-      auto view = nns::testing::synthetic_view(40, 28, v, 16);
+      auto view = nns::fixtures::synthetic_view(40, 28, v, 16);
       fs::path dir = root / "data" / (v % 2 ? "test" : "train");
       nns::data::write_view((dir / ("v" + std::to_string(v) + ".exr")).string(), view);
     }

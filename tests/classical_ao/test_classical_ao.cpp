@@ -6,7 +6,7 @@
 #include "core/thread_pool.h"
 #include "report/image_metrics.h"
 #include "classical_ao/methods.h"
-#include "tests/support/synthetic_gbuffer.h"
+#include "fixtures/synthetic_gbuffer.h"
 
 using namespace nns;
 
@@ -53,7 +53,7 @@ TEST(ClassicalAo, CorrelatesWithRayTracedAo) {
   // Every method must follow the ray-traced AO of the synthetic scene: a clearly
   // positive correlation over the non-sky pixels at its largest sample count. (Mean
   // squared error is what eval-ao reports; crude SSAO need not beat a constant there.)
-  auto v = nns::testing::synthetic_view(96, 64, 1, 128);
+  auto v = nns::fixtures::synthetic_view(96, 64, 1, 128);
   auto g = ao::gbuffer_from_view(v);
   const auto& gt = v.channel("AO");
   for (auto& m : ao::classical_methods()) {
@@ -76,7 +76,7 @@ TEST(ClassicalAo, CorrelatesWithRayTracedAo) {
 }
 
 TEST(ClassicalAo, SameResultWithOneAndTwoThreads) {
-  auto v = nns::testing::synthetic_view(64, 40, 2, 8);
+  auto v = nns::fixtures::synthetic_view(64, 40, 2, 8);
   auto g = ao::gbuffer_from_view(v);
   for (auto& m : ao::classical_methods()) {
     std::vector<float> a(size_t(g.pixels())), b(size_t(g.pixels()));
@@ -145,7 +145,7 @@ void expect_matches_reference(const std::vector<float>& fast, const std::vector<
 TEST(ClassicalAo, VectorisedMethodsMatchScalarReferences) {
   // 100 wide: six full 16-pixel blocks and a 4-pixel tail per row.
   for (int seed : {1, 2}) {
-    auto v = nns::testing::synthetic_view(100, 60, seed, 8);
+    auto v = nns::fixtures::synthetic_view(100, 60, seed, 8);
     auto g = ao::gbuffer_from_view(v);
     struct Pair {
       const char* name;
@@ -167,7 +167,7 @@ TEST(ClassicalAo, VectorisedMethodsMatchScalarReferences) {
 }
 
 TEST(ClassicalAo, VectorisedBoxBlurIsBitwiseTheReference) {
-  auto v = nns::testing::synthetic_view(37, 21, 3, 8);  // a 5-pixel tail, sky and edges
+  auto v = nns::fixtures::synthetic_view(37, 21, 3, 8);  // a 5-pixel tail, sky and edges
   auto g = ao::gbuffer_from_view(v);
   std::vector<float> in(size_t(g.pixels())), a(in.size()), b(in.size());
   for (size_t i = 0; i < in.size(); ++i) in[i] = float((i * 7919) % 101) / 100.0f;

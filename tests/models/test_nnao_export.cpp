@@ -6,13 +6,13 @@
 
 #include "data/exr_io.h"
 #include "models/nnao/nnao_export.h"
-#include "tests/support/nnao_test_blob.h"
+#include "fixtures/random_nnao_blob.h"
 
 namespace fs = std::filesystem;
 using namespace nns;
 
 TEST(NnaoExport, FilterImagesHoldTheFoldedWeights) {
-  auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(9, 4, 11));
+  auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(9, 4, 11));
   fs::path d = fs::temp_directory_path() / ("nnao_export_" + std::to_string(::getpid()));
   nnao::write_filter_images(m, d.string());
   for (int k = 0; k < 4; ++k) {
@@ -38,7 +38,7 @@ TEST(NnaoExport, GlslShaderCompilesWithGlslangValidator) {
   fs::create_directories(d);
   for (int hidden : {4, 8})
     for (int samples : {64, 256}) {
-      auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(31, hidden, 12));
+      auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(31, hidden, 12));
       std::string src = nnao::glsl_shader(m, samples);
       EXPECT_NE(src.find("const int W = 31;"), std::string::npos);
       fs::path f = d / ("nnao_" + std::to_string(hidden) + "_" + std::to_string(samples) + ".frag");

@@ -5,7 +5,7 @@
 
 #include "models/nnao/nnao_features.h"
 #include "models/nnao/nnao_points.h"
-#include "tests/support/synthetic_gbuffer.h"
+#include "fixtures/synthetic_gbuffer.h"
 
 using namespace nns;
 
@@ -49,7 +49,7 @@ std::vector<float> reference_features(const ao::GBuffer& g, int px, int py, int 
 }  // namespace
 
 TEST(NnaoFeatures, MatchLiteralDefinitionEverywhere) {
-  auto v = nns::testing::synthetic_view(64, 40, 3, 1, 0.8f);
+  auto v = nns::fixtures::synthetic_view(64, 40, 3, 1, 0.8f);
   auto g = ao::gbuffer_from_view(v);
   const int w = 7;
   std::vector<float> f(size_t(nnao::feature_count(w)));
@@ -83,7 +83,7 @@ TEST(NnaoFeatures, FlatWallFacingTheCameraGivesZeros) {
 TEST(NnaoFeatures, FalloffSkyAndCentre) {
   // Centre on the floor next to the sky: sky samples and samples beyond r are zero; the
   // centre sample (same pixel) is zero; a nearby sample of a different depth is not.
-  auto v = nns::testing::synthetic_view(64, 40, 0, 1, 1.0f);
+  auto v = nns::fixtures::synthetic_view(64, 40, 0, 1, 1.0f);
   auto g = ao::gbuffer_from_view(v);
   const int w = 31;
   std::vector<float> f(size_t(nnao::feature_count(w)));

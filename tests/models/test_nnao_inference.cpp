@@ -5,8 +5,8 @@
 
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_inference_reference.h"
-#include "tests/support/nnao_test_blob.h"
-#include "tests/support/synthetic_gbuffer.h"
+#include "fixtures/random_nnao_blob.h"
+#include "fixtures/synthetic_gbuffer.h"
 
 using namespace nns;
 
@@ -41,9 +41,9 @@ double reference_ao(const Blob& b, const std::vector<float>& f, int H) {
 
 TEST(NnaoInference, ExactMatchesDoubleReferenceWithUnfoldedStandardisation) {
   const int w = 7, H = 4;
-  Blob blob = nns::testing::random_nnao_blob(w, H, 5);
+  Blob blob = nns::fixtures::random_nnao_blob(w, H, 5);
   auto m = nnao::NnaoWeights::from_blob(blob);
-  auto v = nns::testing::synthetic_view(40, 28, 2, 1);
+  auto v = nns::fixtures::synthetic_view(40, 28, 2, 1);
   auto g = ao::gbuffer_from_view(v);
   std::vector<float> out(size_t(g.pixels()));
   nnao::infer_exact(m, g, out.data());
@@ -63,8 +63,8 @@ TEST(NnaoInference, ExactMatchesDoubleReferenceWithUnfoldedStandardisation) {
 TEST(NnaoInference, ShaderStyleWithEveryFilterPixelIsExact) {
   // With at least w x w strata each cell holds one filter pixel: no approximation left.
   const int w = 7;
-  auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(w, 4, 6));
-  auto v = nns::testing::synthetic_view(40, 28, 1, 1);
+  auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(w, 4, 6));
+  auto v = nns::fixtures::synthetic_view(40, 28, 1, 1);
   auto g = ao::gbuffer_from_view(v);
   std::vector<float> exact(size_t(g.pixels())), shader(size_t(g.pixels()));
   nnao::infer_exact(m, g, exact.data());
@@ -76,8 +76,8 @@ TEST(NnaoInference, ShaderStyleIsUnbiasedOverJitter) {
   // With an identity head (alpha = beta = 1) AO is affine in the layer-0 sums, so the
   // average over jitter seeds must converge to the exact result.
   const int w = 15;
-  auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(w, 4, 7, /*linear_head=*/true));
-  auto v = nns::testing::synthetic_view(48, 32, 4, 1);
+  auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(w, 4, 7, /*linear_head=*/true));
+  auto v = nns::fixtures::synthetic_view(48, 32, 4, 1);
   auto g = ao::gbuffer_from_view(v);
   const size_t n = size_t(g.pixels());
   std::vector<float> exact(n), one(n), acc(n, 0), tmp(n);
@@ -96,8 +96,8 @@ TEST(NnaoInference, ShaderStyleIsUnbiasedOverJitter) {
 }
 
 TEST(NnaoInference, SameResultWithOneAndTwoThreads) {
-  auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(9, 4, 8));
-  auto v = nns::testing::synthetic_view(40, 28, 0, 1);
+  auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(9, 4, 8));
+  auto v = nns::fixtures::synthetic_view(40, 28, 0, 1);
   auto g = ao::gbuffer_from_view(v);
   std::vector<float> a(size_t(g.pixels())), b(a.size()), c(a.size()), d(a.size());
   set_num_threads(1);
@@ -111,10 +111,10 @@ TEST(NnaoInference, SameResultWithOneAndTwoThreads) {
 }
 
 TEST(NnaoInference, BlobWithWrongKindOrShapeIsRejected) {
-  Blob b = nns::testing::random_nnao_blob(5, 4, 9);
+  Blob b = nns::fixtures::random_nnao_blob(5, 4, 9);
   b.set_kind("pix2pix");
   EXPECT_THROW(nnao::NnaoWeights::from_blob(b), std::runtime_error);
-  Blob c = nns::testing::random_nnao_blob(5, 4, 9);
+  Blob c = nns::fixtures::random_nnao_blob(5, 4, 9);
   c.set_config("window", 7);  // tensors are for w = 5
   EXPECT_THROW(nnao::NnaoWeights::from_blob(c), std::runtime_error);
 }
@@ -161,9 +161,9 @@ TEST(NnaoInference, VectorisedPathsMatchScalarReferences) {
   // 50 wide: three full 16-pixel blocks and a 2-pixel tail; H = 4 (the compile-time
   // path) and H = 6 (the general one).
   for (int H : {4, 6}) {
-    auto m = nnao::NnaoWeights::from_blob(nns::testing::random_nnao_blob(9, H, 11 + H));
+    auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(9, H, 11 + H));
     for (int variant : {0, 3}) {
-      auto v = nns::testing::synthetic_view(50, 30, variant, 1);
+      auto v = nns::fixtures::synthetic_view(50, 30, variant, 1);
       auto g = ao::gbuffer_from_view(v);
       const std::string tag = "H" + std::to_string(H) + " variant " + std::to_string(variant);
       std::vector<float> a(size_t(g.pixels())), b(a.size());
