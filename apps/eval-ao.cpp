@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "apps/args.h"
 #include "core/progress.h"
 #include "core/thread_pool.h"
@@ -283,11 +284,11 @@ int main(int argc, char** argv) {
       series[nm].y.push_back(mse);
       series[nm].point_labels.push_back(ns);
     }
-    data::write_text_atomic((fs::path(out) / "results.csv").string(), csv);
-    data::write_text_atomic((fs::path(out) / "results_by_scene.csv").string(), by_scene);
-    data::write_text_atomic((fs::path(out) / "failure_bands.csv").string(), band_csv);
-    data::write_text_atomic((fs::path(out) / "temporal.csv").string(), temporal);
-    data::write_text_atomic((fs::path(out) / "timing.csv").string(), timing);
+    write_file_atomic((fs::path(out) / "results.csv").string(), csv);
+    write_file_atomic((fs::path(out) / "results_by_scene.csv").string(), by_scene);
+    write_file_atomic((fs::path(out) / "failure_bands.csv").string(), band_csv);
+    write_file_atomic((fs::path(out) / "temporal.csv").string(), temporal);
+    write_file_atomic((fs::path(out) / "timing.csv").string(), timing);
     std::vector<data::ChartSeries> chart;
     for (auto& n : order) chart.push_back(series[n]);
     data::ChartOptions co;
@@ -362,7 +363,7 @@ int main(int argc, char** argv) {
       r << "No camera-path frames in this data, so there is nothing to report (temporal.csv is empty).\n";
     }
     r << "\nPreviews (ground truth, each method at its largest sample count and NNAO at 64, error heat-maps with 0.5 = white): previews/.\n";
-    data::write_text_atomic((fs::path(out) / "report.md").string(), r.str());
+    write_file_atomic((fs::path(out) / "report.md").string(), r.str());
     std::printf("%s", csv.c_str());
     std::printf("chart: %s%s\nreport: %s\n", chart_path.c_str(), note.empty() ? " (+ .png)" : "", (fs::path(out) / "report.md").string().c_str());
     return 0;

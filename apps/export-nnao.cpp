@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/atomic_file.h"
 #include "apps/args.h"
 #include "report/chart.h"
 #include "models/nnao/nnao_export.h"
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
     auto m = nnao::NnaoWeights::load(model);
     nnao::write_filter_images(m, out);
     const std::string frag = (std::filesystem::path(out) / "nnao.frag").string();
-    data::write_text_atomic(frag, nnao::glsl_shader(m, samples));
+    write_file_atomic(frag, nnao::glsl_shader(m, samples));
     std::printf("wrote %d filters (filter<k>.exr/.png), nnao_filters.exr and %s\n", m.hidden, frag.c_str());
     return 0;
   });

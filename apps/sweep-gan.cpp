@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "apps/args.h"
 #include "core/thread_pool.h"
 #include "report/chart.h"

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "core/blob_crc32.h"
-#include "core/blob_file.h"
+#include "core/atomic_file.h"
 #include "core/tensor.h"
 
 static_assert(std::endian::native == std::endian::little,

@@ -1,6 +1,7 @@
 #include "report/chart.h"
 
-#include <unistd.h>
+#include <cairo.h>
+#include <librsvg/rsvg.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +11,8 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "core/atomic_file.h"
 
 namespace nns::data {
 namespace {
@@ -146,36 +149,51 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
   return s.str();
 }
 
-void write_text_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".partial-" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throw std::runtime_error(path + ": cannot create file for writing");
-    f << text;
-    f.flush();
-    if (!f) throw std::runtime_error(path + ": write failed (disk full?)");
+namespace {
+
+// The PNG through librsvg and cairo, in this process: no user string (the output path)
+// ever reaches a shell, and the file is written atomically like the SVG.
+std::string svg_to_png(const std::string& svg, int width, int height, const std::string& png_path) {
+  GError* error = nullptr;
+  RsvgHandle* handle = rsvg_handle_new_from_data(reinterpret_cast<const guint8*>(svg.data()), svg.size(), &error);
+  if (!handle) {
+    std::string why = error ? error->message : "unknown error";
+    if (error) g_error_free(error);
+    return "no PNG for " + png_path + ": librsvg cannot read the chart (" + why + ")";
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename the temporary file into place");
-  }
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);  // an opaque page: viewers show transparency as black
+  cairo_paint(cr);
+  RsvgRectangle viewport{0, 0, double(width), double(height)};
+  const bool drawn = rsvg_handle_render_document(handle, cr, &viewport, &error);
+  std::string bytes;
+  cairo_status_t st = CAIRO_STATUS_WRITE_ERROR;
+  if (drawn)
+    st = cairo_surface_write_to_png_stream(surface, [](void* out, const unsigned char* data, unsigned int n) {
+      static_cast<std::string*>(out)->append(reinterpret_cast<const char*>(data), n);
+      return CAIRO_STATUS_SUCCESS;
+    }, &bytes);
+  std::string why = error ? error->message : "";
+  if (error) g_error_free(error);
+  cairo_destroy(cr);
+  cairo_surface_destroy(surface);
+  g_object_unref(handle);
+  if (!drawn || st != CAIRO_STATUS_SUCCESS) return "no PNG for " + png_path + ": librsvg could not draw it " + why;
+  write_file_atomic(png_path, bytes);
+  return "";
 }
+
+}  // namespace
 
 std::string write_chart(const std::string& svg_path, const std::vector<ChartSeries>& series,
                         const ChartOptions& options) {
-  write_text_atomic(svg_path, line_chart_svg(series, options));
+  const std::string svg = line_chart_svg(series, options);
+  write_file_atomic(svg_path, svg);
   std::string png = svg_path.size() > 4 && svg_path.substr(svg_path.size() - 4) == ".svg"
                         ? svg_path.substr(0, svg_path.size() - 4) + ".png"
                         : svg_path + ".png";
-  if (std::system("command -v rsvg-convert > /dev/null 2>&1") != 0)
-    return "no PNG for " + svg_path + ": rsvg-convert not found (install Debian librsvg2-bin)";
-  const std::string tmp = png + ".partial-" + std::to_string(::getpid());
-  const std::string cmd = "rsvg-convert -o '" + tmp + "' '" + svg_path + "' 2>/dev/null";
-  if (std::system(cmd.c_str()) != 0 || std::rename(tmp.c_str(), png.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    return "no PNG for " + svg_path + ": rsvg-convert failed";
-  }
-  return "";
+  return svg_to_png(svg, options.width, options.height, png);
 }
 
 }  // namespace nns::data

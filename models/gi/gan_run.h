@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "core/blob_file.h"
+#include "core/atomic_file.h"
 #include "core/progress.h"
 #include "models/gi/gan_trainer.h"
 #include "models/gi/gi_previews.h"

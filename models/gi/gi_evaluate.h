@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "core/blob_file.h"
+#include "core/atomic_file.h"
 #include "models/gi/gi_data.h"
 #include "models/gi/gi_eval.h"
 #include "models/gi/gi_model_io.h"

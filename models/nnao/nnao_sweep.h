@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "report/chart.h"
 #include "data/dataset.h"
 #include "data/exr_io.h"
@@ -99,7 +100,7 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base,
     s.y.push_back(e.test_mse);
     s.point_labels.push_back("w" + std::to_string(e.window));
   }
-  data::write_text_atomic((dir / "sweep.csv").string(), csv);
+  write_file_atomic((dir / "sweep.csv").string(), csv);
   std::vector<data::ChartSeries> series;
   for (auto& [h, s] : by_hidden) series.push_back(s);
   data::ChartOptions co;
@@ -127,7 +128,7 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base,
     md += line;
     std::printf("%s", line + 1);
   }
-  data::write_text_atomic((dir / "sweep.md").string(), md);
+  write_file_atomic((dir / "sweep.md").string(), md);
   std::printf("sweep: %s (chart %s)\n", (dir / "sweep.md").string().c_str(), (dir / "sweep.svg").string().c_str());
   return entries;
 }

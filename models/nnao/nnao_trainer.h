@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/progress.h"
 #include "report/chart.h"
 #include "data/dataset.h"
@@ -225,7 +226,7 @@ inline TrainResult train_nnao(const TrainOptions& o) {
     te_y.push_back(res.test_mse);
     std::string all;
     for (auto& l : metrics_lines) all += l + "\n";
-    data::write_text_atomic(metrics_path, all);
+    write_file_atomic(metrics_path, all);
     data::ChartOptions co;
     co.title = "NNAO training";
     co.x_label = "epoch";

@@ -37,8 +37,25 @@ TEST(Chart, SkipsNonPositiveOnLogAxisAndWritesFiles) {
   std::string path = (dir / "c.svg").string();
   std::string note = write_chart(path, s, o);
   EXPECT_TRUE(std::filesystem::exists(path));
-  bool have_rsvg = std::system("command -v rsvg-convert > /dev/null 2>&1") == 0;
-  EXPECT_EQ(std::filesystem::exists(dir / "c.png"), have_rsvg) << note;
-  EXPECT_EQ(note.empty(), have_rsvg) << note;
+  EXPECT_TRUE(std::filesystem::exists(dir / "c.png")) << note;
+  EXPECT_TRUE(note.empty()) << note;
+  std::ifstream png(dir / "c.png", std::ios::binary);
+  char magic[8] = {};
+  png.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  std::filesystem::remove_all(dir);
+}
+
+// The PNG used to come from system("rsvg-convert -o '<out>'..."): a quote in the output
+// folder ran the rest of the path as shell commands, and a plain apostrophe lost the PNG.
+TEST(Chart, AQuoteInThePathReachesNoShellAndStillGetsItsPng) {
+  auto dir = std::filesystem::temp_directory_path() / ("chart_quote_" + std::to_string(::getpid()));
+  const auto marker = dir / "injected";
+  auto odd = dir / ("it's '; touch " + marker.string() + "; echo '");
+  std::filesystem::create_directories(odd);
+  std::string note = write_chart((odd / "loss.svg").string(), {{"a", {1, 2}, {1, 2}, {}}}, ChartOptions{});
+  EXPECT_TRUE(note.empty()) << note;
+  EXPECT_TRUE(std::filesystem::exists(odd / "loss.png"));
+  EXPECT_FALSE(std::filesystem::exists(marker)) << "the path was run by a shell";
   std::filesystem::remove_all(dir);
 }

@@ -1,13 +1,16 @@
 #pragma once
-// Whole-file reads and crash-safe writes for blobs (and anything else that must never
-// be left half-written): write to a temporary file in the same folder, fsync it,
-// rename it over the target, fsync the folder. A crash leaves either the old file or
-// the new one, never a torn mix.
+// The one atomic writer: every file the project writes (blobs, checkpoints, CSVs,
+// reports, charts, summaries) goes to a temporary file in the same folder
+// ("<name>.tmp.<pid>"), is fsynced, renamed over the target, and the folder fsynced. A
+// crash leaves either the old file or the new one, never a torn mix; the temporaries a
+// killed process leaves behind are removed by remove_stale_temporaries on the next start.
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -58,6 +61,25 @@ inline void write_file_atomic(const std::string& path, const std::string& bytes)
     ::fsync(dfd);
     ::close(dfd);
   }
+}
+
+// Removes "<name>.tmp.<pid>" files in `dir` whose writer is no longer running (a run
+// killed mid-write); returns how many. Another live process's temporaries are kept.
+inline int remove_stale_temporaries(const std::string& dir) {
+  namespace fs = std::filesystem;
+  int removed = 0;
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const auto at = name.rfind(".tmp.");
+    if (at == std::string::npos || !it->is_regular_file()) continue;
+    const std::string pid = name.substr(at + 5);
+    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    const int p = std::stoi(pid);
+    if (p == ::getpid() || (::kill(p, 0) == 0 || errno == EPERM)) continue;  // a live writer
+    if (fs::remove(it->path(), ec)) ++removed;
+  }
+  return removed;
 }
 
 inline std::string read_file(const std::string& path) {
