@@ -8,7 +8,7 @@
 
 #include "apps/args.h"
 #include "core/thread_pool.h"
-#include "models/gi/gi_evaluate.h"
+#include "runs/gi/gi_evaluate.h"
 
 using namespace nns;
 

@@ -1,13 +1,13 @@
 // export-nnao: a trained nnao.blob -> the four filter images (EXR + PNG, the paper's
 // Figure 2), the filter atlas texture and a GLSL fragment shader with the network's
-// constants embedded (models/nnao/nnao_export.h).
+// constants embedded (runs/ao/nnao_export.h).
 #include <cstdio>
 #include <filesystem>
 
 #include "core/atomic_file.h"
 #include "apps/args.h"
 #include "report/chart.h"
-#include "models/nnao/nnao_export.h"
+#include "runs/ao/nnao_export.h"
 
 using namespace nns;
 

@@ -2,7 +2,7 @@
 // face sizes x ngf x levels, scores each on the test split (eval-gi's metrics), charts
 // SSIM against ms per frame and against training time, and names the smallest model
 // (fewest parameters) within 0.01 SSIM of the best. train-gan's defaults
-// (models/gi/gan_defaults.h) come from its answer; docs/gan.md has the table.
+// (runs/gi/gan_defaults.h) come from its answer; docs/gan.md has the table.
 //
 //   sweep-gan --out sweep --sizes 16,32 --ngf 8,16,32 --levels 4,5 --epochs 6
 //   sweep-gan --out sweep --points 32:16:5,64:16:5     explicit points; finished ones are reused
@@ -19,10 +19,10 @@
 #include "core/thread_pool.h"
 #include "report/chart.h"
 #include "render/default_dataset.h"
-#include "models/gi/gan_defaults.h"
-#include "models/gi/gan_run.h"
-#include "models/gi/gi_data.h"
-#include "models/gi/gi_evaluate.h"
+#include "runs/gi/gan_defaults.h"
+#include "runs/gi/gan_run.h"
+#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_evaluate.h"
 
 using namespace nns;
 using namespace nns::gi;

@@ -15,10 +15,10 @@
 #include "core/thread_pool.h"
 #include "data/dataset.h"
 #include "render/default_dataset.h"
-#include "models/gi/gan_defaults.h"
-#include "models/gi/gan_run.h"
-#include "models/gi/gi_data.h"
-#include "models/gi/gi_evaluate.h"
+#include "runs/gi/gan_defaults.h"
+#include "runs/gi/gan_run.h"
+#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_evaluate.h"
 
 using namespace nns;
 using namespace nns::gi;

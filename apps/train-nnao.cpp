@@ -5,7 +5,7 @@
 // Without --data it renders (once, cached) and uses the built-in default dataset.
 // --sweep trains the ladder w in {7,15,23,31} x hidden in {4,8,16} instead (with the
 // given --gamma, which its report states; --resume continues an interrupted sweep):
-// see models/nnao/nnao_sweep.h.
+// see runs/ao/nnao_sweep.h.
 #include <chrono>
 #include <cstdio>
 #include <thread>
@@ -13,8 +13,8 @@
 #include "apps/args.h"
 #include "core/thread_pool.h"
 #include "render/default_dataset.h"
-#include "models/nnao/nnao_sweep.h"
-#include "models/nnao/nnao_trainer.h"
+#include "runs/ao/nnao_sweep.h"
+#include "runs/ao/train_nnao.h"
 
 using namespace nns;
 

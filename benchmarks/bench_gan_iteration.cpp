@@ -21,7 +21,7 @@
 
 #include "benchmarks/fma_peak.h"
 #include "core/thread_pool.h"
-#include "models/gi/gan_trainer.h"
+#include "runs/gi/gan_trainer.h"
 
 using namespace nns;
 using namespace nns::gi;

@@ -14,7 +14,7 @@
 
 #include "core/allocator.h"
 #include "core/thread_pool.h"
-#include "models/gi/gan_trainer.h"
+#include "runs/gi/gan_trainer.h"
 
 using namespace nns;
 using namespace nns::gi;

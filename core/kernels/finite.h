@@ -1,7 +1,7 @@
 #pragma once
 // all_finite: does a buffer hold only finite numbers (no NaN, no Inf)?
 //
-// Training loops check every gradient each step (models/gi/gan_trainer.h: 57 M floats
+// Training loops check every gradient each step (runs/gi/gan_trainer.h: 57 M floats
 // for the pix2pix U-Net). A scalar std::isfinite loop with an early exit does not
 // vectorize and took ~12% of a GAN iteration; this one tests the exponent bits with
 // integer max-reductions, which vectorize, and splits the buffer between the threads.

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "models/gi/crop.h"
-#include "models/gi/gi_data.h"
+#include "runs/gi/gi_data.h"
 #include "models/gi/gi_inputs.h"
 #include "tests/support/gradcheck.h"
 

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "models/nnao/nnao_features.h"
-#include "models/nnao/nnao_points.h"
+#include "runs/ao/nnao_points.h"
 #include "fixtures/synthetic_gbuffer.h"
 
 using namespace nns;

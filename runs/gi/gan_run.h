@@ -19,8 +19,8 @@
 
 #include "core/atomic_file.h"
 #include "core/progress.h"
-#include "models/gi/gan_trainer.h"
-#include "models/gi/gi_previews.h"
+#include "runs/gi/gan_trainer.h"
+#include "runs/gi/gi_previews.h"
 
 namespace nns::gi {
 

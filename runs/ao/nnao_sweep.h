@@ -22,7 +22,7 @@
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "models/nnao/nnao_inference.h"
-#include "models/nnao/nnao_trainer.h"
+#include "runs/ao/train_nnao.h"
 
 namespace nns::nnao {
 

@@ -25,7 +25,7 @@
 #include "data/exr_io.h"
 #include "models/nnao/nnao_fast_step.h"
 #include "models/nnao/nnao_model.h"
-#include "models/nnao/nnao_points.h"
+#include "runs/ao/nnao_points.h"
 #include "nn/serialize.h"
 #include "optim/adam.h"
 #include "optim/checkpoint.h"

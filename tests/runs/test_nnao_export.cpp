@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "data/exr_io.h"
-#include "models/nnao/nnao_export.h"
+#include "runs/ao/nnao_export.h"
 #include "fixtures/random_nnao_blob.h"
 
 namespace fs = std::filesystem;

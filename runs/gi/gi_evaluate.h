@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "core/atomic_file.h"
-#include "models/gi/gi_data.h"
-#include "models/gi/gi_eval.h"
+#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_eval.h"
 #include "models/gi/gi_model_io.h"
-#include "models/gi/gi_previews.h"
+#include "runs/gi/gi_previews.h"
 
 namespace nns::gi {
 
