@@ -1,12 +1,15 @@
 #pragma once
 // Command-line flags for every nnshade command: `--name value` or `--name=value`,
-// `--help` prints the generated usage. Unknown flags and malformed values are errors
-// that name the flag (exit 2), never a silent default.
+// `--help` prints the generated usage. Unknown flags, malformed values and values out
+// of a flag's range are errors that name the flag and the range (exit 2), never a
+// silent default: every numeric flag states its range here, where it is read.
 //
 //   nns::cli::Args args(argc, argv, "train-nnao", "Train NNAO on an EXR dataset.");
-//   int epochs = args.get_int("--epochs", 100, "training epochs");
+//   int epochs = args.get_int("--epochs", 100, "training epochs", 0, 100000);
 //   bool resume = args.get_flag("--resume", "continue from the last checkpoint");
 //   args.done();  // handles --help and reports every problem found
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -56,36 +59,85 @@ class Args {
     auto it = values_.find(name);
     return it == values_.end() ? std::vector<std::string>{} : it->second;
   }
-  int get_int(const std::string& name, int def, const std::string& help) {
-    add_usage(name, "N", std::to_string(def), help);
+  // An integer in [lo, hi]. Parsed as 64-bit and range-checked before it becomes an
+  // int, so 4294967297 is refused instead of wrapping to 1.
+  int get_int(const std::string& name, int def, const std::string& help, long long lo = INT_MIN,
+              long long hi = INT_MAX) {
+    add_usage(name, "N", std::to_string(def) + range_text(double(lo), double(hi), INT_MIN, INT_MAX), help);
     auto v = last(name);
     if (!v) return def;
+    long long r = 0;
     try {
       size_t pos;
-      long r = std::stol(*v, &pos);
+      r = std::stoll(*v, &pos);
       if (pos != v->size()) throw std::exception();
-      return int(r);
     } catch (...) {
       errors_.push_back(name + ": expected an integer, got '" + *v + "'");
       return def;
     }
+    if (r < lo || r > hi || r < INT_MIN || r > INT_MAX) {
+      errors_.push_back(name + ": " + *v + " is out of range: expected an integer in " +
+                        bounds(double(std::max<long long>(lo, INT_MIN)), double(std::min<long long>(hi, INT_MAX))));
+      return def;
+    }
+    return int(r);
   }
-  double get_double(const std::string& name, double def, const std::string& help) {
+  // A comma-separated list of integers, each in [lo, hi], e.g. --nnao-samples 16,64.
+  std::vector<int> get_int_list(const std::string& name, const std::string& def, const std::string& help,
+                                long long lo = INT_MIN, long long hi = INT_MAX) {
+    add_usage(name, "N,N,...", def + range_text(double(lo), double(hi), INT_MIN, INT_MAX), help);
+    auto v = last(name);
+    const std::string text = v ? *v : def;
+    std::vector<int> out;
+    size_t start = 0;
+    while (start <= text.size()) {
+      size_t comma = text.find(',', start);
+      if (comma == std::string::npos) comma = text.size();
+      const std::string item = text.substr(start, comma - start);
+      long long r = 0;
+      size_t pos = 0;
+      try {
+        r = std::stoll(item, &pos);
+      } catch (...) {
+        pos = 0;
+      }
+      if (item.empty() || pos != item.size()) {
+        errors_.push_back(name + ": expected a comma-separated list of integers, got '" + text + "'");
+        return {};
+      }
+      if (r < lo || r > hi || r < INT_MIN || r > INT_MAX) {
+        errors_.push_back(name + ": " + item + " is out of range: expected integers in " +
+                          bounds(double(std::max<long long>(lo, INT_MIN)), double(std::min<long long>(hi, INT_MAX))));
+        return {};
+      }
+      out.push_back(int(r));
+      start = comma + 1;
+    }
+    return out;
+  }
+  // A finite number in [lo, hi].
+  double get_double(const std::string& name, double def, const std::string& help,
+                    double lo = -HUGE_VAL, double hi = HUGE_VAL) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", def);
-    add_usage(name, "X", buf, help);
+    add_usage(name, "X", buf + range_text(lo, hi, -HUGE_VAL, HUGE_VAL), help);
     auto v = last(name);
     if (!v) return def;
+    double r = 0;
     try {
       size_t pos;
-      double r = std::stod(*v, &pos);
+      r = std::stod(*v, &pos);
       // std::stod accepts "nan" and "inf": no flag of ours means either.
       if (pos != v->size() || !std::isfinite(r)) throw std::exception();
-      return r;
     } catch (...) {
       errors_.push_back(name + ": expected a finite number, got '" + *v + "'");
       return def;
     }
+    if (r < lo || r > hi) {
+      errors_.push_back(name + ": " + *v + " is out of range: expected a number in " + bounds(lo, hi));
+      return def;
+    }
+    return r;
   }
   bool get_flag(const std::string& name, const std::string& help) {
     add_usage(name, "", "", help);
@@ -133,6 +185,23 @@ class Args {
   }
 
  private:
+  static std::string num(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.15g", v);
+    return b;
+  }
+  // "[0, 100]", "[1, inf)", "(-inf, 5]"
+  static std::string bounds(double lo, double hi) {
+    std::string s = std::isinf(lo) ? std::string("(-inf") : "[" + num(lo);
+    s += ", ";
+    s += std::isinf(hi) ? std::string("inf)") : num(hi) + "]";
+    return s;
+  }
+  // ", range [lo, hi]" for the usage line, or nothing when the flag has no range.
+  static std::string range_text(double lo, double hi, double none_lo, double none_hi) {
+    if (lo <= none_lo && hi >= none_hi) return "";
+    return ", range " + bounds(lo <= none_lo ? -HUGE_VAL : lo, hi >= none_hi ? HUGE_VAL : hi);
+  }
   const std::string* last(const std::string& name) {
     known_.insert(name);
     auto it = values_.find(name);

@@ -12,8 +12,7 @@ int main(int argc, char** argv) {
                       "scenes, value ranges and every problem found.");
   std::string purpose = args.get_choice("--purpose", "any", {"any", "nnao", "gi"},
                                         "which trainer the data is for (decides required channels)");
-  int max_problems = args.get_int("--max-problems", 50, "problems listed before '... and N more'");
-  if (max_problems < 0) args.error("--max-problems: must be >= 0");
+  int max_problems = args.get_int("--max-problems", 50, "problems listed before '... and N more'", 0, 1000000);
   if (args.positional().size() > 1) args.error("expected one dataset folder, got " + std::to_string(args.positional().size()));
   args.done("DIR");
   if (args.positional().empty()) {

@@ -91,14 +91,11 @@ int main(int argc, char** argv) {
   return cli::run_main("demo", [&] {
     cli::Args a(argc, argv, "demo",
                 "Train a small conv net on built-in synthetic data, save its weights, reload them.");
-    int threads = a.get_int("--threads", 2, "worker threads");
-    int seed = a.get_int("--seed", 1, "random seed (weights and data)");
-    int epochs = a.get_int("--epochs", 20, "training epochs");
-    int width = a.get_int("--width", 8, "hidden channels");
+    int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
+    int seed = a.get_int("--seed", 1, "random seed (weights and data)", 0, INT_MAX);
+    int epochs = a.get_int("--epochs", 20, "training epochs", 1, 100000);
+    int width = a.get_int("--width", 8, "hidden channels", 1, 4096);
     std::string out = a.get_string("--out", "demo-out", "output folder for the weights blob");
-    if (threads < 1) a.error("--threads must be >= 1");
-    if (epochs < 1) a.error("--epochs must be >= 1");
-    if (width < 1) a.error("--width must be >= 1");
     a.done();
     set_num_threads(threads);
 

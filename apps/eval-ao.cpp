@@ -117,14 +117,13 @@ int main(int argc, char** argv) {
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao (omit to run only the classical methods)");
     std::string out = args.get_string("--out", "eval-out", "output folder");
     std::string methods_flag = args.get_string("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy", "comma-separated methods");
-    std::string nnao_samples = args.get_string("--nnao-samples", "16,32,64,128,256", "shader-style NNAO sample counts");
-    int threads = args.get_int("--threads", 2, "worker threads");
-    int previews = args.get_int("--previews", 3, "views to write preview PNGs for");
-    int max_views = args.get_int("--max-views", 0, "evaluate at most this many views (0 = all)");
-    int repeat = args.get_int("--repeat", 3, "time each method this many times per view and keep the fastest (>= 1)");
+    std::vector<int> nnao_samples = args.get_int_list("--nnao-samples", "16,32,64,128,256", "shader-style NNAO sample counts", 1, INT_MAX);
+    int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
+    int previews = args.get_int("--previews", 3, "views to write preview PNGs for", 0, 100000);
+    int max_views = args.get_int("--max-views", 0, "evaluate at most this many views (0 = all)", 0, INT_MAX);
+    int repeat = args.get_int("--repeat", 3, "time each method this many times per view and keep the fastest (>= 1)", 1, 1000);
     bool scalar = args.get_flag("--scalar", "run the scalar per-pixel reference loops instead of the vectorised ones (to measure the speed-up)");
     args.done();
-    if (repeat < 1) throw std::invalid_argument("--repeat must be >= 1, got " + std::to_string(repeat));
     set_num_threads(threads);
     if (data_dir.empty()) data_dir = data::ensure_default_dataset("nnao", threads);
 
@@ -160,8 +159,8 @@ int main(int argc, char** argv) {
                            else nnao::infer_exact(weights, g, o);
                          }});
     if (wanted.count("NNAO"))
-      for (auto& s : split_commas(nnao_samples)) {
-        int n = std::stoi(s);
+      for (int n : nnao_samples) {
+        nnao::check_sample_count(n, weights.window);
         methods.push_back({"NNAO", n, [&weights, n, scalar](const ao::GBuffer& g, float* o) {
                              if (scalar) nnao::infer_shader_style_reference(weights, g, n, o);
                              else nnao::infer_shader_style(weights, g, n, o);

@@ -21,11 +21,11 @@ int main(int argc, char** argv) {
     o.out = a.get_string("--out", "eval-gi-out", "output folder");
     std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics at test time");
     std::string drop = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time");
-    int max_frames = a.get_int("--max-frames", 0, "score at most N test frames (0: all)");
-    o.previews = a.get_int("--previews", 3, "frames with preview PNGs per model");
-    int threads = a.get_int("--threads", 2, "worker threads");
+    int max_frames = a.get_int("--max-frames", 0, "score at most N test frames (0: all)", 0, INT_MAX);
+    o.previews = a.get_int("--previews", 3, "frames with preview PNGs per model", 0, 100000);
+    int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
     o.offscreen_share = float(a.get_double("--offscreen-share", 1.0 / 6,
-                                           "a frame is off-screen-lit when its front face holds less than this share of its direct light"));
+                                           "a frame is off-screen-lit when its front face holds less than this share of its direct light", 0, 1));
     if (o.data.empty()) a.error("--data is required");
     if (o.models.empty()) a.error("at least one --model is required");
     a.done();

@@ -16,13 +16,14 @@ int main(int argc, char** argv) {
     cli::Args args(argc, argv, "export-nnao", "Export NNAO filters and a GLSL shader for engines.");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao");
     std::string out = args.get_string("--out", "nnao-export", "output folder");
-    int samples = args.get_int("--samples", 64, "filter samples per pixel in the shader");
+    int samples = args.get_int("--samples", 64, "filter samples per pixel in the shader", 1, INT_MAX);
     args.done();
     if (model.empty()) {
       std::fprintf(stderr, "export-nnao: error: --model is required\n");
       return 2;
     }
     auto m = nnao::NnaoWeights::load(model);
+    nnao::check_sample_count(samples, m.window);
     nnao::write_filter_images(m, out);
     const std::string frag = (std::filesystem::path(out) / "nnao.frag").string();
     write_file_atomic(frag, nnao::glsl_shader(m, samples));

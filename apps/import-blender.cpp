@@ -137,15 +137,15 @@ int main(int argc, char** argv) {
                       "Convert Blender multilayer EXR renders (ViewLayer.Depth.Z, ViewLayer.Normal.X, "
                       "DiffCol, DiffDir, DiffInd, Emit, AO) into the nnshade dataset format.");
   std::string out = args.get_string("--out", "", "output .exr (one input) or folder (required)");
-  double fov = args.get_double("--fov-y", 0, "vertical field of view in degrees (required; docs/blender.md)");
-  double ao_radius = args.get_double("--ao-radius", 0, "Blender's AO distance (required when an AO pass exists)");
+  double fov = args.get_double("--fov-y", 0, "vertical field of view in degrees (required; docs/blender.md)", 0, 179);
+  double ao_radius = args.get_double("--ao-radius", 0, "Blender's AO distance (required when an AO pass exists)", 0, HUGE_VAL);
   std::string scene = args.get_string("--scene", "", "scene name for splits (default: the file name)");
   std::string w2c = args.get_string("--world-to-camera", "",
                                     "16 numbers, row by row: camera.matrix_world.inverted() (default: file attribute)");
   std::string layer = args.get_string("--layer", "", "view layer to import (default: the only one)");
   bool keep_env = args.get_flag("--keep-env", "import Blender's Env pass (visible background) as env");
   bool half = args.get_flag("--half", "store channels other than Z as HALF");
-  double sky = args.get_double("--sky-depth", 1e9, "depth at or above this is sky");
+  double sky = args.get_double("--sky-depth", 1e9, "depth at or above this is sky", 1e-6, HUGE_VAL);
   if (!(fov > 0 && fov < 180)) args.error("--fov-y: required, degrees in (0, 180)");
   if (out.empty()) args.error("--out: required");
   if (args.positional().empty()) args.error("expected at least one Blender EXR");

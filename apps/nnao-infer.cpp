@@ -21,20 +21,17 @@ int main(int argc, char** argv) {
     std::string in = args.get_string("--in", "", "input view (EXR with Z, N.X, N.Y, N.Z)");
     std::string out = args.get_string("--out", "", "output EXR (channel AO)");
     std::string png = args.get_string("--png", "", "also write a PNG preview");
-    int samples = args.get_int("--samples", 0, "0 = exact; else shader-style filter samples (64, 128, 256, ...)");
-    double radius = args.get_double("--radius", 0, "AO radius (0 = the view's aoRadius, else the model's)");
-    int threads = args.get_int("--threads", 2, "worker threads");
+    int samples = args.get_int("--samples", 0, "0 = exact; else shader-style filter samples (64, 128, 256, ...)", 0, INT_MAX);
+    double radius = args.get_double("--radius", 0, "AO radius (0 = the view's aoRadius, else the model's)", 0, HUGE_VAL);
+    int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     args.done();
     if (model.empty() || in.empty() || out.empty()) {
       std::fprintf(stderr, "nnao-infer: error: --model, --in and --out are required\n");
       return 2;
     }
-    if (samples < 0) {
-      std::fprintf(stderr, "nnao-infer: error: --samples must be >= 0\n");
-      return 2;
-    }
     set_num_threads(threads);
     auto m = nnao::NnaoWeights::load(model);
+    if (samples > 0) nnao::check_sample_count(samples, m.window);
     data::View v = data::read_view(in);
     float r = float(radius);
     if (r <= 0 && !v.ao_radius && m.radius > 0) r = m.radius;

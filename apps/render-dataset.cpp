@@ -38,19 +38,19 @@ int main(int argc, char** argv) {
   job.out = args.get_string("--out", "", "output dataset folder (required)");
   job.preset = args.get_choice("--preset", "nnao", {"nnao", "gi", "surround"},
                                "channels: nnao = Z N albedo AO; gi = + direct emission env indirect; surround = gi as cube frames");
-  job.views = args.get_int("--views", 80, "views (surround: frames) over train + test");
+  job.views = args.get_int("--views", 80, "views (surround: frames) over train + test", 1, 1000000);
   std::string size = args.get_string("--size", "", "image size WxH (default 320x180; gi 256x144; surround 64x64 faces)");
-  job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel");
-  job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel");
-  job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)");
-  job.settings.seed = uint64_t(args.get_int("--seed", 1, "seed: scenes, cameras and noise"));
-  int threads = args.get_int("--threads", 2, "worker threads");
+  job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel", 1, 65536);
+  job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel", 1, 65536);
+  job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)", 1, 64);
+  job.settings.seed = uint64_t(args.get_int("--seed", 1, "seed: scenes, cameras and noise", 0, INT_MAX));
+  int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
   job.scene_files = args.get_list("--scene", "an OBJ or glTF scene file instead of the procedural families");
   std::string fams = args.get_string("--families", "", families_help);
-  job.path_frames = args.get_int("--path-frames", 1, "> 1: views come as smooth camera paths of this many frames");
-  job.views_per_scene = args.get_int("--views-per-scene", 4, "views rendered in one scene before the next");
-  job.test_fraction = args.get_double("--test-fraction", 0.2, "share of views from held-out scenes (test/)");
-  job.fov_y_deg = float(args.get_double("--fov", 60, "vertical field of view in degrees (not surround)"));
+  job.path_frames = args.get_int("--path-frames", 1, "> 1: views come as smooth camera paths of this many frames", 1, 10000);
+  job.views_per_scene = args.get_int("--views-per-scene", 4, "views rendered in one scene before the next", 1, 1000000);
+  job.test_fraction = args.get_double("--test-fraction", 0.2, "share of views from held-out scenes (test/)", 0, 0.95);
+  job.fov_y_deg = float(args.get_double("--fov", 60, "vertical field of view in degrees (not surround)", 1, 179));
   args.done();
   if (job.out.empty()) args.error("--out is required"), args.done();
 
@@ -58,9 +58,6 @@ int main(int argc, char** argv) {
   int h = job.preset == "gi" ? 144 : job.preset == "surround" ? 64 : 180;
   if (!size.empty() && !parse_size(size, w, h)) args.error("--size: expected WxH, got '" + size + "'");
   if (job.preset == "surround" && w != h) args.error("--size: surround faces are square, got " + size);
-  if (job.settings.ao_spp < 1 || job.settings.gi_spp < 1) args.error("--spp and --gi-spp must be >= 1");
-  if (job.settings.bounces < 1) args.error("--bounces must be >= 1");
-  if (threads < 1) args.error("--threads must be >= 1");
   std::stringstream ss(fams);
   for (std::string f; std::getline(ss, f, ',');)
     if (!f.empty()) job.families.push_back(f);

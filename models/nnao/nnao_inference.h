@@ -13,6 +13,8 @@
 // (each pixel has its own jitter, so its own filter taps). The scalar per-pixel loops
 // they must match are in nnao_inference_reference.h. Sky pixels get AO = 1.
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 #include <cmath>
 #include <vector>
 
@@ -31,6 +33,14 @@ inline void sample_grid(int samples, int window, int& mx, int& my) {
   my = samples / mx < 1 ? 1 : samples / mx;
   mx = std::min(mx, window);
   my = std::min(my, window);
+}
+
+// A sample count the model can honour: the grid has at most window x window cells, so
+// a larger count would silently run fewer samples than asked for.
+inline void check_sample_count(int samples, int window) {
+  if (samples < 1 || samples > window * window)
+    throw std::invalid_argument("--samples " + std::to_string(samples) + ": a window-" + std::to_string(window) +
+                                " model takes 1 to " + std::to_string(window * window) + " filter samples");
 }
 
 namespace detail {
