@@ -1,9 +1,10 @@
 #pragma once
-// SSIM (Wang et al. 2004) between two stacks of planes, as a kernel pair, with the
-// reference constants: an 11x11 Gaussian window (sigma 1.5), C1 = (0.01 L)^2 and
+// The one SSIM (Wang et al. 2004), with the reference constants: an 11x11 Gaussian window (sigma 1.5), C1 = (0.01 L)^2 and
 // C2 = (0.03 L)^2 for data range L = 1 (values in [0, 1]). Like Wang's reference code
 // the window only visits positions where it fits ('valid'), so each plane yields an
-// (H-10) x (W-10) SSIM map; the result is the mean over all maps.
+// (H-10) x (W-10) SSIM map; the result is the mean over all maps. That is the loss's
+// policy (DSSIM, differentiable, ssim_forward/ssim_backward); evaluation uses the same
+// window and formula with a renormalised border (ssim_map_renormalised below).
 //   x, y, dx, dy (P, H, W), P = N*C planes, H, W >= 11.
 // Statistics per window: mx, my (means), sxx, syy, sxy (biased (co)variances, as
 // E[xx] - mx^2 etc.), and
@@ -90,6 +91,54 @@ inline void ssim_filter_transpose(double* gin, const double* gout, int64_t H, in
 }
 }  // namespace detail
 
+// SSIM from the five windowed moments (biased (co)variances as E[xx] - mx^2): the one
+// formula of both edge policies.
+inline double ssim_from_moments(double mx, double my, double exx, double eyy, double exy) {
+  const double sxx = exx - mx * mx, syy = eyy - my * my, sxy = exy - mx * my;
+  return (2 * mx * my + kSsimC1) * (2 * sxy + kSsimC2) / ((mx * mx + my * my + kSsimC1) * (sxx + syy + kSsimC2));
+}
+
+// The evaluation policy: a per-pixel SSIM map (H, W) for one plane, the window truncated
+// at the border and renormalised over the pixels that exist, so every pixel of an
+// image (and of a mask over it: sky excluded from AO scores) has a value. Same window,
+// sigma and constants as the loss above, which instead keeps Wang's 'valid' positions.
+template <class T>
+std::vector<float> ssim_map_renormalised(const T* x, const T* y, int64_t H, int64_t W) {
+  const double* g = detail::ssim_gauss();
+  const int R = kSsimWindow / 2;
+  const int64_t n = H * W;
+  // Five moments, blurred separably: horizontal pass into tmp, vertical into out.
+  std::vector<double> src(size_t(n) * 5), tmp(size_t(n) * 5), out(size_t(n) * 5);
+  for (int64_t i = 0; i < n; ++i) {
+    const double a = double(x[i]), b = double(y[i]);
+    double* q = &src[size_t(i) * 5];
+    q[0] = a, q[1] = b, q[2] = a * a, q[3] = b * b, q[4] = a * b;
+  }
+  auto blur = [&](const std::vector<double>& in, std::vector<double>& o, bool horizontal) {
+    for (int64_t yy = 0; yy < H; ++yy)
+        for (int64_t xx = 0; xx < W; ++xx) {
+          double acc[5] = {0, 0, 0, 0, 0}, wsum = 0;
+          for (int k = -R; k <= R; ++k) {
+            const int64_t sx = horizontal ? xx + k : xx, sy = horizontal ? yy : yy + k;
+            if (sx < 0 || sy < 0 || sx >= W || sy >= H) continue;
+            const double* p = &in[size_t(sy * W + sx) * 5];
+            for (int c = 0; c < 5; ++c) acc[c] += g[k + R] * p[c];
+            wsum += g[k + R];
+          }
+          double* q = &o[size_t(yy * W + xx) * 5];
+          for (int c = 0; c < 5; ++c) q[c] = acc[c] / wsum;
+        }
+  };
+  blur(src, tmp, true);
+  blur(tmp, out, false);
+  std::vector<float> map(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) {
+    const double* m = &out[size_t(i) * 5];
+    map[size_t(i)] = float(ssim_from_moments(m[0], m[1], m[2], m[3], m[4]));
+  }
+  return map;
+}
+
 // Mean SSIM over all planes and window positions.
 template <class T>
 double ssim_forward(const T* x, const T* y, int64_t P, int64_t H, int64_t W) {
@@ -100,10 +149,7 @@ double ssim_forward(const T* x, const T* y, int64_t P, int64_t H, int64_t W) {
       m.compute(x + p * H * W, y + p * H * W);
       double s = 0;
       for (size_t i = 0; i < m.mx.size(); ++i) {
-        const double mx = m.mx[i], my = m.my[i];
-        const double sxx = m.exx[i] - mx * mx, syy = m.eyy[i] - my * my, sxy = m.exy[i] - mx * my;
-        s += (2 * mx * my + kSsimC1) * (2 * sxy + kSsimC2) /
-             ((mx * mx + my * my + kSsimC1) * (sxx + syy + kSsimC2));
+        s += ssim_from_moments(m.mx[i], m.my[i], m.exx[i], m.eyy[i], m.exy[i]);
       }
       plane_sum[size_t(p)] = s;
     }

@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "nn/functional/elementwise.h"
-#include "nn/functional/reduce.h"
 #include "nn/losses/mse.h"
+#include "nn/losses/penalties.h"
 
 namespace nns::nnao {
 
@@ -13,12 +13,7 @@ template <class T>
 Var<T> nnao_loss(const Var<T>& pred, const Var<T>& target, const std::vector<Var<T>>& params, T gamma) {
   Var<T> loss = mse_loss(pred, target);
   if (gamma == T(0)) return loss;
-  Var<T> l1;
-  for (const auto& p : params) {
-    Var<T> s = sum(abs(p));
-    l1 = l1.defined() ? l1 + s : s;
-  }
-  return loss + l1 * gamma;
+  return loss + l1_penalty(params) * gamma;
 }
 
 }  // namespace nns::nnao
