@@ -12,6 +12,7 @@
 #include <string>
 
 #include "apps/args.h"
+#include "data/require_valid_dataset.h"
 #include "core/thread_pool.h"
 #include "data/dataset.h"
 #include "render/default_dataset.h"
@@ -31,43 +32,44 @@ int main(int argc, char** argv) {
     std::string data_dir = a.get_string("--data", "", "dataset folder (default: the built-in surround data, rendered once and cached)");
     std::string out = a.get_string("--out", "gan-out", "output folder");
     std::string mode = a.get_choice("--mode", "surround", {"front", "surround"}, "front view only, or the six-face global view");
-    int size = a.get_int("--size", def.size, "face size the views are box-filtered to (0: as stored)");
-    int ngf = a.get_int("--ngf", def.ngf, "generator base width");
-    int ndf = a.get_int("--ndf", def.ndf, "discriminator base width");
-    int levels = a.get_int("--levels", def.levels, "U-Net levels (input size divisible by 2^levels)");
-    int d_layers = a.get_int("--d-layers", 3, "PatchGAN layers (3: 70x70 patches)");
-    int epochs = a.get_int("--epochs", def.epochs, "epochs in all");
-    int decay = a.get_int("--decay-epochs", -1, "of which the last N decay the rate linearly to 0 (default: half)");
-    double lambda = a.get_double("--lambda", 100, "weight of the L1 term in the generator loss");
+    int size = a.get_int("--size", def.size, "face size the views are box-filtered to (0: as stored)", 4, 4096);
+    int ngf = a.get_int("--ngf", def.ngf, "generator base width", 1, 1024);
+    int ndf = a.get_int("--ndf", def.ndf, "discriminator base width", 1, 1024);
+    int levels = a.get_int("--levels", def.levels, "U-Net levels (input size divisible by 2^levels)", 1, 12);
+    int d_layers = a.get_int("--d-layers", 3, "PatchGAN layers (3: 70x70 patches)", 1, 10);
+    int epochs = a.get_int("--epochs", def.epochs, "epochs in all", 1, 100000);
+    int decay = a.get_int("--decay-epochs", -1, "of which the last N decay the rate linearly to 0 (default: half)", -1, 100000);
+    double lambda = a.get_double("--lambda", 100, "weight of the L1 term in the generator loss", 0, HUGE_VAL);
     double dssim_weight = a.get_double("--dssim-weight", -1, "add this times DSSIM to the L1 term (default: 1 with --loss gan, 0 with l1; 0 is pix2pix's L1 alone)");
-    double lr = a.get_double("--lr", 2e-4, "Adam learning rate");
-    double beta1 = a.get_double("--beta1", 0.5, "Adam beta1");
+    double lr = a.get_double("--lr", 2e-4, "Adam learning rate", 1e-12, 1e9);
+    double beta1 = a.get_double("--beta1", 0.5, "Adam beta1", 0, 0.9999);
     std::string coordconv = a.get_choice("--coordconv", "on", {"on", "off"}, "append coordinate channels");
     std::string loss = a.get_choice("--loss", "gan", {"gan", "l1", "dssim"}, "adversarial + L1, or a plain loss (baseline)");
     std::string g_norm = a.get_choice("--g-norm", def.g_norm, {"batch", "none"}, "normalisation in the pix2pix U-Net (docs/gan.md)");
     std::string arch = a.get_choice("--arch", "pix2pix", {"pix2pix", "deepshading"}, "generator: pix2pix U-Net, or Deep Shading's U-Net (mean-pool down, bilinear up)");
     std::string residual = a.get_choice("--residual", def.residual, {"off", "mapped", "linear"}, "predict a correction to the input light: none (pix2pix), in Tanh range, or the indirect light in linear light (docs/gan.md)");
-    int threads = a.get_int("--threads", 2, "worker threads");
-    int seed = a.get_int("--seed", 1, "random seed (weights, dropout, data order)");
+    int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
+    int seed = a.get_int("--seed", 1, "random seed (weights, dropout, data order)", 0, INT_MAX);
     bool resume = a.get_flag("--resume", "continue from OUT/checkpoint.blob");
-    int max_frames = a.get_int("--max-frames", 0, "use at most N train and N test items (0: all)");
-    int sample_every = a.get_int("--sample-every", 250, "write sample PNGs every N steps (0: never)");
+    int max_frames = a.get_int("--max-frames", 0, "use at most N train and N test items (0: all)", 0, INT_MAX);
+    int sample_every = a.get_int("--sample-every", 250, "write sample PNGs every N steps (0: never)", 0, INT_MAX);
     bool no_eval = a.get_flag("--no-eval", "skip the evaluation on the test split");
     std::string test_bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics at test time");
     std::string test_dropout = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time");
-    int poison = a.get_int("--debug-poison-step", -1, "testing only: a NaN enters the input at this step");
-    int stop_after = a.get_int("--debug-stop-after-epochs", -1, "testing only: stop after N epochs as if interrupted");
+    int poison = a.get_int("--debug-poison-step", -1, "testing only: a NaN enters the input at this step", -1, INT_MAX);
+    int stop_after = a.get_int("--debug-stop-after-epochs", -1, "testing only: stop after N epochs as if interrupted", -1, INT_MAX);
     if (dssim_weight < 0 && dssim_weight != -1) a.error("--dssim-weight must be >= 0");
     if (dssim_weight == -1) dssim_weight = loss == "gan" ? def.dssim_weight : 0;  // --loss l1 stays L1 alone
-    if (epochs < 1) a.error("--epochs must be >= 1");
     if (decay < 0) decay = epochs / 2;
     if (decay > epochs) a.error("--decay-epochs must be <= --epochs");
     a.done();
     set_num_threads(threads);
 
     if (data_dir.empty()) data_dir = data::ensure_default_dataset("surround", threads);
+    data::require_valid_dataset(data_dir, data::Purpose::gi);
     auto listing = data::list_dataset(data_dir);
     if (listing.flat) listing = data::split_flat_by_scene(listing, 0.2);
+    if (listing.train.size() == 0) throw std::runtime_error(data_dir + ": no training views or frames");
     const size_t max_items = max_frames > 0 ? size_t(max_frames) : size_t(-1);
 
     GanRunOptions o;
@@ -76,6 +78,8 @@ int main(int argc, char** argv) {
     o.sample_every = sample_every;
     o.poison_step = poison;
     o.stop_after_epochs = stop_after;
+    o.data_identity = std::filesystem::weakly_canonical(data_dir).string() + " (" +
+                      std::to_string(listing.train.size()) + " train, " + std::to_string(listing.test.size()) + " test)";
     GanTrainConfig& c = o.train;
     c.inputs.mode = parse_mode(mode);
     c.inputs.coordconv = coordconv == "on";
@@ -92,6 +96,7 @@ int main(int argc, char** argv) {
     GiItemReader rd{c.inputs.mode, size};
     c.inputs.norm = fit_normalisation(listing.train, rd, max_items);
     auto train = load_samples(listing.train, rd, c.inputs, max_items, "loading train");
+    if (train.empty()) throw std::runtime_error(data_dir + ": no training samples for --mode " + mode);
     std::fprintf(stderr, "train-gan: %zu training %s from %s, input %s, depth_max %.3g, hdr_scale %.3g, light_max %.3g\n",
                  train.size(), c.inputs.mode == GiMode::surround ? "frames" : "views", data_dir.c_str(),
                  train[0].input.shape().str().c_str(), c.inputs.norm.depth_max, c.inputs.norm.hdr_scale, c.inputs.norm.light_max);
@@ -101,7 +106,7 @@ int main(int argc, char** argv) {
     if (r.d_wins_windows > 0)
       std::fprintf(stderr, "train-gan: the discriminator won outright in %lld windows of %d steps (first at step %lld)\n",
                    (long long)r.d_wins_windows, DiscriminatorWatch::kWindow, (long long)r.first_d_wins_step);
-    if (!r.finished) return 3;
+    if (!r.finished) return 3;  // the run layer's non-finite stop
     std::printf("train-gan: %d epochs, %lld steps in %s; generator %s/G.blob\n", r.epochs_done,
                 (long long)r.steps, Progress::format_seconds(r.seconds).c_str(), out.c_str());
     if (no_eval || listing.test.size() == 0) return 0;

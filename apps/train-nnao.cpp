@@ -24,21 +24,21 @@ int main(int argc, char** argv) {
     nnao::TrainOptions o;
     o.data_dir = args.get_string("--data", "", "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
     o.out_dir = args.get_string("--out", "nnao-out", "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");
-    o.epochs = args.get_int("--epochs", 12, "training epochs (the paper: 100)");
-    o.batch = args.get_int("--batch", 16, "mini-batch size");
-    o.lr = args.get_double("--lr", 1e-3, "Adam learning rate");
-    o.net.window = args.get_int("--window", 31, "grid size w (w x w samples)");
-    o.net.hidden = args.get_int("--hidden", 4, "hidden units per layer");
-    o.radius = float(args.get_double("--radius", 0, "AO radius (0 = each view's aoRadius)"));
-    o.net.dropout = args.get_double("--dropout", 0.5, "dropout on the input");
-    o.gamma = args.get_double("--gamma", 0.01, "L1 weight penalty gamma");
-    o.points_per_view = args.get_int("--points-per-view", 1024, "training pixels per view");
-    o.test_points_per_view = args.get_int("--test-points-per-view", 1024, "test pixels per view (test loss)");
-    int threads = args.get_int("--threads", 2, "worker threads");
-    o.seed = uint64_t(args.get_int("--seed", 1, "random seed"));
-    o.resume = args.get_flag("--resume", "continue from OUT/checkpoint.nnao.ckpt");
+    o.epochs = args.get_int("--epochs", 12, "training epochs (the paper: 100)", 0, 100000);
+    o.batch = args.get_int("--batch", 16, "mini-batch size", 1, 65536);
+    o.lr = args.get_double("--lr", 1e-3, "Adam learning rate", 1e-12, 1e9);
+    o.net.window = args.get_int("--window", 31, "grid size w (w x w samples)", 1, 63);
+    o.net.hidden = args.get_int("--hidden", 4, "hidden units per layer", 1, 64);
+    o.radius = float(args.get_double("--radius", 0, "AO radius (0 = each view's aoRadius)", 0, HUGE_VAL));
+    o.net.dropout = args.get_double("--dropout", 0.5, "dropout on the input", 0, 0.99);
+    o.gamma = args.get_double("--gamma", 0.01, "L1 weight penalty gamma", 0, HUGE_VAL);
+    o.points_per_view = args.get_int("--points-per-view", 1024, "training pixels per view", 1, 1 << 20);
+    o.test_points_per_view = args.get_int("--test-points-per-view", 1024, "test pixels per view (test loss)", 1, 1 << 20);
+    int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
+    o.seed = uint64_t(args.get_int("--seed", 1, "random seed", 0, INT_MAX));
+    o.resume = args.get_flag("--resume", "continue from OUT/checkpoint.blob (refused if any other flag changed)");
     bool sweep = args.get_flag("--sweep", "train the size ladder (w 7/15/23/31 x hidden 4/8/16) and chart error vs ms/frame");
-    int sweep_epochs = args.get_int("--sweep-epochs", 40, "epochs per model in --sweep (40: converged on the default data, ~11 min of one core for the ladder; the sweep trains with --gamma, which docs/nnao.md sets to 0.0001)");
+    int sweep_epochs = args.get_int("--sweep-epochs", 40, "epochs per model in --sweep (40: converged on the default data, ~11 min of one core for the ladder; the sweep trains with --gamma, which docs/nnao.md sets to 0.0001)", 1, 100000);
     args.done();
     set_num_threads(threads);
     if (o.data_dir.empty()) o.data_dir = data::ensure_default_dataset("nnao", threads);
@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     nnao::TrainResult r = nnao::train_nnao(o);
+    if (r.exit_code != 0) return r.exit_code;  // the run layer's non-finite stop, already reported
     std::printf("trained on %lld points (%lld test), %lld steps, %.1f us/step (%.0f samples/s), test MSE %.5f, %.1f s\n",
                 (long long)r.train_points, (long long)r.test_points, (long long)r.steps, r.step_microseconds,
                 r.step_microseconds > 0 ? 1e6 * o.batch / r.step_microseconds : 0.0, r.test_mse, r.seconds);

@@ -13,6 +13,7 @@
 //   Blob meta("pix2pix"); meta.set_config("lr", 2e-4);
 //   ck.save("run/latest.ckpt", meta);
 //   Blob restored = ck.load("run/latest.ckpt");   // restores all of it in place
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,6 +43,11 @@ class Checkpoint {
     counters_.emplace_back(name, &c);
     return *this;
   }
+  // Any other state that writes and reads its own blob entries (a trainer's running sums).
+  Checkpoint& add_state(std::function<void(Blob&)> save, std::function<void(const Blob&)> load) {
+    states_.emplace_back(std::move(save), std::move(load));
+    return *this;
+  }
 
   // Adds everything registered to `meta` (its kind and config are kept) and writes it.
   void save(const std::string& path, Blob meta = Blob("checkpoint")) const {
@@ -53,6 +59,7 @@ class Checkpoint {
     for (auto& [name, o] : optimizers_) o->save_state(b, "optim." + name + ".");
     for (auto& [name, r] : rngs_) b.put("rng." + name, Shape{4}, r->state().data());
     for (auto& [name, c] : counters_) b.put_i64("counter." + name, *c);
+    for (auto& st : states_) st.first(b);
   }
 
   // Restores everything registered from the file and returns the blob (its config).
@@ -72,6 +79,7 @@ class Checkpoint {
       r->set_state(s);
     }
     for (auto& [name, c] : counters_) *c = b.get_i64("counter." + name);
+    for (auto& st : states_) st.second(b);
   }
 
  private:
@@ -79,6 +87,7 @@ class Checkpoint {
   std::vector<std::pair<std::string, Optimizer<T>*>> optimizers_;
   std::vector<std::pair<std::string, Rng*>> rngs_;
   std::vector<std::pair<std::string, int64_t*>> counters_;
+  std::vector<std::pair<std::function<void(Blob&)>, std::function<void(const Blob&)>>> states_;
 };
 
 }  // namespace nns

@@ -106,6 +106,22 @@ inline std::optional<MetricsRecord> parse_metrics_line(const std::string& line) 
   return r;
 }
 
+// Every well-formed line of a metrics file (none if it does not exist).
+inline std::vector<MetricsRecord> read_metrics(const std::string& path) {
+  std::vector<MetricsRecord> out;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+    if (auto r = parse_metrics_line(line)) out.push_back(*r);
+  return out;
+}
+
+inline std::vector<double> metrics_series(const std::vector<MetricsRecord>& records, const std::string& key) {
+  std::vector<double> s;
+  for (auto& r : records) s.push_back(key == "step" ? double(r.step) : key == "epoch" ? double(r.epoch) : r.get(key));
+  return s;
+}
+
 class MetricsLog {
  public:
   MetricsLog() = default;
@@ -113,16 +129,9 @@ class MetricsLog {
   // earlier run up to that step are kept (a resumed run).
   MetricsLog(std::string path, int64_t keep_up_to_step) : path_(std::move(path)) {
     std::string kept;
-    if (keep_up_to_step >= 0) {
-      std::ifstream in(path_);
-      std::string line;
-      while (std::getline(in, line)) {
-        auto r = parse_metrics_line(line);
-        if (!r || r->step > keep_up_to_step) continue;
-        records_.push_back(*r);
-        kept += line + "\n";
-      }
-    }
+    if (keep_up_to_step >= 0)
+      for (auto& r : read_metrics(path_))
+        if (r.step <= keep_up_to_step) records_.push_back(r), kept += format_metrics_line(r) + "\n";
     write_file_atomic(path_, kept);
   }
 
@@ -135,11 +144,7 @@ class MetricsLog {
   }
 
   const std::vector<MetricsRecord>& records() const { return records_; }
-  std::vector<double> series(const std::string& key) const {
-    std::vector<double> s;
-    for (auto& r : records_) s.push_back(key == "step" ? double(r.step) : key == "epoch" ? double(r.epoch) : r.get(key));
-    return s;
-  }
+  std::vector<double> series(const std::string& key) const { return metrics_series(records_, key); }
   const std::string& path() const { return path_; }
 
  private:

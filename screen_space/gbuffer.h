@@ -97,8 +97,11 @@ inline GBuffer make_gbuffer(int width, int height, float fov_y_deg, float radius
   return g;
 }
 
-// Checks what AO needs (Z, N.*, fovY, a radius) and that depth is never NaN; the error
-// names the file. `radius` <= 0 means "use the view's aoRadius".
+// Checks what AO needs (Z, N.*, fovY, a radius) and that the values mean something:
+// depth > 0 or +inf (sky, docs/dataset-format.md), never NaN, zero or negative; normals
+// and ground-truth AO finite. A NaN that got through used to train an all-NaN model and
+// score NaN with exit 0. The error names the file, the channel and the pixel.
+// `radius` <= 0 means "use the view's aoRadius".
 inline GBuffer gbuffer_from_view(const data::View& v, float radius = 0) {
   const std::string where = v.source.empty() ? std::string("view") : v.source;
   for (const char* c : {"Z", "N.X", "N.Y", "N.Z"})
@@ -111,12 +114,19 @@ inline GBuffer gbuffer_from_view(const data::View& v, float radius = 0) {
       throw std::runtime_error(where + ": no aoRadius attribute (needed for the AO radius)");
     radius = *v.ao_radius;
   }
+  auto refuse = [&](const char* channel, size_t i, const char* what) {
+    throw std::runtime_error(where + ": channel '" + channel + "' is " + what + " at pixel (" +
+                             std::to_string(i % size_t(v.width)) + ", " + std::to_string(i / size_t(v.width)) + ")");
+  };
   const auto& z = v.channel("Z");
   for (size_t i = 0; i < z.size(); ++i)
-    if (std::isnan(z[i]))
-      throw std::runtime_error(where + ": channel 'Z' is NaN at pixel (" +
-                               std::to_string(i % size_t(v.width)) + ", " +
-                               std::to_string(i / size_t(v.width)) + ")");
+    if (!(z[i] > 0)) refuse("Z", i, std::isnan(z[i]) ? "NaN" : "not positive");
+  for (const char* c : {"N.X", "N.Y", "N.Z", "AO"}) {
+    if (!v.has(c)) continue;
+    const auto& p = v.channel(c);
+    for (size_t i = 0; i < p.size(); ++i)
+      if (!std::isfinite(p[i])) refuse(c, i, std::isnan(p[i]) ? "NaN" : "infinite");
+  }
   return make_gbuffer(v.width, v.height, v.fov_y_deg, radius, z.data(), v.channel("N.X").data(),
                       v.channel("N.Y").data(), v.channel("N.Z").data());
 }

@@ -53,19 +53,15 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base,
       o.out_dir = (dir / ("w" + std::to_string(w) + "_h" + std::to_string(h))).string();
       // --resume continues each rung from its own checkpoint (a finished rung only
       // rebuilds its points and re-times), so an interrupted sweep need not start over.
-      o.resume = base.resume && fs::exists(fs::path(o.out_dir) / "checkpoint.nnao.ckpt");
+      o.resume = base.resume && fs::exists(fs::path(o.out_dir) / "checkpoint.blob");
       if (!o.quiet) std::fprintf(stderr, "sweep: window %d, hidden %d\n", w, h);
       TrainResult r = train_nnao(o);
-      std::vector<double> test_mse;
-      {
-        std::ifstream mf(fs::path(o.out_dir) / "metrics.jsonl");
-        std::string line;
-        while (std::getline(mf, line)) {
-          double e = 0, tl = 0, tm = 0;
-          if (std::sscanf(line.c_str(), "{\"epoch\": %lf, \"train_loss\": %lf, \"test_mse\": %lf", &e, &tl, &tm) == 3)
-            test_mse.push_back(tm);
-        }
+      if (r.exit_code != 0) {
+        std::fprintf(stderr, "sweep: window %d, hidden %d left out: %s\n", w, h, r.stop_message.c_str());
+        continue;
       }
+      // The rung's whole log (also the epochs of an earlier, resumed run).
+      const std::vector<double> test_mse = runs::metrics_series(runs::read_metrics((fs::path(o.out_dir) / "metrics.jsonl").string()), "test_mse");
       double mse = r.test_mse;
       if (!test_mse.empty()) {
         const size_t k = std::min<size_t>(5, test_mse.size());

@@ -3,12 +3,14 @@
 // standardised with train-set statistics, mini-batches of 16 drawn by a shuffled pass
 // per epoch, loss = MSE + gamma * sum|theta| (eq. 2, gamma = 0.01), Adam.
 //
-// Every epoch: the mean training loss and the test MSE (in AO units, on the test split
-// standardised with the *train* statistics) go to OUT/metrics.jsonl and the loss chart
-// OUT/loss.svg; a checkpoint (weights, dropout Rng, Adam state, data Rng, epoch) goes
-// to OUT/checkpoint.nnao.ckpt. --resume reloads it and continues: the points are rebuilt
-// from the same seed, so an interrupted-and-resumed run ends bitwise equal to an
-// uninterrupted one. Output: OUT/nnao.blob (nnao_weights.h describes it).
+// The loop body only; the run layer (runs/training_run.h) owns the folder, the log, the
+// checkpoint and the non-finite stop. Every epoch: the mean training loss and the test
+// MSE (in AO units, on the test split standardised with the *train* statistics) go to
+// OUT/metrics.jsonl and the chart OUT/loss.svg; then OUT/nnao.blob (nnao_weights.h
+// describes it) and OUT/checkpoint.blob (weights, dropout Rng, Adam state, data Rng,
+// epoch, configuration). --resume continues from it: the points are rebuilt from the
+// same seed, so an interrupted-and-resumed run ends bitwise equal to an uninterrupted
+// one. A NaN or Inf loss stops the run (exit 3) with the last good model in place.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -23,12 +25,14 @@
 #include "report/chart.h"
 #include "data/dataset.h"
 #include "data/exr_io.h"
+#include "data/require_valid_dataset.h"
 #include "models/nnao/nnao_fast_step.h"
 #include "models/nnao/nnao_model.h"
 #include "runs/ao/nnao_points.h"
 #include "nn/serialize.h"
 #include "optim/adam.h"
 #include "optim/checkpoint.h"
+#include "runs/training_run.h"
 
 namespace nns::nnao {
 
@@ -52,6 +56,8 @@ struct TrainResult {
   int64_t train_points = 0, test_points = 0, steps = 0;
   double train_loss = 0, test_mse = 0, seconds = 0;
   double step_microseconds = 0;  // training steps only (no data building, no test pass)
+  std::string stop_message;      // empty: finished; else why it stopped (non-finite value)
+  int exit_code = 0;             // 0 finished, 3 stopped on a non-finite value
 };
 
 // Reads the views of a split and builds their points. One Rng stream per view, so a
@@ -113,16 +119,46 @@ inline std::map<std::string, std::string> blob_config(const TrainOptions& o) {
           {"points_per_view", std::to_string(o.points_per_view)}, {"target", "ao"}};
 }
 
+// What the checkpoint records and a --resume must match (runs/training_run.h): the
+// model, the optimisation, the seed and the data (its folder and view counts).
+inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing& d) {
+  runs::RunSpec spec;
+  spec.app = "train-nnao";
+  spec.out = o.out_dir;
+  spec.checkpoint_kind = "nnao-checkpoint";
+  spec.resume = o.resume;
+  for (auto& [k, v] : blob_config(o)) spec.config.emplace_back(k, v);
+  spec.config.emplace_back("test_points_per_view", std::to_string(o.test_points_per_view));
+  spec.config.emplace_back("data", std::filesystem::weakly_canonical(o.data_dir).string());
+  spec.config.emplace_back("train_views", std::to_string(d.train.views.size()));
+  spec.config.emplace_back("test_views", std::to_string(d.test.views.size()));
+  return spec;
+}
+
+// OUT/loss.svg and .png from the metrics log.
+inline void write_loss_chart(runs::TrainingRun& run) {
+  const auto& log = run.metrics();
+  data::ChartOptions co;
+  co.title = "NNAO training";
+  co.x_label = "epoch";
+  co.y_label = "loss";
+  co.log_y = true;
+  data::write_chart(run.path("loss.svg"),
+                    {{"train loss (MSE + gamma|theta|, standardised)", log.series("epoch"), log.series("train_loss"), {}},
+                     {"test MSE (AO units)", log.series("epoch"), log.series("test_mse"), {}}},
+                    co);
+}
+
 inline TrainResult train_nnao(const TrainOptions& o) {
   namespace fs = std::filesystem;
   auto t_start = std::chrono::steady_clock::now();
   if (o.batch < 1 || o.epochs < 0 || o.net.window < 1 || o.net.hidden < 1 || o.net.hidden > 64 ||
       o.points_per_view < 1 || !(o.net.dropout >= 0 && o.net.dropout < 1))
     throw std::invalid_argument("train-nnao: batch, epochs, window, hidden (1..64), points per view or dropout out of range");
+  data::require_valid_dataset(o.data_dir, data::Purpose::nnao);
   data::DatasetListing d = data::list_dataset(o.data_dir);
   if (d.flat) d = data::split_flat_by_scene(d, 0.2);
   if (d.train.views.empty()) throw std::runtime_error(o.data_dir + ": no training views (*.exr) found");
-  fs::create_directories(o.out_dir);
   auto say = [&](const std::string& s) {
     if (!o.quiet) std::fprintf(stderr, "%s\n", s.c_str());
   };
@@ -143,29 +179,12 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   ao.lr = o.lr;
   Adam<float> opt(net.parameters(), ao);
   Rng data_rng = init_rng.fork(77);
-  int64_t epoch = 0, step = 0;
+  int64_t step = 0;
   Checkpoint<float> ck;
-  ck.add_module("net", net).add_optimizer("adam", opt).add_rng("data", data_rng)
-      .add_counter("epoch", epoch).add_counter("step", step);
-  const std::string ck_path = (fs::path(o.out_dir) / "checkpoint.nnao.ckpt").string();
-  const std::string metrics_path = (fs::path(o.out_dir) / "metrics.jsonl").string();
-  std::vector<std::string> metrics_lines;
-  std::vector<double> ep_x, tr_y, te_y;
-  if (o.resume) {
-    if (!fs::exists(ck_path))
-      throw std::runtime_error(ck_path + ": no checkpoint to resume from");
-    ck.load(ck_path);
-    // Keep the metrics of the epochs the checkpoint covers.
-    std::ifstream mf(metrics_path);
-    std::string line;
-    while (std::getline(mf, line) && int64_t(metrics_lines.size()) < epoch) {
-      metrics_lines.push_back(line);
-      double e = 0, tl = 0, tm = 0;
-      if (std::sscanf(line.c_str(), "{\"epoch\": %lf, \"train_loss\": %lf, \"test_mse\": %lf", &e, &tl, &tm) == 3)
-        ep_x.push_back(e), tr_y.push_back(tl), te_y.push_back(tm);
-    }
-    say("resuming from " + ck_path + " at epoch " + std::to_string(epoch));
-  }
+  ck.add_module("net", net).add_optimizer("adam", opt).add_rng("data", data_rng);
+  runs::TrainingRun run(run_spec(o, d), ck, step);
+  int64_t epoch = run.epochs_done();
+  if (o.resume) say("resuming from " + run.path("checkpoint.blob") + " at epoch " + std::to_string(epoch));
 
   TrainResult res;
   res.train_points = train.count;
@@ -183,69 +202,71 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   int64_t timed_steps = 0;
   net.train();
   const int threads = num_threads();
-  for (; epoch < o.epochs;) {
-    for (int64_t i = 0; i < train.count; ++i) perm[size_t(i)] = i;
-    for (int64_t i = train.count - 1; i > 0; --i)
-      std::swap(perm[size_t(i)], perm[size_t(data_rng.below(uint64_t(i + 1)))]);
-    double loss_sum = 0;
-    // The step is ~20 us of work: waking a second core for it costs more than it saves
-    // (the results are the same either way), so the steps run on one thread.
-    set_num_threads(1);
-    auto t0 = std::chrono::steady_clock::now();
-    for (int64_t s = 0; s < steps_per_epoch; ++s) {
-      for (int64_t b = 0; b < B; ++b) {
-        const int64_t p = perm[size_t(s * B + b)];
-        to_float(train.x.data() + p * F, xb.data() + b * F, F);
-        yb[size_t(b)] = train.y[size_t(p)];
+  const std::string blob_path = run.path("nnao.blob");
+  auto save_model = [&] { save_weights(blob_path, net, "nnao", blob_config(o)); };
+  std::string stop;
+  try {
+    for (; epoch < o.epochs;) {
+      for (int64_t i = 0; i < train.count; ++i) perm[size_t(i)] = i;
+      for (int64_t i = train.count - 1; i > 0; --i)
+        std::swap(perm[size_t(i)], perm[size_t(data_rng.below(uint64_t(i + 1)))]);
+      double loss_sum = 0;
+      // The step is ~20 us of work: waking a second core for it costs more than it saves
+      // (the results are the same either way), so the steps run on one thread.
+      set_num_threads(1);
+      auto t0 = std::chrono::steady_clock::now();
+      for (int64_t s = 0; s < steps_per_epoch; ++s) {
+        for (int64_t b = 0; b < B; ++b) {
+          const int64_t p = perm[size_t(s * B + b)];
+          to_float(train.x.data() + p * F, xb.data() + b * F, F);
+          yb[size_t(b)] = train.y[size_t(p)];
+        }
+        for (auto& prm : params) prm.grad_buffer().zero();
+        const float loss = fast.forward_backward(xb.data(), yb.data(), float(o.gamma));
+        // A NaN or Inf loss (a diverging learning rate, a NaN that slipped into the data)
+        // stops the run before Adam touches the weights; one isfinite per ~20 us step.
+        runs::check_finite(double(loss), step + 1, "training loss");
+        loss_sum += loss;
+        opt.step();
+        ++step;
+        ++done;
+        if (!o.quiet && (s % 256 == 0 || s + 1 == steps_per_epoch)) {
+          char status[80];
+          std::snprintf(status, sizeof status, "epoch %lld loss %.4f", (long long)epoch + 1,
+                        loss_sum / double(s + 1));
+          bar.update(done, status);
+        }
       }
-      for (auto& prm : params) prm.grad_buffer().zero();
-      loss_sum += fast.forward_backward(xb.data(), yb.data(), float(o.gamma));
-      opt.step();
-      ++step;
-      ++done;
-      if (!o.quiet && (s % 256 == 0 || s + 1 == steps_per_epoch)) {
-        char status[80];
-        std::snprintf(status, sizeof status, "epoch %lld loss %.4f", (long long)epoch + 1,
-                      loss_sum / double(s + 1));
-        bar.update(done, status);
-      }
+      step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      set_num_threads(threads);
+      timed_steps += steps_per_epoch;
+      ++epoch;
+      res.train_loss = loss_sum / double(steps_per_epoch);
+      res.test_mse = evaluate_mse(net, test, st.target_std);
+      runs::check_finite(res.test_mse, step, "test MSE");
+      run.log({step, epoch, {{"train_loss", res.train_loss}, {"test_mse", res.test_mse}}});
+      write_loss_chart(run);
+      run.end_epoch(epoch, save_model);
     }
-    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Also after a resume that found every epoch done: the model always matches the
+    // checkpoint, even if a run was killed between the two writes.
+    save_model();
+  } catch (const runs::NonFiniteError& e) {
     set_num_threads(threads);
-    timed_steps += steps_per_epoch;
-    ++epoch;
-    res.train_loss = loss_sum / double(steps_per_epoch);
-    res.test_mse = evaluate_mse(net, test, st.target_std);
-    char line[256];
-    std::snprintf(line, sizeof line,
-                  "{\"epoch\": %lld, \"train_loss\": %.8g, \"test_mse\": %.8g, \"steps\": %lld}",
-                  (long long)epoch, res.train_loss, res.test_mse, (long long)step);
-    metrics_lines.push_back(line);
-    ep_x.push_back(double(epoch));
-    tr_y.push_back(res.train_loss);
-    te_y.push_back(res.test_mse);
-    std::string all;
-    for (auto& l : metrics_lines) all += l + "\n";
-    write_file_atomic(metrics_path, all);
-    data::ChartOptions co;
-    co.title = "NNAO training";
-    co.x_label = "epoch";
-    co.y_label = "loss";
-    co.log_y = true;
-    data::write_chart((fs::path(o.out_dir) / "loss.svg").string(),
-                      {{"train loss (MSE + gamma|theta|, standardised)", ep_x, tr_y, {}},
-                       {"test MSE (AO units)", ep_x, te_y, {}}},
-                      co);
-    Blob meta("nnao-checkpoint");
-    for (auto& [k, v] : blob_config(o)) meta.set_config(k, v);
-    ck.save(ck_path, meta);
+    stop = run.stop_message(e);
+    if (!o.quiet) std::fprintf(stderr, "\ntrain-nnao: stopped: %s\n", stop.c_str());
   }
   if (!o.quiet) bar.finish();
-  save_weights((fs::path(o.out_dir) / "nnao.blob").string(), net, "nnao", blob_config(o));
-  if (o.epochs > 0 && ep_x.empty() == false) res.test_mse = te_y.back();
+  if (!run.metrics().records().empty()) res.test_mse = run.metrics().records().back().get("test_mse");
   res.steps = step;
   res.step_microseconds = timed_steps ? 1e6 * step_seconds / double(timed_steps) : 0;
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  res.stop_message = stop;
+  res.exit_code = run.finish(stop, {{"train_points", double(res.train_points)},
+                                    {"test_points", double(res.test_points)},
+                                    {"test_mse", res.test_mse},
+                                    {"step_microseconds", res.step_microseconds},
+                                    {"seconds", res.seconds}});
   return res;
 }
 

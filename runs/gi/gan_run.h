@@ -1,11 +1,12 @@
 #pragma once
-// A whole training run of train-gan (and of each sweep point): epochs over the in-memory
-// training samples with progress and ETA, OUT/metrics.jsonl, a loss chart, sample PNGs,
-// a checkpoint every epoch, --resume, the NaN/Inf stop and the discriminator watch.
+// A whole training run of train-gan (and of each sweep point): the loop body over the
+// in-memory training samples, with progress and ETA, sample PNGs and the discriminator
+// watch; the run layer (runs/training_run.h) owns the folder, metrics.jsonl, the
+// checkpoint and its configuration, --resume, the NaN/Inf stop and summary.json.
 //
 // Files in `out`:
-//   checkpoint.blob   everything to resume (written after every epoch, atomically)
-//   G.blob            the generator alone, for eval-gi (written with each checkpoint)
+//   checkpoint.blob   everything to resume (written after every epoch, after G.blob)
+//   G.blob            the generator alone, for eval-gi (written before each checkpoint)
 //   metrics.jsonl     one line per `log_every` steps: step, epoch, lr, losses, seconds
 //   loss.svg/.png     D and G losses over steps
 //   samples/          step<N>_{input,prediction,truth,shaded}.png every `sample_every` steps
@@ -17,7 +18,6 @@
 #include <string>
 #include <vector>
 
-#include "core/atomic_file.h"
 #include "core/progress.h"
 #include "runs/gi/gan_trainer.h"
 #include "runs/gi/gi_previews.h"
@@ -33,6 +33,7 @@ struct GanRunOptions {
   int64_t poison_step = -1;     // test hook: make this step's input NaN (the NaN-stop test)
   int stop_after_epochs = -1;   // test hook: stop (as if killed) after this many epochs
   bool quiet = false;
+  std::string data_identity;    // the data's folder and frame counts: a resume must match
 };
 
 struct GanRunResult {
@@ -45,69 +46,40 @@ struct GanRunResult {
   int64_t first_d_wins_step = -1;
 };
 
-namespace detail {
-
-// Keeps the first lines of metrics.jsonl up to `step` (a resumed run rewrites the rest).
-inline void truncate_metrics(const std::string& path, int64_t step) {
-  std::ifstream in(path);
-  if (!in) return;
-  std::string line, kept;
-  while (std::getline(in, line)) {
-    auto p = line.find("\"step\":");
-    if (p == std::string::npos) continue;
-    if (std::stoll(line.substr(p + 7)) <= step) kept += line + "\n";
-  }
-  in.close();
-  std::ofstream(path, std::ios::trunc) << kept;
-}
-
-inline std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
-}  // namespace detail
-
 inline GanRunResult run_gan_training(const GanRunOptions& o, std::vector<GiSample>& train) {
-  namespace fs = std::filesystem;
   if (train.empty()) throw std::runtime_error("train-gan: no training samples");
-  fs::create_directories(o.out);
-  fs::create_directories(o.out + "/samples");
-  const std::string ckpt = o.out + "/checkpoint.blob", metrics = o.out + "/metrics.jsonl";
-
   GanTrainer t(o.train);
-  int start_epoch = 0;
-  if (o.resume && fs::exists(ckpt)) {
-    start_epoch = t.load_checkpoint(ckpt);
-    detail::truncate_metrics(metrics, t.step());
-    if (!o.quiet)
-      std::fprintf(stderr, "train-gan: resuming from %s at epoch %d, step %lld\n", ckpt.c_str(),
-                   start_epoch, (long long)t.step());
-  } else {
-    std::ofstream(metrics, std::ios::trunc);
-  }
+  Checkpoint<float> ck;
+  t.add_to(ck);
+  runs::RunSpec spec;
+  spec.app = "train-gan";
+  spec.out = o.out;
+  spec.checkpoint_kind = "pix2pix-checkpoint";
+  spec.resume = o.resume;
+  spec.config = t.run_config();
+  spec.config.emplace_back("data", o.data_identity);
+  runs::TrainingRun run(spec, ck, t.step_counter());
+  std::filesystem::create_directories(o.out + "/samples");
+  const int start_epoch = int(run.epochs_done());
+  if (o.resume && !o.quiet)
+    std::fprintf(stderr, "train-gan: resuming from %s at epoch %d, step %lld\n", run.path("checkpoint.blob").c_str(),
+                 start_epoch, (long long)t.step());
 
   GanRunResult r;
   r.epochs_done = start_epoch;
   const int total = o.train.total_epochs();
   const int64_t n = int64_t(train.size());
   Progress bar("train-gan " + std::string(loss_name(o.train.loss)), int64_t(total - start_epoch) * n);
-  std::ofstream log(metrics, std::ios::app);
   StepLosses acc;
   int acc_n = 0;
   auto flush_log = [&](int epoch) {
     const double k = 1.0 / acc_n;
-    auto num = detail::json_number;
-    log << "{\"step\":" << t.step() << ",\"epoch\":" << epoch << ",\"lr\":" << num(t.lr())
-        << ",\"d\":" << num(acc.d * k) << ",\"d_real\":" << num(acc.d_real * k)
-        << ",\"d_fake\":" << num(acc.d_fake * k) << ",\"g_adv\":" << num(acc.g_adv * k)
-        << ",\"g_rec\":" << num(acc.g_rec * k) << ",\"g\":" << num(acc.g * k) << "}\n";
-    log.flush();
+    run.log({t.step(), epoch, {{"lr", t.lr()}, {"d", acc.d * k}, {"d_real", acc.d_real * k}, {"d_fake", acc.d_fake * k},
+                               {"g_adv", acc.g_adv * k}, {"g_rec", acc.g_rec * k}, {"g", acc.g * k}}});
     acc = {};
     acc_n = 0;
   };
+  const std::string g_blob = run.path("G.blob");
   try {
     for (int epoch = start_epoch; epoch < total; ++epoch) {
       t.begin_epoch(epoch);
@@ -151,30 +123,26 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, std::vector<GiSampl
       }
       // The epoch's last partial window: a resumed run starts afresh at this step.
       if (acc_n > 0) flush_log(epoch);
-      t.save_checkpoint(ckpt, epoch + 1);
-      t.save_generator(o.out + "/G.blob");
+      write_loss_chart(run.metrics(), run.path("loss.svg"));
+      run.end_epoch(epoch + 1, [&] { t.save_generator(g_blob); });
       r.epochs_done = epoch + 1;
-      write_loss_chart(metrics, o.out + "/loss");
       if (epoch + 1 == o.stop_after_epochs) break;
     }
+    // Also after a resume that found every epoch done: G.blob always matches the
+    // checkpoint, even if a run was killed between writing the two.
+    t.save_generator(g_blob);
     r.finished = true;
   } catch (const NonFiniteError& e) {
-    r.stop_message = std::string(e.what()) + "; weights not updated; last good checkpoint: " +
-                     (r.epochs_done > 0 ? ckpt + " (epoch " + std::to_string(r.epochs_done) + ")"
-                                        : std::string("none (no epoch completed)"));
+    r.stop_message = run.stop_message(e);
     if (!o.quiet) std::fprintf(stderr, "\ntrain-gan: stopped: %s\n", r.stop_message.c_str());
   }
   if (!o.quiet) bar.finish();
   r.steps = t.step();
   r.d_wins_windows = t.watch().windows_won();
   r.seconds = bar.elapsed_seconds();
-  std::ostringstream js;
-  js << "{\"finished\":" << (r.finished ? "true" : "false") << ",\"stop\":\"" << r.stop_message
-     << "\",\"epochs_done\":" << r.epochs_done << ",\"steps\":" << r.steps
-     << ",\"seconds\":" << detail::json_number(r.seconds) << ",\"d_wins_windows\":" << r.d_wins_windows
-     << ",\"first_d_wins_step\":" << r.first_d_wins_step
-     << ",\"g_parameters\":" << t.G.parameter_count() << "}\n";
-  write_file_atomic(o.out + "/summary.json", js.str());
+  run.finish(r.stop_message, {{"seconds", r.seconds}, {"d_wins_windows", double(r.d_wins_windows)},
+                              {"first_d_wins_step", double(r.first_d_wins_step)},
+                              {"g_parameters", double(t.G.parameter_count())}});
   return r;
 }
 

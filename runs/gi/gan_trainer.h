@@ -32,6 +32,9 @@
 #include "models/gi/gi_model_io.h"
 #include "optim/adam.h"
 #include "optim/lr_schedule.h"
+#include "optim/checkpoint.h"
+#include "runs/non_finite.h"
+#include "runs/training_run.h"
 
 namespace nns::gi {
 
@@ -74,15 +77,8 @@ struct GanTrainConfig {
   int total_epochs() const { return epochs + epochs_decay; }
 };
 
-class NonFiniteError : public std::runtime_error {
- public:
-  NonFiniteError(int64_t step, const std::string& tensor)
-      : std::runtime_error("non-finite value (NaN or Inf) at step " + std::to_string(step) +
-                           " in " + tensor),
-        step(step), tensor(tensor) {}
-  int64_t step;
-  std::string tensor;
-};
+using runs::NonFiniteError;
+using runs::check_finite;
 
 struct StepLosses {
   double d = 0, d_real = 0, d_fake = 0;  // discriminator (0 without one)
@@ -127,12 +123,6 @@ class DiscriminatorWatch {
   int n_ = 0;
   int64_t windows_won_ = 0;
 };
-
-// Vectorised and split over the workers: a scalar loop over the 57 M gradients of the
-// 256x256 model was 12% of an iteration.
-inline void check_finite(const Tensor<float>& t, int64_t step, const std::string& name) {
-  if (!all_finite(t.data(), t.numel())) throw NonFiniteError(step, name);
-}
 
 class GanTrainer {
  public:
@@ -224,41 +214,20 @@ class GanTrainer {
   DiscriminatorWatch& watch() { return watch_; }
 
   // Everything a resumed run needs to continue bitwise: weights, BN statistics, dropout
-  // generators (all by name), both Adam states, the step, the epochs done, the watch.
-  // The run's configuration goes in too; resuming with another one is refused.
-  void save_checkpoint(const std::string& path, int epochs_done) {
-    Blob b("pix2pix-checkpoint");
-    put_config(b);
-    put_module(b, G, "G.");
-    opt_g_->save_state(b, "adam_G.");
-    if (D) {
-      put_module(b, *D, "D.");
-      opt_d_->save_state(b, "adam_D.");
-    }
-    b.put_i64("step", step_);
-    b.put_i64("epochs_done", epochs_done);
-    watch_.save(b);
-    b.save(path);
+  // generators (all by name), both Adam states and the watch; the run layer adds the
+  // step, the epochs done and the configuration (run_config) that a resume must match.
+  void add_to(Checkpoint<float>& ck) {
+    ck.add_module("G", G).add_optimizer("adam_G", *opt_g_);
+    if (D) ck.add_module("D", *D).add_optimizer("adam_D", *opt_d_);
+    ck.add_state([this](Blob& b) { watch_.save(b); }, [this](const Blob& b) { watch_.load(b); });
   }
-  // Returns the epochs done.
-  int load_checkpoint(const std::string& path) {
-    Blob b = Blob::load(path);
-    Blob expected;
-    put_config(expected);
-    for (auto& [key, value] : expected.config())
-      if (!b.has_config(key) || b.config_string(key) != value)
-        throw std::runtime_error(path + ": checkpoint was written with " + key + " = " +
-                                 (b.has_config(key) ? b.config_string(key) : "(none)") +
-                                 ", this run has " + value + "; use the same flags to resume");
-    get_module(b, G, "G.");
-    opt_g_->load_state(b, "adam_G.");
-    if (D) {
-      get_module(b, *D, "D.");
-      opt_d_->load_state(b, "adam_D.");
-    }
-    step_ = b.get_i64("step");
-    watch_.load(b);
-    return int(b.get_i64("epochs_done"));
+  int64_t& step_counter() { return step_; }
+  runs::RunConfig run_config() const {
+    Blob b;
+    put_config(b);
+    runs::RunConfig c;
+    for (auto& [k, v] : b.config()) c.emplace_back(k, v);
+    return c;
   }
   // The generator alone with what rebuilds it and assembles its inputs (gi_model_io.h).
   void save_generator(const std::string& path) {

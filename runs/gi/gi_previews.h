@@ -9,6 +9,7 @@
 
 #include "report/chart.h"
 #include "report/png_io.h"
+#include "runs/metrics_log.h"
 #include "models/gi/gi_inputs.h"
 
 namespace nns::gi {
@@ -56,40 +57,25 @@ inline void write_eval_pngs(const std::string& prefix, const Tensor<float>& pred
   data::write_png_heatmap(prefix + "_error.png", err.data(), w, h, 0.25f);
 }
 
-// The value of "key": in one metrics.jsonl line (NaN if absent or null).
-inline double json_field(const std::string& line, const std::string& key) {
-  auto p = line.find("\"" + key + "\":");
-  if (p == std::string::npos) return NAN;
-  try {
-    return std::stod(line.substr(p + key.size() + 3));
-  } catch (...) {
-    return NAN;
+// OUT/loss.svg and .png from the run's metrics log: the D loss, G's adversarial loss and
+// its reconstruction (L1 / DSSIM) term against the step.
+inline void write_loss_chart(const runs::MetricsLog& log, const std::string& svg_path) {
+  std::vector<data::ChartSeries> series;
+  const std::pair<const char*, const char*> keys[] = {
+      {"d", "D loss"}, {"g_adv", "G adversarial"}, {"g_rec", "G reconstruction (L1 or DSSIM)"}};
+  for (auto& [key, name] : keys) {
+    data::ChartSeries se{name, {}, {}, {}};
+    for (auto& r : log.records())
+      if (r.get(key) > 0) se.x.push_back(double(r.step)), se.y.push_back(r.get(key));
+    if (!se.x.empty()) series.push_back(se);
   }
-}
-
-// out_prefix.svg (and .png when rsvg-convert exists) from metrics.jsonl: the D loss,
-// G's adversarial loss and its reconstruction (L1 / DSSIM) term against the step.
-inline void write_loss_chart(const std::string& metrics_path, const std::string& out_prefix) {
-  std::ifstream in(metrics_path);
-  std::vector<data::ChartSeries> series = {{"D loss", {}, {}, {}}, {"G adversarial", {}, {}, {}},
-                                           {"G reconstruction (L1 or DSSIM)", {}, {}, {}}};
-  const char* keys[] = {"d", "g_adv", "g_rec"};
-  std::string line;
-  while (std::getline(in, line)) {
-    double step = json_field(line, "step");
-    for (int k = 0; k < 3; ++k) {
-      double v = json_field(line, keys[k]);
-      if (v > 0) series[size_t(k)].x.push_back(step), series[size_t(k)].y.push_back(v);
-    }
-  }
-  std::erase_if(series, [](const data::ChartSeries& s) { return s.x.empty(); });
   if (series.empty()) return;
   data::ChartOptions o;
   o.title = "train-gan losses";
   o.x_label = "step";
   o.y_label = "loss (log scale)";
   o.log_y = true;
-  data::write_chart(out_prefix + ".svg", series, o);
+  data::write_chart(svg_path, series, o);
 }
 
 }  // namespace nns::gi

@@ -99,3 +99,16 @@ TEST(EvalAo, UnknownMethodIsAnError) {
   CommandResult r = run("--data /nonexistent --methods FOO");
   EXPECT_NE(r.code, 0);
 }
+
+// A NaN in the ground-truth AO used to give NaN scores with exit 0.
+TEST(EvalAo, NanGroundTruthIsRefusedNamingTheFile) {
+  fs::path d = temp_dir("nanao");
+  auto view = nns::fixtures::synthetic_view(16, 12, 0, 4);
+  view.channels["AO"][7] = NAN;
+  nns::data::write_view((d / "c.exr").string(), view);
+  CommandResult r = run("--data " + d.string() + " --out " + (d / "out").string() + " --methods SSAO");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("c.exr: channel 'AO' is NaN"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "out" / "results.csv"));
+  fs::remove_all(d);
+}

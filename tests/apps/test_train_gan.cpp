@@ -4,6 +4,7 @@
 // frame with a missing face.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 #include "core/blob.h"
 #include "core/rng.h"
 #include "data/exr_io.h"
+#include "tests/support/kill_and_resume.h"
 
 namespace fs = std::filesystem;
 using nns::data::View;
@@ -62,7 +64,9 @@ View make_face(int F, int frame, int face, bool targets, uint64_t seed) {
         else if (name.rfind("direct", 0) == 0) val = (x > F / 2 + face ? 2.0f : 0.0f) * (1 + 0.1f * frame);
         else if (name.rfind("indirect", 0) == 0) val *= 0.5f;
         else if (name.rfind("env", 0) == 0) val *= 0.2f;
-        p[size_t(y * F + x)] = val + 0.01f * float(rng.uniform());
+        // Normals stay unit length (the dataset contract; trainers validate it first).
+        const float noise = 0.01f * float(rng.uniform());
+        p[size_t(y * F + x)] = name.rfind("N.", 0) == 0 ? val : val + noise;
       }
   }
   return v;
@@ -236,4 +240,75 @@ TEST_F(TrainGan, EvalGiRefusesABlobWithABadConfig) {
     EXPECT_NE(log.find(bad), std::string::npos) << log;
     EXPECT_NE(log.find(message), std::string::npos) << log;
   }
+}
+
+// train[0] on an empty list used to crash both trainers.
+TEST_F(TrainGan, EmptyDataIsRefusedNotACrash) {
+  const fs::path empty = root_ / "empty";
+  fs::create_directories(empty);
+  for (const char* app : {"train-gan", "sweep-gan"}) {
+    const std::string log = (root_ / (std::string(app) + "_empty.log")).string();
+    int rc = run(kBin + app + " --data " + empty.string() + " --mode front --out " + (root_ / "eo").string(), log);
+    EXPECT_EQ(rc, 1) << app << ": " << read_all(log);
+    EXPECT_NE(read_all(log).find(empty.string()), std::string::npos) << read_all(log);
+  }
+}
+
+// train-gan --resume with nothing to resume used to start from scratch with exit 0.
+TEST_F(TrainGan, ResumeWithoutACheckpointIsRefused) {
+  const std::string out = (root_ / "nock").string();
+  int rc = run(train_cmd(out, "--resume"), out + ".log");
+  EXPECT_EQ(rc, 1) << read_all(out + ".log");
+  EXPECT_NE(read_all(out + ".log").find("no checkpoint"), std::string::npos) << read_all(out + ".log");
+}
+
+TEST_F(TrainGan, ResumeWithAnotherLambdaIsRefusedNamingIt) {
+  const std::string out = (root_ / "lam").string();
+  ASSERT_EQ(run(train_cmd(out, "--debug-stop-after-epochs 1"), out + ".log"), 0) << read_all(out + ".log");
+  int rc = run(train_cmd(out, "--resume --lambda 50"), out + ".log2");
+  EXPECT_EQ(rc, 1) << read_all(out + ".log2");
+  EXPECT_NE(read_all(out + ".log2").find("lambda: was 100, now 50"), std::string::npos) << read_all(out + ".log2");
+}
+
+// Killed between writing checkpoint.blob and G.blob on the last epoch, a run used to
+// resume as "all epochs done" and leave G.blob one epoch old for ever.
+TEST_F(TrainGan, ResumeOfAFinishedRunRewritesAStaleGenerator) {
+  const std::string full = (root_ / "fin").string(), old = (root_ / "fin_old").string();
+  ASSERT_EQ(run(train_cmd(full, ""), full + ".log"), 0) << read_all(full + ".log");
+  ASSERT_EQ(run(train_cmd(old, "--debug-stop-after-epochs 2"), old + ".log"), 0);
+  const std::string good = read_all(full + "/G.blob");
+  ASSERT_NE(good, read_all(old + "/G.blob"));
+  fs::copy_file(old + "/G.blob", full + "/G.blob", fs::copy_options::overwrite_existing);
+  ASSERT_EQ(run(train_cmd(full, "--resume"), full + ".log2"), 0) << read_all(full + ".log2");
+  EXPECT_EQ(read_all(full + "/G.blob"), good);
+}
+
+// A bad file only in test/ used to be found after the whole training run.
+TEST_F(TrainGan, ABadFileInTheTestSplitIsFoundBeforeTheFirstStep) {
+  const fs::path data = root_ / "badtest";
+  fs::remove_all(data);
+  write_dataset(data.string(), 2, 1);
+  std::ofstream(data / "test" / "frame0" / "back.exr", std::ios::trunc) << "not an EXR";
+  const std::string out = (root_ / "badtest_out").string();
+  int rc = std::system((kBin + "train-gan --data " + data.string() + " --out " + out +
+                        " --size 16 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 2 > " + out + ".log 2>&1").c_str());
+  EXPECT_NE(rc, 0);
+  EXPECT_NE(read_all(out + ".log").find("back.exr"), std::string::npos) << read_all(out + ".log");
+  EXPECT_FALSE(fs::exists(out + "/checkpoint.blob"));
+}
+
+// SIGKILL at random moments, then --resume until done: G.blob, the checkpoint and the
+// log end as in an uninterrupted run.
+TEST_F(TrainGan, KilledAtRandomMomentsAndResumedEndsBitwiseEqual) {
+  const std::string full = (root_ / "kfull").string(), killed = (root_ / "killed").string();
+  auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(run(train_cmd(full, ""), full + ".log"), 0) << read_all(full + ".log");
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  auto st = nns::testing::kill_and_resume(train_cmd(killed, ""), killed, killed + ".log", 8, 0.6 * ms, 5);
+  // A resumed run has less left to do and may finish before its kill: at least half land.
+  EXPECT_GE(st.kills, 4);
+  ASSERT_TRUE(fs::exists(killed + "/G.blob")) << read_all(killed + ".log");
+  EXPECT_EQ(read_all(full + "/G.blob"), read_all(killed + "/G.blob"));
+  EXPECT_EQ(read_all(full + "/checkpoint.blob"), read_all(killed + "/checkpoint.blob"));
+  EXPECT_EQ(read_all(full + "/metrics.jsonl"), read_all(killed + "/metrics.jsonl"));
 }

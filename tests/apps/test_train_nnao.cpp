@@ -5,14 +5,18 @@
 
 #include <sys/wait.h>
 
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "core/blob.h"
 #include "data/exr_io.h"
 #include "fixtures/synthetic_gbuffer.h"
+#include "tests/support/kill_and_resume.h"
 #include "tests/support/run_command.h"
 
 namespace fs = std::filesystem;
@@ -79,7 +83,7 @@ TEST_F(TrainNnao, ResumeEqualsUninterruptedBitwise) {
   EXPECT_EQ(rlines, 3);
 
   // A different stop point must differ (the comparison above can fail).
-  EXPECT_FALSE(bytes(root / "full" / "nnao.blob") == bytes(root / "resumed" / "checkpoint.nnao.ckpt"));
+  EXPECT_FALSE(bytes(root / "full" / "nnao.blob") == bytes(root / "resumed" / "checkpoint.blob"));
 }
 
 TEST_F(TrainNnao, OneAndTwoThreadsGiveTheSameWeights) {
@@ -108,4 +112,72 @@ TEST_F(TrainNnao, SweepTrainsTheLadderAndNamesAModel) {
   std::string md = bytes(root / "sweep" / "sweep" / "sweep.md");
   EXPECT_NE(md.find("Smallest model within 2%"), std::string::npos) << md;
   EXPECT_TRUE(fs::exists(root / "sweep" / "sweep" / "sweep.svg"));
+}
+
+// A learning rate that diverges used to end with an all-NaN nnao.blob, "nan" in
+// metrics.jsonl (invalid JSON) and exit 0: now the non-finite stop ends it, exit 3.
+TEST_F(TrainNnao, DivergingLearningRateStopsWithExit3AndNoNanModel) {
+  auto a = run(common() + "--epochs 3 --lr 1e6 --out " + (root / "diverge").string());
+  EXPECT_EQ(a.code, 3) << a.output;
+  EXPECT_NE(a.output.find("non-finite value"), std::string::npos) << a.output;
+  std::ifstream m(root / "diverge" / "metrics.jsonl");
+  for (std::string l; std::getline(m, l);) EXPECT_EQ(l.find("nan"), std::string::npos) << l;
+  EXPECT_NE(bytes(root / "diverge" / "summary.json").find("\"finished\":false"), std::string::npos);
+  if (fs::exists(root / "diverge" / "nnao.blob")) {  // only the last good epoch's model
+    auto b = nns::Blob::load((root / "diverge" / "nnao.blob").string());
+    for (auto& [name, t] : b.tensors()) {
+      if (t.dtype != nns::DType::F32) continue;
+      const float* v = reinterpret_cast<const float*>(t.bytes.data());
+      for (int64_t i = 0; i < t.numel(); ++i) ASSERT_TRUE(std::isfinite(v[i])) << name;
+    }
+  }
+}
+
+// A NaN in a training view's AO or normals used to train an all-NaN model with exit 0.
+TEST_F(TrainNnao, NanInAoOrANormalIsRefusedNamingFileAndChannel) {
+  for (const char* channel : {"AO", "N.Y"}) {
+    fs::path d = root / (std::string("nan_") + channel);
+    fs::create_directories(d / "data" / "train");
+    fs::create_directories(d / "data" / "test");
+    for (int v = 0; v < 2; ++v) {
+      auto view = nns::fixtures::synthetic_view(40, 28, v, 16);
+      if (v == 0) view.channels[channel][300] = NAN;
+      nns::data::write_view((d / "data" / (v ? "test" : "train") / ("v" + std::to_string(v) + ".exr")).string(), view);
+    }
+    auto a = run("--data " + (d / "data").string() + " --window 7 --points-per-view 96 --epochs 1 --out " +
+                 (d / "out").string());
+    EXPECT_EQ(a.code, 1) << a.output;
+    EXPECT_NE(a.output.find("v0.exr"), std::string::npos) << a.output;
+    EXPECT_NE(a.output.find(channel), std::string::npos) << a.output;
+    EXPECT_FALSE(fs::exists(d / "out" / "nnao.blob"));
+  }
+}
+
+TEST_F(TrainNnao, ResumeWithAnotherConfigurationIsRefusedNamingIt) {
+  auto a = run(common() + "--epochs 1 --out " + (root / "cfg").string());
+  ASSERT_EQ(a.code, 0) << a.output;
+  auto b = run(common() + "--epochs 2 --lr 0.002 --resume --out " + (root / "cfg").string());
+  EXPECT_EQ(b.code, 1) << b.output;
+  EXPECT_NE(b.output.find("lr: was 0.001, now 0.002"), std::string::npos) << b.output;
+  auto c = run(common() + "--epochs 2 --hidden 8 --resume --out " + (root / "cfg").string());
+  EXPECT_NE(c.output.find("hidden: was 4, now 8"), std::string::npos) << c.output;
+}
+
+// SIGKILL at random moments (steps, metrics appends, blob and checkpoint writes), then
+// --resume until done: the model and the log end as in an uninterrupted run.
+TEST_F(TrainNnao, KilledAtRandomMomentsAndResumedEndsBitwiseEqual) {
+  const std::string full = (root / "kfull").string(), killed = (root / "killed").string();
+  const std::string cmd = std::string(NNSHADE_BINARY_DIR) + "/bin/train-nnao " + common() + "--epochs 4 --out ";
+  auto t0 = std::chrono::steady_clock::now();
+  auto a = run(common() + "--epochs 4 --out " + full);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_EQ(a.code, 0) << a.output;
+  auto st = nns::testing::kill_and_resume(cmd + killed, killed, killed + ".log", 8, 0.6 * ms, 11);
+  // A resumed run has less left to do and may finish before its kill: at least half land.
+  EXPECT_GE(st.kills, 4);
+  ASSERT_TRUE(fs::exists(killed + "/nnao.blob")) << bytes(killed + ".log");
+  EXPECT_TRUE(bytes(full + "/nnao.blob") == bytes(killed + "/nnao.blob"));
+  EXPECT_EQ(bytes(full + "/metrics.jsonl"), bytes(killed + "/metrics.jsonl"));
+  for (auto& e : fs::directory_iterator(killed))
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
 }

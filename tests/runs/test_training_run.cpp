@@ -1,0 +1,168 @@
+// The run layer on its own: one metrics format (null for NaN, strict parsing, correct
+// truncation on resume), the checkpoint's configuration check, the order of the
+// end-of-epoch writes, and the clean-up of a killed writer's temporaries.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/atomic_file.h"
+#include "nn/linear.h"
+#include "runs/metrics_log.h"
+#include "runs/training_run.h"
+
+namespace fs = std::filesystem;
+using namespace nns;
+using namespace nns::runs;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("nnshade_run_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+}  // namespace
+
+TEST(MetricsLine, RoundTripsAndWritesNullForNonFinite) {
+  MetricsRecord r{12, 3, {{"train_loss", 0.125}, {"test_mse", std::nan("")}, {"lr", 2e-4}}};
+  const std::string line = format_metrics_line(r);
+  EXPECT_EQ(line, "{\"step\":12,\"epoch\":3,\"train_loss\":0.125,\"test_mse\":null,\"lr\":0.0002}");
+  auto back = parse_metrics_line(line);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->step, 12);
+  EXPECT_EQ(back->epoch, 3);
+  EXPECT_EQ(back->get("train_loss"), 0.125);
+  EXPECT_TRUE(std::isnan(back->get("test_mse")));
+  EXPECT_EQ(format_metrics_line(*back), line);
+}
+
+TEST(MetricsLine, RefusesWhatItDidNotWrite) {
+  for (const char* bad : {"", "{", "{\"step\":1,\"epoch\":1", "{\"step\":1,\"epoch\":1,\"a\":}",
+                          "{\"epoch\":1,\"step\":1}", "{\"step\":1.5,\"epoch\":1}", "{\"step\":1,\"epoch\":1} ",
+                          "{\"step\":1,\"epoch\":1,\"a\":nan}", "{\"step\":1,\"epoch\":1,\"a\":1e999}",
+                          "{\"epoch\": 1, \"train_loss\": 0.5, \"test_mse\": 0.1}"})
+    EXPECT_FALSE(parse_metrics_line(bad)) << bad;
+}
+
+TEST(MetricsLog, ResumeKeepsTheLinesTheCheckpointCoversAndDropsATornOne) {
+  fs::path d = temp_dir("log");
+  const std::string path = (d / "metrics.jsonl").string();
+  {
+    MetricsLog log(path, -1);
+    for (int s = 1; s <= 5; ++s) log.append({s * 10, s, {{"loss", 1.0 / s}}});
+  }
+  std::ofstream(path, std::ios::app) << "{\"step\":60,\"epo";  // a killed run's last write
+  MetricsLog resumed(path, 30);
+  ASSERT_EQ(resumed.records().size(), 3u);
+  EXPECT_EQ(resumed.records().back().step, 30);
+  resumed.append({40, 4, {{"loss", 0.2}}});
+  auto all = read_metrics(path);
+  ASSERT_EQ(all.size(), 4u);
+  EXPECT_EQ(all[3].get("loss"), 0.2);
+  std::ifstream in(path);
+  int lines = 0;
+  for (std::string l; std::getline(in, l);) {
+    ++lines;
+    EXPECT_TRUE(parse_metrics_line(l)) << l;
+  }
+  EXPECT_EQ(lines, 4);
+  fs::remove_all(d);
+}
+
+TEST(TrainingRun, ResumeRefusesAnotherConfigurationNamingWhatChanged) {
+  fs::path d = temp_dir("config");
+  Rng rng(1);
+  Linear<float> net(rng, 3, 2);
+  Checkpoint<float> ck;
+  ck.add_module("net", net);
+  int64_t step = 0;
+  RunSpec spec;
+  spec.app = "test";
+  spec.out = d.string();
+  spec.config = {{"lr", "0.001"}, {"seed", "1"}, {"epochs", "2"}};
+  {
+    TrainingRun run(spec, ck, step);
+    step = 7;
+    run.end_epoch(1, nullptr);
+  }
+  spec.resume = true;
+  spec.config = {{"lr", "0.002"}, {"seed", "2"}, {"epochs", "5"}};  // epochs may change
+  try {
+    TrainingRun run(spec, ck, step);
+    FAIL() << "a resume with another lr and seed was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("lr: was 0.001, now 0.002"), std::string::npos) << m;
+    EXPECT_NE(m.find("seed: was 1, now 2"), std::string::npos) << m;
+    EXPECT_EQ(m.find("epochs"), std::string::npos) << m;
+  }
+  spec.config = {{"lr", "0.001"}, {"seed", "1"}, {"epochs", "5"}};
+  step = 0;
+  TrainingRun run(spec, ck, step);
+  EXPECT_EQ(run.epochs_done(), 1);
+  EXPECT_EQ(step, 7);
+  fs::remove_all(d);
+}
+
+TEST(TrainingRun, ResumeWithoutACheckpointIsRefused) {
+  fs::path d = temp_dir("nock");
+  Checkpoint<float> ck;
+  int64_t step = 0;
+  RunSpec spec;
+  spec.app = "test";
+  spec.out = d.string();
+  spec.resume = true;
+  EXPECT_THROW({ TrainingRun run(spec, ck, step); }, std::runtime_error);
+  fs::remove_all(d);
+}
+
+TEST(TrainingRun, OutputsAreWrittenBeforeTheCheckpointThatCoversThem) {
+  fs::path d = temp_dir("order");
+  Checkpoint<float> ck;
+  int64_t step = 0;
+  RunSpec spec;
+  spec.app = "test";
+  spec.out = d.string();
+  TrainingRun run(spec, ck, step);
+  bool checkpoint_existed_when_outputs_were_written = true;
+  run.end_epoch(1, [&] { checkpoint_existed_when_outputs_were_written = fs::exists(d / "checkpoint.blob"); });
+  EXPECT_FALSE(checkpoint_existed_when_outputs_were_written);
+  EXPECT_TRUE(fs::exists(d / "checkpoint.blob"));
+  fs::remove_all(d);
+}
+
+TEST(TrainingRun, FinishWritesValidJsonEvenForAStopMessageWithQuotes) {
+  fs::path d = temp_dir("summary");
+  Checkpoint<float> ck;
+  int64_t step = 0;
+  RunSpec spec;
+  spec.app = "test";
+  spec.out = d.string();
+  TrainingRun run(spec, ck, step);
+  EXPECT_EQ(run.finish("stopped in \"G\"\n", {{"seconds", std::nan("")}}), 3);
+  EXPECT_EQ(read_file((d / "summary.json").string()),
+            "{\"finished\":false,\"stop\":\"stopped in \\\"G\\\"\\u000a\",\"epochs_done\":0,\"steps\":0,\"seconds\":null}\n");
+  fs::remove_all(d);
+}
+
+TEST(AtomicFile, StaleTemporariesOfADeadWriterAreRemovedLiveOnesKept) {
+  fs::path d = temp_dir("stale");
+  // A pid that cannot be running: above the kernel's pid_max (4194304 at most).
+  write_file_atomic((d / "keep.blob").string(), "x");
+  std::ofstream(d / "G.blob.tmp.99999999") << "torn";
+  const std::string mine = "G.blob.tmp." + std::to_string(::getpid());
+  std::ofstream(d / mine) << "in progress";
+  std::ofstream(d / "notes.tmp.txt") << "not ours";
+  EXPECT_EQ(remove_stale_temporaries(d.string()), 1);
+  EXPECT_FALSE(fs::exists(d / "G.blob.tmp.99999999"));
+  EXPECT_TRUE(fs::exists(d / mine));
+  EXPECT_TRUE(fs::exists(d / "notes.tmp.txt"));
+  EXPECT_TRUE(fs::exists(d / "keep.blob"));
+  fs::remove_all(d);
+}
