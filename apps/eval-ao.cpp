@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
     std::string data_dir = args.get_string("--data", "", "dataset: a split folder, a flat folder, or a root with test/ (default: the built-in default nnao dataset)");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao (omit to run only the classical methods)");
     std::string out = args.get_string("--out", "eval-out", "output folder");
-    std::string methods_flag = args.get_string("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy", "comma-separated methods");
+    std::string methods_flag = args.get_string("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO", "comma-separated methods");
     std::string nnao_samples = args.get_string("--nnao-samples", "16,32,64,128,256", "shader-style NNAO sample counts");
     int threads = args.get_int("--threads", 2, "worker threads");
     int previews = args.get_int("--previews", 3, "views to write preview PNGs for");
@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
     for (auto& w : wanted) {
       bool known = w == "NNAO" || w == "NNAO-exact";
       for (auto& c : ao::classical_methods()) known |= c.name == w;
-      if (!known) throw std::invalid_argument("--methods: unknown method '" + w + "' (known: NNAO-exact, NNAO, SSAO, SSAO+, HBAO, Alchemy)");
+      if (!known) throw std::invalid_argument("--methods: unknown method '" + w + "' (known: NNAO-exact, NNAO, SSAO, SSAO+, HBAO, Alchemy, GTAO)");
       if ((w == "NNAO" || w == "NNAO-exact") && !have_model)
         throw std::invalid_argument("--methods " + w + " needs --model nnao.blob");
     }
