@@ -33,6 +33,7 @@
 #include "data/png_io.h"
 #include "models/classical_ao/failure_bands.h"
 #include "models/classical_ao/methods.h"
+#include "models/classical_ao/params.h"
 #include "models/classical_ao/temporal.h"
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_inference_reference.h"
@@ -121,6 +122,7 @@ int main(int argc, char** argv) {
     int previews = args.get_int("--previews", 3, "views to write preview PNGs for");
     int max_views = args.get_int("--max-views", 0, "evaluate at most this many views (0 = all)");
     int repeat = args.get_int("--repeat", 3, "time each method this many times per view and keep the fastest (>= 1)");
+    std::string params_file = args.get_string("--classical-params", "", "parameter file from tune-classical-ao (default: the built-in parameters)");
     bool scalar = args.get_flag("--scalar", "run the scalar per-pixel reference loops instead of the vectorised ones (to measure the speed-up)");
     args.done();
     if (repeat < 1) throw std::invalid_argument("--repeat must be >= 1, got " + std::to_string(repeat));
@@ -166,11 +168,12 @@ int main(int argc, char** argv) {
                              else nnao::infer_shader_style(weights, g, n, o);
                            }});
       }
+    const ao::ClassicalParams cparams = params_file.empty() ? ao::ClassicalParams{} : ao::read_classical_params(params_file);
     for (auto& c : ao::classical_methods())
       if (wanted.count(c.name))
         for (int n : c.sample_counts)
-          methods.push_back({c.name, n, [&c, n, scalar](const ao::GBuffer& g, float* o) {
-                               (scalar ? c.reference : c.run)(g, n, o);
+          methods.push_back({c.name, n, [&c, &cparams, n, scalar](const ao::GBuffer& g, float* o) {
+                               ao::run_classical(c.name, cparams, g, n, o, scalar);
                              }});
 
     fs::create_directories(fs::path(out) / "previews");
@@ -307,7 +310,7 @@ int main(int argc, char** argv) {
     };
     std::ostringstream r;
     r << "# AO evaluation\n\nData: " << split_note << " — " << views.size() << " views at " << width << "x" << height
-      << ", " << threads << " threads. Errors over non-sky pixels against the ray-traced `AO` channel; ms per frame is the median over views of the fastest of " << repeat << " runs per view.\n\n"
+      << ", " << threads << " threads, classical parameters: " << (params_file.empty() ? std::string("built-in") : params_file) << ". Errors over non-sky pixels against the ray-traced `AO` channel; ms per frame is the median over views of the fastest of " << repeat << " runs per view.\n\n"
       << "![speed vs accuracy](speed_vs_accuracy.svg)\n\n| method | samples | ms/frame | CPU ms/frame | MSE | SSIM | PSNR |\n|---|---|---|---|---|---|---|\n";
     for (size_t m = 0; m < methods.size(); ++m)
       r << "| " << methods[m].name << " | " << methods[m].samples << " | " << fmt(median(stats[m].ms), 4) << " | "
