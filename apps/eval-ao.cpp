@@ -34,6 +34,7 @@
 #include "report/png_io.h"
 #include "classical_ao/failure_bands.h"
 #include "classical_ao/methods.h"
+#include "classical_ao/params.h"
 #include "classical_ao/temporal.h"
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_inference_reference.h"
@@ -116,12 +117,13 @@ int main(int argc, char** argv) {
     std::string data_dir = args.get_string("--data", "", "dataset: a split folder, a flat folder, or a root with test/ (default: the built-in default nnao dataset)");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao (omit to run only the classical methods)");
     std::string out = args.get_string("--out", "eval-out", "output folder");
-    std::string methods_flag = args.get_string("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy", "comma-separated methods");
+    std::string methods_flag = args.get_string("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO", "comma-separated methods");
     std::vector<int> nnao_samples = args.get_int_list("--nnao-samples", "16,32,64,128,256", "shader-style NNAO sample counts", 1, INT_MAX);
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     int previews = args.get_int("--previews", 3, "views to write preview PNGs for", 0, 100000);
     int max_views = args.get_int("--max-views", 0, "evaluate at most this many views (0 = all)", 0, INT_MAX);
     int repeat = args.get_int("--repeat", 3, "time each method this many times per view and keep the fastest (>= 1)", 1, 1000);
+    std::string params_file = args.get_string("--classical-params", "", "parameter file from tune-classical-ao (default: the built-in parameters)");
     bool scalar = args.get_flag("--scalar", "run the scalar per-pixel reference loops instead of the vectorised ones (to measure the speed-up)");
     args.done();
     set_num_threads(threads);
@@ -148,7 +150,7 @@ int main(int argc, char** argv) {
     for (auto& w : wanted) {
       bool known = w == "NNAO" || w == "NNAO-exact";
       for (auto& c : ao::classical_methods()) known |= c.name == w;
-      if (!known) throw std::invalid_argument("--methods: unknown method '" + w + "' (known: NNAO-exact, NNAO, SSAO, SSAO+, HBAO, Alchemy)");
+      if (!known) throw std::invalid_argument("--methods: unknown method '" + w + "' (known: NNAO-exact, NNAO, SSAO, SSAO+, HBAO, Alchemy, GTAO)");
       if ((w == "NNAO" || w == "NNAO-exact") && !have_model)
         throw std::invalid_argument("--methods " + w + " needs --model nnao.blob");
     }
@@ -166,11 +168,12 @@ int main(int argc, char** argv) {
                              else nnao::infer_shader_style(weights, g, n, o);
                            }});
       }
+    const ao::ClassicalParams cparams = params_file.empty() ? ao::ClassicalParams{} : ao::read_classical_params(params_file);
     for (auto& c : ao::classical_methods())
       if (wanted.count(c.name))
         for (int n : c.sample_counts)
-          methods.push_back({c.name, n, [&c, n, scalar](const ao::GBuffer& g, float* o) {
-                               (scalar ? c.reference : c.run)(g, n, o);
+          methods.push_back({c.name, n, [&c, &cparams, n, scalar](const ao::GBuffer& g, float* o) {
+                               ao::run_classical(c.name, cparams, g, n, o, scalar);
                              }});
 
     fs::create_directories(fs::path(out) / "previews");
@@ -307,7 +310,7 @@ int main(int argc, char** argv) {
     };
     std::ostringstream r;
     r << "# AO evaluation\n\nData: " << split_note << " — " << views.size() << " views at " << width << "x" << height
-      << ", " << threads << " threads. Errors over non-sky pixels against the ray-traced `AO` channel; ms per frame is the median over views of the fastest of " << repeat << " runs per view.\n\n"
+      << ", " << threads << " threads, classical parameters: " << (params_file.empty() ? std::string("built-in") : params_file) << ". Errors over non-sky pixels against the ray-traced `AO` channel; ms per frame is the median over views of the fastest of " << repeat << " runs per view.\n\n"
       << "![speed vs accuracy](speed_vs_accuracy.svg)\n\n| method | samples | ms/frame | CPU ms/frame | MSE | SSIM | PSNR |\n|---|---|---|---|---|---|---|\n";
     for (size_t m = 0; m < methods.size(); ++m)
       r << "| " << methods[m].name << " | " << methods[m].samples << " | " << fmt(median(stats[m].ms), 4) << " | "

@@ -16,10 +16,23 @@
 
 namespace nns::ao {
 
-inline void alchemy_ao_reference(const GBuffer& g, int samples, float* out) {
+// Free parameters (tune-classical-ao fits them; the defaults are the values used before).
+// kappa is the paper's contrast exponent, A^kappa (1: none).
+struct AlchemyParams {
+  float sigma = 0.35f, beta = 0.01f, eps = 0.01f, kappa = 1.0f;
+  float radius_scale = 1.0f;  // multiplies the view's AO radius
+};
+
+// A^kappa; kappa = 1 leaves A untouched (bitwise the values before kappa existed).
+inline void alchemy_contrast(float* raw, int64_t n, float kappa) {
+  if (kappa != 1.0f)
+    for (int64_t i = 0; i < n; ++i) raw[i] = std::pow(raw[i], kappa);
+}
+
+inline void alchemy_ao_reference_with(const GBuffer& g, int samples, float* out, const AlchemyParams& p) {
   std::vector<float> raw(size_t(g.pixels()));
-  const float r = g.radius, r2 = r * r;
-  const float sigma = 0.35f, beta = 0.01f * r, eps = 0.01f * r2;
+  const float r = g.radius * p.radius_scale, r2 = r * r;
+  const float sigma = p.sigma, beta = p.beta * r, eps = p.eps * r2;
   const float turns = 7.0f;
   for_each_pixel(g, [&](int x, int y, int64_t i) {
     if (g.sky(i)) {
@@ -47,14 +60,19 @@ inline void alchemy_ao_reference(const GBuffer& g, int samples, float* out) {
     }
     raw[size_t(i)] = std::max(0.0f, 1.0f - 2.0f * sigma * r / float(samples) * sum);
   });
+  alchemy_contrast(raw.data(), g.pixels(), p.kappa);
   box_blur_4x4_reference(g, raw.data(), out);
 }
 
-inline void alchemy_ao(const GBuffer& g, int samples, float* out) {
+inline void alchemy_ao_reference(const GBuffer& g, int samples, float* out) {
+  alchemy_ao_reference_with(g, samples, out, AlchemyParams{});
+}
+
+inline void alchemy_ao_with(const GBuffer& g, int samples, float* out, const AlchemyParams& p) {
   using namespace simd;
   std::vector<float> raw(size_t(g.pixels()));
-  const float r = g.radius, r2 = r * r;
-  const float sigma = 0.35f, beta = 0.01f * r, eps = 0.01f * r2;
+  const float r = g.radius * p.radius_scale, r2 = r * r;
+  const float sigma = p.sigma, beta = p.beta * r, eps = p.eps * r2;
   const float turns = 7.0f;
   // cos(a) * alpha and sin(a) * alpha of sample k for the 16 lanes of a row with y & 3 = yq:
   // the products the reference forms first.
@@ -97,7 +115,10 @@ inline void alchemy_ao(const GBuffer& g, int samples, float* out) {
     const VF ao = max(zero, one - splat(coef) * sum);
     store(raw.data() + b.i0, select(b.live, ao, one), valid);
   });
+  alchemy_contrast(raw.data(), g.pixels(), p.kappa);
   box_blur_4x4(g, raw.data(), out);
 }
+
+inline void alchemy_ao(const GBuffer& g, int samples, float* out) { alchemy_ao_with(g, samples, out, AlchemyParams{}); }
 
 }  // namespace nns::ao

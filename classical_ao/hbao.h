@@ -18,18 +18,24 @@
 
 namespace nns::ao {
 
+// Free parameters (tune-classical-ao fits them; the defaults are the values used before).
+struct HbaoParams {
+  float angle_bias = 0.1f;    // sin of ~6 degrees: hides tessellation-level creases
+  float radius_scale = 1.0f;  // multiplies the view's AO radius (march extent and attenuation)
+};
+
 inline void hbao_layout(int samples, int& dirs, int& steps) {
   dirs = samples >= 32 ? 8 : (samples >= 4 ? 4 : samples);
   if (dirs < 1) dirs = 1;
   steps = samples / dirs < 1 ? 1 : samples / dirs;
 }
 
-inline void hbao_reference(const GBuffer& g, int samples, float* out) {
+inline void hbao_reference_with(const GBuffer& g, int samples, float* out, const HbaoParams& p) {
   int dirs, steps;
   hbao_layout(samples, dirs, steps);
   std::vector<float> raw(size_t(g.pixels()));
-  const float r = g.radius, r2 = r * r;
-  const float angle_bias = 0.1f;  // sin of ~6 degrees: hides tessellation-level creases
+  const float r = g.radius * p.radius_scale, r2 = r * r;
+  const float angle_bias = p.angle_bias;
   for_each_pixel(g, [&](int x, int y, int64_t i) {
     if (g.sky(i)) {
       raw[size_t(i)] = 1;
@@ -74,13 +80,15 @@ inline void hbao_reference(const GBuffer& g, int samples, float* out) {
   box_blur_4x4_reference(g, raw.data(), out);
 }
 
-inline void hbao(const GBuffer& g, int samples, float* out) {
+inline void hbao_reference(const GBuffer& g, int samples, float* out) { hbao_reference_with(g, samples, out, HbaoParams{}); }
+
+inline void hbao_with(const GBuffer& g, int samples, float* out, const HbaoParams& p) {
   using namespace simd;
   int dirs, steps;
   hbao_layout(samples, dirs, steps);
   std::vector<float> raw(size_t(g.pixels()));
-  const float r = g.radius, r2 = r * r, inv_r2 = 1.0f / r2;
-  const float angle_bias = 0.1f;
+  const float r = g.radius * p.radius_scale, r2 = r * r, inv_r2 = 1.0f / r2;
+  const float angle_bias = p.angle_bias;
   const NoiseTile noise;
   // Per row class yq = y & 3 and lane: each direction's (cos, sin), and the step jitter.
   std::vector<float> dcos(size_t(4 * dirs * kLanes)), dsin(dcos.size());
@@ -137,5 +145,7 @@ inline void hbao(const GBuffer& g, int samples, float* out) {
   });
   box_blur_4x4(g, raw.data(), out);
 }
+
+inline void hbao(const GBuffer& g, int samples, float* out) { hbao_with(g, samples, out, HbaoParams{}); }
 
 }  // namespace nns::ao

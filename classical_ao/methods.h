@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "classical_ao/alchemy_ao.h"
+#include "classical_ao/gtao.h"
 #include "classical_ao/hbao.h"
 #include "classical_ao/ssao.h"
 #include "classical_ao/ssao_plus.h"
@@ -25,6 +26,7 @@ inline const std::vector<ClassicalMethod>& classical_methods() {
       {"SSAO+", {4, 8, 16, 32}, ssao_plus, ssao_plus_reference},
       {"HBAO", {16, 32, 64}, hbao, hbao_reference},
       {"Alchemy", {4, 8, 16, 32}, alchemy_ao, alchemy_ao_reference},
+      {"GTAO", {4, 8, 16, 32, 64}, gtao, gtao_reference},
   };
   return m;
 }
@@ -32,7 +34,7 @@ inline const std::vector<ClassicalMethod>& classical_methods() {
 inline const ClassicalMethod& classical_method(const std::string& name) {
   for (auto& m : classical_methods())
     if (m.name == name) return m;
-  throw std::invalid_argument("unknown AO method '" + name + "' (known: SSAO, SSAO+, HBAO, Alchemy)");
+  throw std::invalid_argument("unknown AO method '" + name + "' (known: SSAO, SSAO+, HBAO, Alchemy, GTAO)");
 }
 
 }  // namespace nns::ao

@@ -18,10 +18,17 @@
 
 namespace nns::ao {
 
-inline void ssao_reference(const GBuffer& g, int samples, float* out) {
+// Free parameters (tune-classical-ao fits them; the defaults are the values used before):
+// the range check accepts occluders within range * r behind the sample, and gain is the
+// 2 of clamp(2 (1 - occluded / n)).
+struct SsaoParams {
+  float radius_scale = 1.0f, range = 1.0f, gain = 2.0f;
+};
+
+inline void ssao_reference_with(const GBuffer& g, int samples, float* out, const SsaoParams& p) {
   const std::vector<Vec3> kernel = sphere_kernel(samples, 0x55A0 + uint64_t(samples));
   std::vector<float> raw(size_t(g.pixels()));
-  const float r = g.radius;
+  const float r = g.radius * p.radius_scale, range = p.range * r;
   for_each_pixel(g, [&](int x, int y, int64_t i) {
     if (g.sky(i)) {
       raw[size_t(i)] = 1;
@@ -37,19 +44,21 @@ inline void ssao_reference(const GBuffer& g, int samples, float* out) {
       g.project(S, sx, sy);
       const float zb = g.z[g.clamped_index(sx, sy)];
       const float behind = -S.z - zb;
-      occluded += (behind > 0.0f && behind < r);
+      occluded += (behind > 0.0f && behind < range);
     }
-    raw[size_t(i)] = saturate(2.0f * (1.0f - float(occluded) / float(samples)));
+    raw[size_t(i)] = saturate(p.gain * (1.0f - float(occluded) / float(samples)));
   });
   box_blur_4x4_reference(g, raw.data(), out);
 }
 
-inline void ssao(const GBuffer& g, int samples, float* out) {
+inline void ssao_reference(const GBuffer& g, int samples, float* out) { ssao_reference_with(g, samples, out, SsaoParams{}); }
+
+inline void ssao_with(const GBuffer& g, int samples, float* out, const SsaoParams& p) {
   using namespace simd;
   const std::vector<Vec3> kernel = sphere_kernel(samples, 0x55A0 + uint64_t(samples));
   const NoiseTile noise;
   std::vector<float> raw(size_t(g.pixels()));
-  const float r = g.radius;
+  const float r = g.radius * p.radius_scale, range = p.range * r;
   for_each_block(g, [&](int x0, int y, Mask valid) {
     const Block b(g, x0, y, valid);
     const VF c = load(noise.cos[y & 3]), s = load(noise.sin[y & 3]), R = splat(r);
@@ -65,13 +74,15 @@ inline void ssao(const GBuffer& g, int samples, float* out) {
       project(g, sx, sy, -sz, qx, qy);
       clamped_pixel(g, qx, qy, ix, iy);
       const VF behind = -sz - gather(g.z, pixel_index(g, ix, iy), m, 0.0f);
-      m &= gt(behind, splat(0.0f)) & lt(behind, R);
+      m &= gt(behind, splat(0.0f)) & lt(behind, splat(range));
       occluded = occluded + select(m, splat(1.0f), splat(0.0f));
     }
-    const VF ao = saturate(splat(2.0f) * (splat(1.0f) - occluded / splat(float(samples))));
+    const VF ao = saturate(splat(p.gain) * (splat(1.0f) - occluded / splat(float(samples))));
     store(raw.data() + b.i0, select(b.live, ao, splat(1.0f)), valid);
   });
   box_blur_4x4(g, raw.data(), out);
 }
+
+inline void ssao(const GBuffer& g, int samples, float* out) { ssao_with(g, samples, out, SsaoParams{}); }
 
 }  // namespace nns::ao

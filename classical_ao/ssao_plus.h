@@ -31,10 +31,16 @@ inline float smoothstep01(float x) {
   return x * x * (3 - 2 * x);
 }
 
-inline void ssao_plus_reference(const GBuffer& g, int samples, float* out) {
+// Free parameters (tune-classical-ao fits them; the defaults are the values used before).
+struct SsaoPlusParams {
+  float bias = 0.05f;  // of the radius
+  float radius_scale = 1.0f;
+};
+
+inline void ssao_plus_reference_with(const GBuffer& g, int samples, float* out, const SsaoPlusParams& p) {
   const std::vector<Vec3> kernel = hemisphere_kernel(samples, 0x5A0B + uint64_t(samples));
   std::vector<float> raw(size_t(g.pixels()));
-  const float r = g.radius, bias = 0.05f * r;
+  const float r = g.radius * p.radius_scale, bias = p.bias * r;
   for_each_pixel(g, [&](int x, int y, int64_t i) {
     if (g.sky(i)) {
       raw[size_t(i)] = 1;
@@ -66,12 +72,16 @@ inline void ssao_plus_reference(const GBuffer& g, int samples, float* out) {
   box_blur_4x4_reference(g, raw.data(), out);
 }
 
-inline void ssao_plus(const GBuffer& g, int samples, float* out) {
+inline void ssao_plus_reference(const GBuffer& g, int samples, float* out) {
+  ssao_plus_reference_with(g, samples, out, SsaoPlusParams{});
+}
+
+inline void ssao_plus_with(const GBuffer& g, int samples, float* out, const SsaoPlusParams& p) {
   using namespace simd;
   const std::vector<Vec3> kernel = hemisphere_kernel(samples, 0x5A0B + uint64_t(samples));
   const NoiseTile noise;
   std::vector<float> raw(size_t(g.pixels()));
-  const float r = g.radius, bias = 0.05f * r;
+  const float r = g.radius * p.radius_scale, bias = p.bias * r;
   for_each_block(g, [&](int x0, int y, Mask valid) {
     const Block b(g, x0, y, valid);
     const VF zero = splat(0.0f), one = splat(1.0f), R = splat(r);
@@ -112,5 +122,7 @@ inline void ssao_plus(const GBuffer& g, int samples, float* out) {
   });
   box_blur_4x4(g, raw.data(), out);
 }
+
+inline void ssao_plus(const GBuffer& g, int samples, float* out) { ssao_plus_with(g, samples, out, SsaoPlusParams{}); }
 
 }  // namespace nns::ao

@@ -155,7 +155,8 @@ TEST(ClassicalAo, VectorisedMethodsMatchScalarReferences) {
     const Pair pairs[] = {{"SSAO", ao::ssao, ao::ssao_reference},
                           {"SSAO+", ao::ssao_plus, ao::ssao_plus_reference},
                           {"HBAO", ao::hbao, ao::hbao_reference},
-                          {"Alchemy", ao::alchemy_ao, ao::alchemy_ao_reference}};
+                          {"Alchemy", ao::alchemy_ao, ao::alchemy_ao_reference},
+                          {"GTAO", ao::gtao, ao::gtao_reference}};
     for (auto& p : pairs)
       for (int n : {4, 16, 64}) {
         std::vector<float> a(size_t(g.pixels())), b(size_t(g.pixels()));
