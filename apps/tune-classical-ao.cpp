@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "apps/args.h"
+#include "core/atomic_file.h"
 #include "core/thread_pool.h"
 #include "report/chart.h"
 #include "data/dataset.h"

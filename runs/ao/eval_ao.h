@@ -1,0 +1,370 @@
+#pragma once
+// eval-ao's job: every AO method at every sample count on every view of a dataset, timed
+// and scored against the ray-traced AO — the paper's Table 1 and Figure 4 for this data.
+//
+//   eval-ao --data DIR --model nnao.blob --out DIR [--methods NNAO,SSAO,...] [--threads 2]
+//
+// DIR is a split folder or a flat folder; a dataset root with train/ + test/ means its
+// test/ split. Writes results.csv, results_by_scene.csv, failure_bands.csv,
+// temporal.csv, timing.csv, speed_vs_accuracy.svg/.png, previews/ and report.md.
+// Temporal stability is measured on camera-path frames (files "<scene>-pNN-fNNN.exr", or
+// surround frame folders of that name, as render-dataset --path-frames writes them),
+// reprojected: classical_ao/temporal.h.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "core/progress.h"
+#include "core/thread_pool.h"
+#include "report/chart.h"
+#include "data/dataset.h"
+#include "data/exr_io.h"
+#include "report/image_metrics.h"
+#include "report/png_io.h"
+#include "classical_ao/failure_bands.h"
+#include "classical_ao/methods.h"
+#include "classical_ao/params.h"
+#include "classical_ao/temporal.h"
+#include "models/nnao/nnao_inference.h"
+#include "models/nnao/nnao_inference_reference.h"
+
+namespace nns::ao_eval {
+
+namespace fs = std::filesystem;
+
+
+struct Method {
+  std::string name;  // "NNAO-exact", "NNAO", "SSAO", ...
+  int samples;
+  std::function<void(const ao::GBuffer&, float*)> run;
+};
+
+struct Score {  // pooled over pixels: squared error sum and count; SSIM summed per view
+  double se = 0, ssim_sum = 0;
+  int64_t pixels = 0, views = 0;
+  void add(double se_view, int64_t px, double ssim) {
+    se += se_view * double(px);
+    pixels += px;
+    ssim_sum += ssim;
+    ++views;
+  }
+  double mse() const { return pixels ? se / double(pixels) : std::nan(""); }
+  double ssim() const { return views ? ssim_sum / double(views) : std::nan(""); }
+};
+
+struct MethodStats {
+  std::vector<double> ms, cpu_ms;  // wall and process CPU time (all threads) per view
+  Score all;
+  std::map<std::string, Score> by_scene;
+  std::vector<Score> bands;
+  ao::TemporalStats temporal;
+  std::vector<float> previous;  // this method's AO on the previous view
+};
+
+// CPU time of the whole process (every worker thread): on a shared machine the wall
+// time of a 2-thread call also counts time spent waiting for a core.
+double process_cpu_ms() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+std::string fmt(double v, int prec = 6) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.*g", prec, v);
+  return b;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::vector<std::string> split_commas(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::string safe(std::string s) {
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = c == '+' ? 'p' : '_';
+  return s;
+}
+
+
+struct EvalAoOptions {
+  std::string data_dir;         // a split folder, a flat folder, or a root with test/
+  std::string model;            // nnao.blob; empty: classical methods only
+  std::string out = "eval-out";
+  std::string methods = "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO";
+  std::vector<int> nnao_samples = {16, 32, 64, 128, 256};
+  int threads = 2, previews = 3, max_views = 0, repeat = 3;
+  std::string params_file;      // tune-classical-ao's output; empty: built-in parameters
+  bool scalar = false;          // the scalar reference loops instead of the vectorised ones
+};
+
+inline void evaluate_ao(const EvalAoOptions& o) {
+  const std::string &data_dir = o.data_dir, &model = o.model, &out = o.out, &methods_flag = o.methods,
+                    &params_file = o.params_file;
+  const std::vector<int>& nnao_samples = o.nnao_samples;
+  const int threads = o.threads, previews = o.previews, max_views = o.max_views, repeat = o.repeat;
+  const bool scalar = o.scalar;
+
+  data::DatasetListing d = data::list_dataset(data_dir);
+  const data::SplitListing& split = d.flat ? d.train : d.test;
+  std::vector<std::string> views = split.views;
+  std::string split_note = d.flat ? data_dir : (d.test.dir + " (the test split)");
+  // Surround (cube) frames: their front faces, in path order — camera-path data, where
+  // the temporal check means something.
+  for (auto& f : split.frames)
+    if (!f.faces[size_t(data::Face::front)].empty()) views.push_back(f.faces[size_t(data::Face::front)]);
+  if (views.size() > split.views.size()) split_note += ", front faces of surround frames";
+  if (views.empty()) throw std::runtime_error(data_dir + ": no views (*.exr) to evaluate");
+  if (max_views > 0 && int(views.size()) > max_views) views.resize(size_t(max_views));
+
+  std::vector<Method> methods;
+  std::set<std::string> wanted;
+  for (auto& m : split_commas(methods_flag)) wanted.insert(m);
+  nnao::NnaoWeights weights;
+  bool have_model = !model.empty();
+  if (have_model) weights = nnao::NnaoWeights::load(model);
+  for (auto& w : wanted) {
+    bool known = w == "NNAO" || w == "NNAO-exact";
+    for (auto& c : ao::classical_methods()) known |= c.name == w;
+    if (!known) throw std::invalid_argument("--methods: unknown method '" + w + "' (known: NNAO-exact, NNAO, SSAO, SSAO+, HBAO, Alchemy, GTAO)");
+    if ((w == "NNAO" || w == "NNAO-exact") && !have_model)
+      throw std::invalid_argument("--methods " + w + " needs --model nnao.blob");
+  }
+  if (wanted.count("NNAO-exact"))
+    methods.push_back({"NNAO-exact", weights.window * weights.window,
+                       [&, scalar](const ao::GBuffer& g, float* o) {
+                         if (scalar) nnao::infer_exact_reference(weights, g, o);
+                         else nnao::infer_exact(weights, g, o);
+                       }});
+  if (wanted.count("NNAO"))
+    for (int n : nnao_samples) {
+      nnao::check_sample_count(n, weights.window);
+      methods.push_back({"NNAO", n, [&weights, n, scalar](const ao::GBuffer& g, float* o) {
+                           if (scalar) nnao::infer_shader_style_reference(weights, g, n, o);
+                           else nnao::infer_shader_style(weights, g, n, o);
+                         }});
+    }
+  const ao::ClassicalParams cparams = params_file.empty() ? ao::ClassicalParams{} : ao::read_classical_params(params_file);
+  for (auto& c : ao::classical_methods())
+    if (wanted.count(c.name))
+      for (int n : c.sample_counts)
+        methods.push_back({c.name, n, [&c, &cparams, n, scalar](const ao::GBuffer& g, float* o) {
+                             ao::run_classical(c.name, cparams, g, n, o, scalar);
+                           }});
+
+  fs::create_directories(fs::path(out) / "previews");
+  std::vector<MethodStats> stats(methods.size());
+  for (auto& s : stats) s.bands.resize(3);
+  std::vector<std::string> band_names;
+  ao::TemporalStats gt_temporal;
+  data::View prev_view;  // the previous view, while it is a frame of a camera path
+  std::string prev_path;
+  int prev_frame = -2;
+  int width = 0, height = 0;
+  Progress bar("eval-ao", int64_t(views.size() * methods.size()));
+  int64_t done = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    data::View view = data::read_view(views[v]);
+    if (!view.has("AO"))
+      throw std::runtime_error(views[v] + ": missing channel 'AO' (eval-ao scores against ground-truth AO)");
+    ao::GBuffer g = ao::gbuffer_from_view(view);
+    width = g.width, height = g.height;
+    const auto& gt = view.channel("AO");
+    std::vector<uint8_t> mask(size_t(g.pixels()));
+    for (int64_t i = 0; i < g.pixels(); ++i) mask[size_t(i)] = !g.sky(i);
+    ao::FailureBands bands = ao::failure_bands(g);
+    band_names = bands.names;
+    int frame = -1;
+    // A flat view names its frame ("room-1-p00-f003.exr"); a surround frame's folder
+    // does ("room-1-p00-f003/front.exr").
+    std::string path = ao::path_of_frame(fs::path(views[v]).stem().string(), frame);
+    if (path.empty()) path = ao::path_of_frame(fs::path(views[v]).parent_path().filename().string(), frame);
+    const bool same_path = !path.empty() && path == prev_path && frame == prev_frame + 1;
+    std::vector<int64_t> to_prev;
+    const float* prev_gt = nullptr;
+    if (same_path) {
+      to_prev = ao::reproject_to_previous(g, view.world_to_camera, ao::gbuffer_from_view(prev_view),
+                                          prev_view.world_to_camera);
+      prev_gt = prev_view.channel("AO").data();
+      gt_temporal.add_pair(to_prev, gt.data(), prev_gt, gt.data(), prev_gt);
+    }
+    const bool preview = int(v) < previews;
+    const std::string stem = fs::path(views[v]).parent_path().filename().string() + "_" + fs::path(views[v]).stem().string();
+    if (preview)
+      data::write_png_gray((fs::path(out) / "previews" / (stem + "_ground_truth.png")).string(), gt.data(), g.width, g.height);
+    std::vector<float> result(size_t(g.pixels()));
+    for (size_t m = 0; m < methods.size(); ++m) {
+      // The fastest of `repeat` runs: the one least disturbed by other processes (the
+      // output is the same every time).
+      double ms = 1e300, cpu = 1e300;
+      for (int k = 0; k < repeat; ++k) {
+        const double c0 = process_cpu_ms();
+        auto t0 = std::chrono::steady_clock::now();
+        methods[m].run(g, result.data());
+        ms = std::min(ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        cpu = std::min(cpu, process_cpu_ms() - c0);
+      }
+      MethodStats& st = stats[m];
+      st.ms.push_back(ms);
+      st.cpu_ms.push_back(cpu);
+      const int64_t px = std::count(mask.begin(), mask.end(), uint8_t(1));
+      double mse = data::masked_mse(result.data(), gt.data(), mask.data(), g.pixels());
+      double ssim = data::masked_ssim(result.data(), gt.data(), mask.data(), g.width, g.height);
+      if (px > 0) {
+        st.all.add(mse, px, ssim);
+        st.by_scene[view.scene].add(mse, px, ssim);
+      }
+      for (size_t b = 0; b < bands.masks.size(); ++b) {
+        const int64_t bp = std::count(bands.masks[b].begin(), bands.masks[b].end(), uint8_t(1));
+        if (bp) st.bands[b].add(data::masked_mse(result.data(), gt.data(), bands.masks[b].data(), g.pixels()), bp, 0);
+      }
+      if (same_path && !st.previous.empty())
+        st.temporal.add_pair(to_prev, result.data(), st.previous.data(), gt.data(), prev_gt);
+      if (!path.empty()) st.previous = result;
+      const bool largest = m + 1 == methods.size() || methods[m + 1].name != methods[m].name;
+      if (preview && (largest || (methods[m].name == "NNAO" && methods[m].samples == 64))) {
+        std::string base = (fs::path(out) / "previews" / (stem + "_" + safe(methods[m].name) + "_" + std::to_string(methods[m].samples))).string();
+        data::write_png_gray(base + ".png", result.data(), g.width, g.height);
+        std::vector<float> err(result.size());
+        for (size_t i = 0; i < err.size(); ++i) err[i] = mask[i] ? std::abs(result[i] - gt[i]) : 0.0f;
+        data::write_png_heatmap(base + "_error.png", err.data(), g.width, g.height, 0.5f);
+      }
+      bar.update(++done, methods[m].name + "@" + std::to_string(methods[m].samples));
+    }
+    if (!path.empty()) prev_view = std::move(view);
+    prev_path = path;
+    prev_frame = frame;
+  }
+  bar.finish();
+
+  std::string csv = "method,samples,ms_per_frame,mse,ssim,psnr\n", by_scene = "method,samples,scene,views,mse,ssim,psnr\n";
+  std::string band_csv = "method,samples,band,pixels,mse\n", temporal = "method,samples,flicker,ground_truth_flicker,flicker_relative_to_ground_truth,temporal_error,pairs,coverage\n";
+  std::string timing = "method,samples,wall_ms_median,cpu_ms_median,threads\n";
+  std::map<std::string, data::ChartSeries> series;
+  std::vector<std::string> order;
+  for (size_t m = 0; m < methods.size(); ++m) {
+    const auto& st = stats[m];
+    const std::string nm = methods[m].name, ns = std::to_string(methods[m].samples);
+    const double ms = median(st.ms), mse = st.all.mse();
+    csv += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(mse) + "," + fmt(st.all.ssim()) + "," + fmt(data::psnr_from_mse(mse), 5) + "\n";
+    for (auto& [scene, sc] : st.by_scene)
+      by_scene += nm + "," + ns + "," + scene + "," + std::to_string(sc.views) + "," + fmt(sc.mse()) + "," + fmt(sc.ssim()) + "," + fmt(data::psnr_from_mse(sc.mse()), 5) + "\n";
+    for (size_t b = 0; b < st.bands.size(); ++b)
+      band_csv += nm + "," + ns + "," + band_names[b] + "," + std::to_string(st.bands[b].pixels) + "," + fmt(st.bands[b].mse()) + "\n";
+    if (st.temporal.pairs) {
+      const double f = st.temporal.flicker(), gf = gt_temporal.flicker();
+      temporal += nm + "," + ns + "," + fmt(f) + "," + fmt(gf) + "," + (gf > 0 ? fmt(f / gf, 4) : std::string("nan")) + "," +
+                  fmt(st.temporal.error()) + "," + std::to_string(st.temporal.pairs) + "," + fmt(st.temporal.coverage(), 4) + "\n";
+    }
+    timing += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(median(st.cpu_ms), 5) + "," + std::to_string(threads) + "\n";
+    if (!series.count(nm)) order.push_back(nm), series[nm].name = nm;
+    series[nm].x.push_back(ms);
+    series[nm].y.push_back(mse);
+    series[nm].point_labels.push_back(ns);
+  }
+  write_file_atomic((fs::path(out) / "results.csv").string(), csv);
+  write_file_atomic((fs::path(out) / "results_by_scene.csv").string(), by_scene);
+  write_file_atomic((fs::path(out) / "failure_bands.csv").string(), band_csv);
+  write_file_atomic((fs::path(out) / "temporal.csv").string(), temporal);
+  write_file_atomic((fs::path(out) / "timing.csv").string(), timing);
+  std::vector<data::ChartSeries> chart;
+  for (auto& n : order) chart.push_back(series[n]);
+  data::ChartOptions co;
+  co.title = "AO: error against time (" + std::to_string(width) + "x" + std::to_string(height) + ", " + std::to_string(threads) + " threads)";
+  co.x_label = "ms per frame (median over views)";
+  co.y_label = "MSE vs ray-traced AO (non-sky pixels)";
+  co.log_x = true;
+  const std::string chart_path = (fs::path(out) / "speed_vs_accuracy.svg").string();
+  std::string note = data::write_chart(chart_path, chart, co);
+  if (!note.empty()) std::fprintf(stderr, "eval-ao: note: %s\n", note.c_str());
+
+  // report.md: the table, the paper's two claims checked, the bands, the chart.
+  auto find = [&](const std::string& n, int s) -> int {
+    for (size_t m = 0; m < methods.size(); ++m)
+      if (methods[m].name == n && methods[m].samples == s) return int(m);
+    return -1;
+  };
+  std::ostringstream r;
+  r << "# AO evaluation\n\nData: " << split_note << " — " << views.size() << " views at " << width << "x" << height
+    << ", " << threads << " threads, classical parameters: " << (params_file.empty() ? std::string("built-in") : params_file) << ". Errors over non-sky pixels against the ray-traced `AO` channel; ms per frame is the median over views of the fastest of " << repeat << " runs per view.\n\n"
+    << "![speed vs accuracy](speed_vs_accuracy.svg)\n\n| method | samples | ms/frame | CPU ms/frame | MSE | SSIM | PSNR |\n|---|---|---|---|---|---|---|\n";
+  for (size_t m = 0; m < methods.size(); ++m)
+    r << "| " << methods[m].name << " | " << methods[m].samples << " | " << fmt(median(stats[m].ms), 4) << " | "
+      << fmt(median(stats[m].cpu_ms), 4) << " | " << fmt(stats[m].all.mse(), 4) << " | " << fmt(stats[m].all.ssim(), 4) << " | " << fmt(data::psnr_from_mse(stats[m].all.mse()), 4) << " |\n";
+  r << "\n## The paper's claims on this data\n\n";
+  int ex = find("NNAO-exact", weights.window * weights.window);
+  if (ex >= 0) {
+    std::vector<std::string> beaten_by;
+    for (size_t m = 0; m < methods.size(); ++m)
+      if (methods[m].name.rfind("NNAO", 0) != 0 && stats[m].all.mse() <= stats[size_t(ex)].all.mse())
+        beaten_by.push_back(methods[m].name + "@" + std::to_string(methods[m].samples));
+    r << "- NNAO (exact, MSE " << fmt(stats[size_t(ex)].all.mse(), 4) << ") has lower MSE than every classical method at every sample count: **"
+      << (beaten_by.empty() ? "holds" : "does not hold") << "**";
+    if (!beaten_by.empty()) {
+      r << " (not lower than:";
+      for (auto& b : beaten_by) r << " " << b;
+      r << ")";
+    }
+    r << ".\n";
+  }
+  int n64 = find("NNAO", 64), h64 = find("HBAO", 64);
+  if (n64 >= 0 && h64 >= 0) {
+    double nm = median(stats[size_t(n64)].ms), hm = median(stats[size_t(h64)].ms);
+    double ne = stats[size_t(n64)].all.mse(), he = stats[size_t(h64)].all.mse();
+    r << "- Shader-style NNAO at 64 samples (" << fmt(nm, 4) << " ms, MSE " << fmt(ne, 4) << ") vs HBAO at 64 (" << fmt(hm, 4)
+      << " ms, MSE " << fmt(he, 4) << "): faster **" << (nm < hm ? "yes" : "no") << "**, more accurate **" << (ne < he ? "yes" : "no") << "**.\n";
+  }
+  r << "\n## Failure bands (MSE)\n\nhalo: within 3 px of a depth discontinuity; border: within 8% of the width of the screen edge; thin: surfaces under 6 px across. See failure_bands.csv.\n\n| method | samples |";
+  for (auto& b : band_names) r << " " << b << " |";
+  r << "\n|---|---|";
+  for (size_t b = 0; b < band_names.size(); ++b) r << "---|";
+  r << "\n";
+  for (size_t m = 0; m < methods.size(); ++m) {
+    r << "| " << methods[m].name << " | " << methods[m].samples << " |";
+    for (auto& b : stats[m].bands) r << " " << fmt(b.mse(), 4) << " |";
+    r << "\n";
+  }
+  r << "\nPer scene: results_by_scene.csv. CPU ms (process CPU time over all threads, median over views): timing.csv.\n\n"
+    << "## Temporal stability\n\nOn camera-path frames (files `<scene>-pNN-fNNN.exr`), each frame reprojected to the one before it "
+    << "(worldToCamera; disocclusions and off-screen points skipped). flicker = mean |m_t - m_t-1| over the mapped pixels; "
+    << "temporal error = mean |(m_t - m_t-1) - (g_t - g_t-1)| against the ground truth g. See temporal.csv.\n\n";
+  if (gt_temporal.pairs) {
+    r << "Ground truth flicker " << fmt(gt_temporal.flicker(), 4) << " over " << gt_temporal.pairs << " frame pairs ("
+      << fmt(100 * gt_temporal.coverage(), 3) << "% of pixels mapped).\n\n| method | samples | flicker | relative to ground truth | temporal error |\n|---|---|---|---|---|\n";
+    for (size_t m = 0; m < methods.size(); ++m) {
+      const auto& t = stats[m].temporal;
+      if (!t.pairs) continue;
+      r << "| " << methods[m].name << " | " << methods[m].samples << " | " << fmt(t.flicker(), 4) << " | "
+        << fmt(t.flicker() / gt_temporal.flicker(), 4) << " | " << fmt(t.error(), 4) << " |\n";
+    }
+  } else {
+    r << "No camera-path frames in this data, so there is nothing to report (temporal.csv is empty).\n";
+  }
+  r << "\nPreviews (ground truth, each method at its largest sample count and NNAO at 64, error heat-maps with 0.5 = white): previews/.\n";
+  write_file_atomic((fs::path(out) / "report.md").string(), r.str());
+  std::printf("%s", csv.c_str());
+  std::printf("chart: %s%s\nreport: %s\n", chart_path.c_str(), note.empty() ? " (+ .png)" : "", (fs::path(out) / "report.md").string().c_str());
+}
+
+}  // namespace nns::ao_eval
