@@ -41,8 +41,9 @@ class TrainNnao : public ::testing::Test {
     fs::remove_all(root);
     fs::create_directories(root / "data" / "train");
     fs::create_directories(root / "data" / "test");
-    for (int v = 0; v < 5; ++v) {  // even variants are scene synthetic0, odd synthetic1
+    for (int v = 0; v < 5; ++v) {  // even variants train, odd test; a scene per view
       auto view = nns::fixtures::synthetic_view(40, 28, v, 16);
+      view.scene = "synthetic" + std::to_string(v);
       fs::path dir = root / "data" / (v % 2 ? "test" : "train");
       nns::data::write_view((dir / ("v" + std::to_string(v) + ".exr")).string(), view);
     }
@@ -111,6 +112,11 @@ TEST_F(TrainNnao, SweepTrainsTheLadderAndNamesAModel) {
   EXPECT_EQ(rows, 1 + 12);  // header + w {7,15,23,31} x hidden {4,8,16}
   std::string md = bytes(root / "sweep" / "sweep" / "sweep.md");
   EXPECT_NE(md.find("Smallest model within 2%"), std::string::npos) << md;
+  // chosen on validation scenes carved from train/, the test split only reported
+  EXPECT_NE(md.find("Best validation MSE"), std::string::npos) << md;
+  std::string header;
+  std::getline(std::ifstream(root / "sweep" / "sweep" / "sweep.csv") >> std::ws, header);
+  EXPECT_EQ(header, "window,hidden,parameters,val_mse,test_mse,ms_per_frame");
   EXPECT_TRUE(fs::exists(root / "sweep" / "sweep" / "sweep.svg"));
 }
 
@@ -159,8 +165,9 @@ TEST_F(TrainNnao, ResumeWithAnotherConfigurationIsRefusedNamingIt) {
   auto b = run(common() + "--epochs 2 --lr 0.002 --resume --out " + (root / "cfg").string());
   EXPECT_EQ(b.code, 1) << b.output;
   EXPECT_NE(b.output.find("lr: was 0.001, now 0.002"), std::string::npos) << b.output;
-  auto c = run(common() + "--epochs 2 --hidden 8 --resume --out " + (root / "cfg").string());
-  EXPECT_NE(c.output.find("hidden: was 4, now 8"), std::string::npos) << c.output;
+  auto c = run(common() + "--epochs 2 --preset paper --resume --out " + (root / "cfg").string());
+  EXPECT_NE(c.output.find("hidden: was 8, now 4"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("gamma: was 0.0001"), std::string::npos) << c.output;
 }
 
 // SIGKILL at random moments (steps, metrics appends, blob and checkpoint writes), then
