@@ -65,7 +65,8 @@ struct Score {  // pooled over pixels: squared error sum and count; SSIM summed 
 struct MethodStats {
   std::vector<double> ms, cpu_ms;  // wall and process CPU time (all threads) per view
   Score all;
-  std::map<std::string, Score> by_scene;
+  std::map<std::string, Score> by_scene, by_family;
+  std::map<std::string, ao::TemporalStats> temporal_by_family;
   std::vector<Score> bands;
   ao::TemporalStats temporal;
   std::vector<float> previous;  // this method's AO on the previous view
@@ -99,6 +100,16 @@ std::vector<std::string> split_commas(const std::string& s) {
   while (std::getline(ss, item, ','))
     if (!item.empty()) out.push_back(item);
   return out;
+}
+
+// A scene's family: the procedural scenes are named "<family>-<instance>"; other names
+// are their own family.
+std::string family_of(const std::string& scene) {
+  const auto dash = scene.rfind('-');
+  if (dash == std::string::npos || dash + 1 == scene.size() ||
+      scene.find_first_not_of("0123456789", dash + 1) != std::string::npos)
+    return scene;
+  return scene.substr(0, dash);
 }
 
 std::string safe(std::string s) {
@@ -178,6 +189,7 @@ inline void evaluate_ao(const EvalAoOptions& o) {
   for (auto& s : stats) s.bands.resize(3);
   std::vector<std::string> band_names;
   ao::TemporalStats gt_temporal;
+  std::map<std::string, ao::TemporalStats> gt_temporal_by_family;
   data::View prev_view;  // the previous view, while it is a frame of a camera path
   std::string prev_path;
   int prev_frame = -2;
@@ -208,6 +220,7 @@ inline void evaluate_ao(const EvalAoOptions& o) {
                                           prev_view.world_to_camera);
       prev_gt = prev_view.channel("AO").data();
       gt_temporal.add_pair(to_prev, gt.data(), prev_gt, gt.data(), prev_gt);
+      gt_temporal_by_family[family_of(view.scene)].add_pair(to_prev, gt.data(), prev_gt, gt.data(), prev_gt);
     }
     const bool preview = int(v) < previews;
     const std::string stem = fs::path(views[v]).parent_path().filename().string() + "_" + fs::path(views[v]).stem().string();
@@ -234,13 +247,16 @@ inline void evaluate_ao(const EvalAoOptions& o) {
       if (px > 0) {
         st.all.add(mse, px, ssim);
         st.by_scene[view.scene].add(mse, px, ssim);
+        st.by_family[family_of(view.scene)].add(mse, px, ssim);
       }
       for (size_t b = 0; b < bands.masks.size(); ++b) {
         const int64_t bp = std::count(bands.masks[b].begin(), bands.masks[b].end(), uint8_t(1));
         if (bp) st.bands[b].add(data::masked_mse(result.data(), gt.data(), bands.masks[b].data(), g.pixels()), bp, 0);
       }
-      if (same_path && !st.previous.empty())
+      if (same_path && !st.previous.empty()) {
         st.temporal.add_pair(to_prev, result.data(), st.previous.data(), gt.data(), prev_gt);
+        st.temporal_by_family[family_of(view.scene)].add_pair(to_prev, result.data(), st.previous.data(), gt.data(), prev_gt);
+      }
       if (!path.empty()) st.previous = result;
       const bool largest = m + 1 == methods.size() || methods[m + 1].name != methods[m].name;
       if (preview && (largest || (methods[m].name == "NNAO" && methods[m].samples == 64))) {
@@ -288,6 +304,33 @@ inline void evaluate_ao(const EvalAoOptions& o) {
   write_file_atomic((fs::path(out) / "failure_bands.csv").string(), band_csv);
   write_file_atomic((fs::path(out) / "temporal.csv").string(), temporal);
   write_file_atomic((fs::path(out) / "timing.csv").string(), timing);
+  // Per family, each method at its setting of lowest MSE over all views.
+  std::map<std::string, size_t> best_setting;
+  for (size_t m = 0; m < methods.size(); ++m) {
+    auto it = best_setting.find(methods[m].name);
+    if (it == best_setting.end() || stats[m].all.mse() < stats[it->second].all.mse()) best_setting[methods[m].name] = m;
+  }
+  std::string by_family = "family,method,samples,views,mse,ssim,flicker,ground_truth_flicker\n";
+  std::ostringstream family_md;
+  std::set<std::string> families;
+  for (auto& st : stats)
+    for (auto& [fam, sc] : st.by_family) families.insert(fam);
+  family_md << "| family | method | samples | MSE | SSIM | flicker (x ground truth) |\n|---|---|---|---|---|---|\n";
+  for (auto& fam : families)
+    for (auto& n : order) {
+      const size_t m = best_setting[n];
+      auto sc = stats[m].by_family.find(fam);
+      if (sc == stats[m].by_family.end()) continue;
+      auto t = stats[m].temporal_by_family.find(fam);
+      auto gt = gt_temporal_by_family.find(fam);
+      const bool has_t = t != stats[m].temporal_by_family.end() && t->second.pairs && gt != gt_temporal_by_family.end();
+      const double f = has_t ? t->second.flicker() : std::nan(""), gf = has_t ? gt->second.flicker() : std::nan("");
+      by_family += fam + "," + n + "," + std::to_string(methods[m].samples) + "," + std::to_string(sc->second.views) + "," +
+                   fmt(sc->second.mse()) + "," + fmt(sc->second.ssim()) + "," + fmt(f) + "," + fmt(gf) + "\n";
+      family_md << "| " << fam << " | " << n << " | " << methods[m].samples << " | " << fmt(sc->second.mse(), 4) << " | "
+                << fmt(sc->second.ssim(), 4) << " | " << (has_t ? fmt(f / gf, 3) : std::string("-")) << " |\n";
+    }
+  write_file_atomic((fs::path(out) / "results_by_family.csv").string(), by_family);
   std::vector<data::ChartSeries> chart;
   for (auto& n : order) chart.push_back(series[n]);
   data::ChartOptions co;
@@ -345,6 +388,8 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     for (auto& b : stats[m].bands) r << " " << fmt(b.mse(), 4) << " |";
     r << "\n";
   }
+  r << "\n## Per family\n\nEach method at its setting of lowest MSE over all views; flicker relative to the ground truth's "
+       "on the family's camera-path frames. See results_by_family.csv.\n\n" << family_md.str();
   r << "\nPer scene: results_by_scene.csv. CPU ms (process CPU time over all threads, median over views): timing.csv.\n\n"
     << "## Temporal stability\n\nOn camera-path frames (files `<scene>-pNN-fNNN.exr`), each frame reprojected to the one before it "
     << "(worldToCamera; disocclusions and off-screen points skipped). flicker = mean |m_t - m_t-1| over the mapped pixels; "
