@@ -63,8 +63,10 @@ Scene make_foliage(uint64_t seed) {
   std::vector<uint32_t> leaves;
   for (int i = 0; i < 3; ++i)
     leaves.push_back(s.add_material({{float(rng.uniform(0.1, 0.35)), float(rng.uniform(0.3, 0.6)), float(rng.uniform(0.05, 0.2))}, {}}));
-  for (int k = scaled_count(4, st.density); k > 0; --k) {  // trees
-    float x = float(rng.uniform(-9, 9)), z = float(rng.uniform(-12, 3));
+  // Trees and shrubs over the camera box too, so views look into foliage, not only at
+  // ground with trees in the distance.
+  for (int k = scaled_count(5, st.density); k > 0; --k) {  // trees
+    float x = float(rng.uniform(-9, 9)), z = float(rng.uniform(-12, 6));
     Vec3 base(x, ground_at(x, z) - 0.1f, z);
     float th = float(rng.uniform(1.2, 3.0)) * st.scale, tr = float(rng.uniform(0.08, 0.2)) * st.scale;
     add_lathe(s, base, {0, 1, 0}, {{tr * 1.5f, 0}, {tr * 1.1f, 0.3f}, {tr, th * 0.5f}, {tr * 0.8f, th}}, st.segments(14),
@@ -73,8 +75,8 @@ Scene make_foliage(uint64_t seed) {
                th * 0.45f, tr * 0.7f, 3, bark, leaves[rng.below(leaves.size())], float(rng.uniform(0.06, 0.14)),
                st.density, st);
   }
-  for (int k = scaled_count(8, st.density); k > 0; --k) {  // shrubs
-    float x = float(rng.uniform(-9, 9)), z = float(rng.uniform(-12, 3));
+  for (int k = scaled_count(12, st.density); k > 0; --k) {  // shrubs
+    float x = float(rng.uniform(-9, 9)), z = float(rng.uniform(-12, 6));
     float rad = float(rng.uniform(0.3, 0.9)) * st.scale;
     Vec3 c(x, ground_at(x, z) + rad * 0.7f, z);
     uint32_t m = leaves[rng.below(leaves.size())];
@@ -83,8 +85,8 @@ Scene make_foliage(uint64_t seed) {
                float(rng.uniform(0.05, 0.12)), m);
   }
   uint32_t grass = s.add_material({{0.2f, 0.45f, 0.12f}, {}});
-  for (int p = scaled_count(6, st.density); p > 0; --p) {  // patches of grass blades
-    float cx = float(rng.uniform(-9, 9)), cz = float(rng.uniform(-12, 4)), rad = float(rng.uniform(0.5, 1.5));
+  for (int p = scaled_count(10, st.density); p > 0; --p) {  // patches of grass blades
+    float cx = float(rng.uniform(-9, 9)), cz = float(rng.uniform(-12, 6)), rad = float(rng.uniform(0.5, 1.5));
     for (int i = 0; i < 250; ++i) {
       float x = cx + float(rng.normal(0, rad * 0.5)), z = cz + float(rng.normal(0, rad * 0.5));
       Vec3 b(x, ground_at(x, z) - 0.02f, z);
@@ -114,8 +116,10 @@ Scene make_terrain(uint64_t seed) {
   uint32_t ground = s.add_material(random_material(rng, 0.25f, 0.6f));
   add_height_field(s, -50, 50, -50, 50, 200, 200, height, ground, st.smooth);
   uint32_t rock = s.add_material(random_material(rng, 0.3f, 0.6f));
-  for (int k = scaled_count(40, st.density); k > 0; --k) {
-    float x = float(rng.uniform(-15, 15)), z = float(rng.uniform(-15, 15));
+  for (int k = scaled_count(60, st.density); k > 0; --k) {
+    // Half of the rocks near the camera box, where they fill the foreground.
+    float span = k % 2 ? 15.0f : 8.0f;
+    float x = float(rng.uniform(-span, span)), z = float(rng.uniform(-span, span));
     float r = float(std::exp(rng.uniform(std::log(0.1), std::log(1.5)))) * st.scale;
     uint64_t rseed = rng.next_u64();
     Vec3 radii(r, r * float(rng.uniform(0.4, 0.9)), r * float(rng.uniform(0.6, 1.2)));
