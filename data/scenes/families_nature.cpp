@@ -23,7 +23,7 @@ void add_branch(Scene& s, Rng& rng, Vec3 a, Vec3 dir, float len, float r, int de
   Vec3 b = a + dir * len;
   add_round_cylinder(s, a, b, r, st.segments(depth > 1 ? 10 : 6), bark, st.smooth, false);
   if (depth == 0) {
-    int n = scaled_count(14, leaf_density);
+    int n = scaled_count(30, leaf_density);
     for (int i = 0; i < n; ++i)
       add_leaf(s, rng, b + Vec3(float(rng.normal(0, 0.3)), float(rng.normal(0, 0.25)), float(rng.normal(0, 0.3))) * (len * 1.2f),
                leaf_size * float(rng.uniform(0.7, 1.3)), leaf);
@@ -68,11 +68,11 @@ Scene make_foliage(uint64_t seed) {
   for (int k = scaled_count(5, st.density); k > 0; --k) {  // trees
     float x = float(rng.uniform(-9, 9)), z = float(rng.uniform(-12, 6));
     Vec3 base(x, ground_at(x, z) - 0.1f, z);
-    float th = float(rng.uniform(1.2, 3.0)) * st.scale, tr = float(rng.uniform(0.08, 0.2)) * st.scale;
+    float th = float(rng.uniform(1.0, 3.0)) * st.scale, tr = float(rng.uniform(0.08, 0.2)) * st.scale;
     add_lathe(s, base, {0, 1, 0}, {{tr * 1.5f, 0}, {tr * 1.1f, 0.3f}, {tr, th * 0.5f}, {tr * 0.8f, th}}, st.segments(14),
               bark, st.smooth);
     add_branch(s, rng, base + Vec3(0, th, 0), normalize(Vec3(float(rng.normal(0, 0.2)), 1, float(rng.normal(0, 0.2)))),
-               th * 0.45f, tr * 0.7f, 3, bark, leaves[rng.below(leaves.size())], float(rng.uniform(0.06, 0.14)),
+               th * 0.6f, tr * 0.7f, 3, bark, leaves[rng.below(leaves.size())], float(rng.uniform(0.08, 0.2)),
                st.density, st);
   }
   for (int k = scaled_count(12, st.density); k > 0; --k) {  // shrubs
@@ -80,7 +80,7 @@ Scene make_foliage(uint64_t seed) {
     float rad = float(rng.uniform(0.3, 0.9)) * st.scale;
     Vec3 c(x, ground_at(x, z) + rad * 0.7f, z);
     uint32_t m = leaves[rng.below(leaves.size())];
-    for (int i = int(120 * rad * rad * 4); i > 0; --i)
+    for (int i = int(250 * rad * rad * 4); i > 0; --i)
       add_leaf(s, rng, c + Vec3(float(rng.normal(0, rad * 0.5)), float(rng.normal(0, rad * 0.4)), float(rng.normal(0, rad * 0.5))),
                float(rng.uniform(0.05, 0.12)), m);
   }
