@@ -1,6 +1,7 @@
 #include "data/validate.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -372,7 +373,17 @@ void print_report(std::FILE* out, const ValidationReport& r) {
       std::fprintf(out, "    view variation: %s\n", r.metadata.at("view-variation").c_str());
   }
   std::string res;
-  for (auto& [wh, n] : r.resolutions) res += (res.empty() ? "" : ", ") + wh + " (" + std::to_string(n) + " files)";
+  if (r.resolutions.size() <= 8) {
+    for (auto& [wh, n] : r.resolutions) res += (res.empty() ? "" : ", ") + wh + " (" + std::to_string(n) + " files)";
+  } else {  // nnao-v2 gives nearly every view its own size: a range says more than a list
+    int64_t files = 0, wmin = INT64_MAX, wmax = 0, hmin = INT64_MAX, hmax = 0;
+    for (auto& [wh, n] : r.resolutions) {
+      int64_t w = std::stoll(wh.substr(0, wh.find('x'))), h = std::stoll(wh.substr(wh.find('x') + 1));
+      files += n, wmin = std::min(wmin, w), wmax = std::max(wmax, w), hmin = std::min(hmin, h), hmax = std::max(hmax, h);
+    }
+    res = std::to_string(r.resolutions.size()) + " sizes over " + std::to_string(files) + " files, width " +
+          std::to_string(wmin) + "-" + std::to_string(wmax) + ", height " + std::to_string(hmin) + "-" + std::to_string(hmax);
+  }
   std::fprintf(out, "  resolutions: %s\n", res.empty() ? "none" : res.c_str());
   std::fprintf(out, "  channels:       files        min        max\n");
   for (auto& [ch, s] : r.channels) {

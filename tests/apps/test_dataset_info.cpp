@@ -234,3 +234,13 @@ TEST(DatasetInfo, HoldoutSceneAlsoInTrainIsALeak) {
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_TRUE(has(r.output, d.file("holdout/c.exr") + ": scene 'kitchen' is in both holdout/ and train/")) << r.output;
 }
+
+// Many sizes (nnao-v2 varies them per view) are summarised as ranges.
+TEST(DatasetInfo, ManyResolutionsAreSummarised) {
+  Dataset d("sizes");
+  for (int i = 0; i < 10; ++i) d.add("train/v" + std::to_string(i) + ".exr", nnao_view("kitchen", 8 + i, 6 + i / 2));
+  d.add("test/t.exr", nnao_view("attic"));
+  Outcome r = run(d.root.string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(has(r.output, "resolutions: 10 sizes over 11 files, width 8-17, height 6-10")) << r.output;
+}
