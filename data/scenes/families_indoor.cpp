@@ -1,7 +1,7 @@
 // Indoor families: furnished rooms lit by lamps, and rooms lit through windows by a
 // sun that falls behind the camera.
 #include "data/scenes/families.h"
-#include "data/scenes/family_util.h"
+#include "data/scenes/family_kit.h"
 
 namespace nns::data {
 
@@ -69,12 +69,7 @@ Scene make_room(uint64_t seed) {
   float hx = float(rng.uniform(2.5, 4.5)), hz = float(rng.uniform(2.5, 4.5)), h = float(rng.uniform(2.6, 3.4));
   uint32_t wall = s.add_material(random_material(rng, 0.5f, 0.85f));
   uint32_t floor = s.add_material(random_material(rng, 0.2f, 0.6f));
-  add_box(s, {-hx - 0.1f, -0.1f, -hz - 0.1f}, {hx + 0.1f, 0, hz + 0.1f}, floor);
-  add_box(s, {-hx - 0.1f, h, -hz - 0.1f}, {hx + 0.1f, h + 0.1f, hz + 0.1f}, wall);
-  add_wall(s, true, -hz - 0.05f, -hx, hx, h, 0.1f, {}, wall);
-  add_wall(s, true, hz + 0.05f, -hx, hx, h, 0.1f, {}, wall);
-  add_wall(s, false, -hx - 0.05f, -hz, hz, h, 0.1f, {}, wall);
-  add_wall(s, false, hx + 0.05f, -hz, hz, h, 0.1f, {}, wall);
+  add_room_shell(s, hx, hz, h, wall, floor);
   // A pillar or a partition breaks the box into corners and occluded nooks.
   if (rng.below(2)) {
     uint32_t m = s.add_material(random_material(rng));
