@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
                                "aspect, size, AO radius and pitch varied; gi = + direct emission env indirect; "
                                "surround = gi as cube frames");
   job.views = args.get_int("--views", 80, "views (surround: frames) over train + test");
-  std::string size = args.get_string("--size", "", "image size WxH (default 320x180; gi 256x144; surround 64x64 faces)");
+  std::string size = args.get_string("--size", "", "image size WxH (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
   job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel");
   job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel");
   job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)");

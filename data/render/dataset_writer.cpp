@@ -111,10 +111,21 @@ ViewShape draw_view_shape(const DatasetJob& job, Rng& rng) {
   return v;
 }
 
+// The families that have at least one scene in `split`, in task order.
+std::vector<std::string> families_in(const std::vector<SceneTask>& tasks, const std::string& split) {
+  std::vector<std::string> out;
+  for (auto& t : tasks)
+    if (t.split == split && !t.family.empty() && std::find(out.begin(), out.end(), t.family) == out.end())
+      out.push_back(t.family);
+  return out;
+}
+
 // DIR/metadata.txt (docs/dataset-format.md): "key: value" lines, written to a
-// temporary name and renamed like the views.
-void write_metadata(const DatasetJob& job, const std::vector<std::string>& families,
-                    const std::vector<std::string>& holdout) {
+// temporary name and renamed like the views. Train and test list the families they
+// really hold (a small job may not reach every family); holdout lists every held-out
+// family, since none of them may appear elsewhere, rendered or not.
+void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) {
+  const std::vector<std::string>& holdout = job.holdout_families;
   fs::path path = fs::path(job.out) / kMetadataFile;
   fs::path tmp = path.string() + ".partial-" + std::to_string(::getpid());
   {
@@ -123,8 +134,8 @@ void write_metadata(const DatasetJob& job, const std::vector<std::string>& famil
       << "format: nnshade-dataset-metadata 1\n"
       << "preset: " << job.preset << "\n"
       << "seed: " << job.settings.seed << "\n"
-      << "families.train: " << joined(families) << "\n"
-      << "families.test: " << joined(families) << "\n";
+      << "families.train: " << joined(families_in(tasks, "train")) << "\n"
+      << "families.test: " << joined(families_in(tasks, "test")) << "\n";
     if (!holdout.empty()) m << "families.holdout: " << joined(holdout) << "\n";
     if (job.vary_views) {
       ViewVariation v;
@@ -184,8 +195,14 @@ DatasetReport render_dataset(DatasetJob job) {
   std::vector<std::string> families = job.families;
   if (families.empty()) {
     // The older presets keep their eight families, so their datasets do not change.
-    for (auto& f : scene_families())
-      if (f.generation == 1 || job.preset == "nnao-v2") families.push_back(f.name);
+    // nnao-v2 takes both generations, interleaved: scenes go to families round-robin,
+    // so a split with fewer scenes than families still mixes old and new kinds.
+    std::vector<std::string> g1 = scene_family_names(1), g2 = scene_family_names(2);
+    if (job.preset != "nnao-v2") g2.clear();
+    for (size_t i = 0; i < std::max(g1.size(), g2.size()); ++i) {
+      if (i < g1.size()) families.push_back(g1[i]);
+      if (i < g2.size()) families.push_back(g2[i]);
+    }
   }
   for (auto& f : families) scene_family(f);  // validates the names
   const bool holdout = !job.holdout_families.empty();
@@ -224,7 +241,14 @@ DatasetReport render_dataset(DatasetJob job) {
   add_tasks(tasks, "holdout", n_holdout_views, per_scene, P, job.holdout_families, {}, 200000);
 
   fs::create_directories(job.out);
-  if (holdout || job.vary_views) write_metadata(job, families, job.holdout_families);
+  if (holdout) {
+    std::vector<std::string> rendered = families_in(tasks, "holdout");
+    for (auto& f : job.holdout_families)
+      if (std::find(rendered.begin(), rendered.end(), f) == rendered.end())
+        std::fprintf(stderr, "render-dataset: held-out family '%s' gets no view (%d holdout views for %zu families)\n",
+                     f.c_str(), n_holdout_views, job.holdout_families.size());
+  }
+  if (holdout || job.vary_views) write_metadata(job, tasks);
   DatasetReport report;
   Progress bar("render " + job.preset, job.views);
   int done = 0;
