@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
   job.path_frames = args.get_int("--path-frames", 1, "> 1: views come as smooth camera paths of this many frames");
   job.views_per_scene = args.get_int("--views-per-scene", 4, "views rendered in one scene before the next");
   job.test_fraction = args.get_double("--test-fraction", 0.2, "share of views from held-out scenes (test/)");
-  job.fov_y_deg = float(args.get_double("--fov", 60, "vertical field of view in degrees (not surround)"));
+  job.fov_y_deg = float(args.get_double("--fov", 60, "vertical field of view in degrees (not surround; nnao-v2 draws one per view)"));
   args.done();
   if (job.out.empty()) args.error("--out is required"), args.done();
 
