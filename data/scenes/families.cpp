@@ -24,6 +24,7 @@ const std::vector<SceneFamily>& scene_families() {
       {"cave", "inside a displaced rock shell: concave walls, stalagmites, boulders", make_cave, 2},
       {"round", "spheres, tori, capsules, cones, domes and bowls resting on the ground", make_round, 2},
       {"pipes", "pipe runs, tanks with domed ends, valve wheels, a grating walkway", make_pipes, 2},
+      {"street", "a street canyon: recessed windows, balconies, parked cars, lamp posts", make_street, 2},
   };
   return all;
 }

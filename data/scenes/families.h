@@ -45,6 +45,7 @@ Scene make_clutter(uint64_t seed);
 Scene make_stairwell(uint64_t seed);
 Scene make_arcade(uint64_t seed);
 Scene make_vaults(uint64_t seed);
+Scene make_street(uint64_t seed);
 Scene make_foliage(uint64_t seed);
 Scene make_terrain(uint64_t seed);
 Scene make_cave(uint64_t seed);

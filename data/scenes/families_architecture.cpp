@@ -179,3 +179,125 @@ Scene make_vaults(uint64_t seed) {
 }
 
 }  // namespace nns::data
+
+namespace nns::data {
+
+namespace {
+// One storey of a facade in the plane x = `x` (thickness `thick`), from z0 to z1 and
+// y0 to y1, with rectangular openings {z_lo, z_hi, y_lo, y_hi} (absolute, sorted
+// along z, inside the storey): add_wall's layout, lifted to any height.
+void add_facade_storey(Scene& s, float x, float z0, float z1, float y0, float y1, float thick,
+                       const std::vector<Opening>& holes, uint32_t m) {
+  auto box = [&](float u0, float u1, float v0, float v1) {
+    if (u1 - u0 < 1e-4f || v1 - v0 < 1e-4f) return;
+    add_box(s, {x - thick / 2, v0, u0}, {x + thick / 2, v1, u1}, m);
+  };
+  float u = z0;
+  for (const Opening& h : holes) {
+    box(u, h.a0, y0, y1);
+    box(h.a0, h.a1, y0, h.y0);
+    box(h.a0, h.a1, h.y1, y1);
+    u = h.a1;
+  }
+  box(u, z1, y0, y1);
+}
+
+// A parked car along z: a rounded body, a rounded cabin, four round wheels.
+void add_car(Scene& s, Rng& rng, Vec3 c, const SceneStyle& st) {
+  uint32_t paint = s.add_material(random_material(rng, 0.2f, 0.8f));
+  uint32_t tyre = s.add_material({{0.05f, 0.05f, 0.05f}, {}});
+  float L = float(rng.uniform(1.9, 2.4)), W = 0.85f, r = 0.32f;
+  add_bevelled_box(s, c + Vec3(0, r + 0.3f, 0), {W, 0.32f, L}, 0.12f, 0, paint, st.smooth);
+  add_bevelled_box(s, c + Vec3(0, r + 0.85f, float(rng.uniform(-0.3, 0.2))), {W * 0.9f, 0.28f, L * 0.5f}, 0.15f, 0,
+                   paint, st.smooth);
+  for (int i = 0; i < 4; ++i) {
+    Vec3 w = c + Vec3((i & 1 ? 1 : -1) * (W - 0.12f), r, (i & 2 ? 1 : -1) * (L - 0.55f));
+    add_round_cylinder(s, w - Vec3(0.13f, 0, 0), w + Vec3(0.13f, 0, 0), r, st.segments(20), tyre, st.smooth);
+  }
+}
+}  // namespace
+
+// A street canyon: facades on both sides with recessed windows and doors, balconies
+// with railings, a kerb and pavements, parked cars (rounded bodies on round wheels),
+// lamp posts and bollards: the repeated recesses and contact shadows of the city
+// scenes real engines render.
+Scene make_street(uint64_t seed) {
+  Rng rng(seed);
+  Scene s;
+  SceneStyle st = draw_style(rng);
+  float half_w = float(rng.uniform(4, 8)), len = 40, walk = float(rng.uniform(1.5, 3));
+  uint32_t road = s.add_material(random_material(rng, 0.15f, 0.35f));
+  uint32_t pave = s.add_material(random_material(rng, 0.35f, 0.6f));
+  uint32_t glass = s.add_material(random_material(rng, 0.1f, 0.3f));
+  uint32_t iron = s.add_material(random_material(rng, 0.1f, 0.4f));
+  add_quad(s, {-60, 0, -60}, {120, 0, 0}, {0, 0, 120}, road);
+  for (float side : {-1.0f, 1.0f}) {
+    float kerb = side * (half_w - walk);
+    add_box(s, {std::min(kerb, side * half_w), 0, -len}, {std::max(kerb, side * half_w), 0.15f, len}, pave);
+    for (float z = -len; z < len;) {
+      float bw = std::min(len - z, float(rng.uniform(6, 14))), bh = float(rng.uniform(8, 20));
+      uint32_t m = s.add_material(random_material(rng, 0.35f, 0.85f));
+      float thick = 0.4f, fh = float(rng.uniform(2.8, 3.5)), ww = float(rng.uniform(0.6, 1.1));
+      float x = side * (half_w + thick / 2), recess = float(rng.uniform(0.1, 0.3));
+      int cols = std::max(1, int(bw / float(rng.uniform(1.8, 3.0))));
+      int floors = std::max(2, int(bh / fh));
+      for (int f = 0; f < floors; ++f) {
+        float y0 = 0.15f + fh * float(f), y1 = y0 + fh;
+        std::vector<Opening> holes;
+        for (int c = 0; c < cols; ++c) {
+          float zc = z + bw * (float(c) + 0.5f) / float(cols);
+          bool door = f == 0 && rng.below(3) == 0;
+          Opening o{zc - ww / 2, zc + ww / 2, door ? y0 : y0 + 0.9f, y0 + 2.3f};
+          holes.push_back(o);
+          // The glass (or the door) sits back in the wall: a recess with a deep sill.
+          float xb = side * (half_w + thick + recess);
+          add_box(s, {std::min(xb, xb + side * 0.05f), o.y0, o.a0}, {std::max(xb, xb + side * 0.05f), o.y1, o.a1}, glass);
+          float xi = side * (half_w + thick), lo = std::min(xi, xb), hi = std::max(xi, xb);
+          add_box(s, {lo, o.y0, o.a0 - 0.05f}, {hi, o.y1, o.a0}, m);  // reveals
+          add_box(s, {lo, o.y0, o.a1}, {hi, o.y1, o.a1 + 0.05f}, m);
+          add_box(s, {lo, o.y1, o.a0}, {hi, o.y1 + 0.05f, o.a1}, m);
+          add_box(s, {lo, o.y0 - 0.05f, o.a0}, {hi, o.y0, o.a1}, m);
+          if (!door && f == 0) continue;
+          if (f > 0 && rng.below(4) == 0) {  // a balcony on two brackets, with a railing
+            float out = side * -0.8f, xf = side * half_w;
+            float bx0 = std::min(xf, xf + out), bx1 = std::max(xf, xf + out);
+            add_box(s, {bx0, o.y0 - 0.12f, o.a0 - 0.4f}, {bx1, o.y0, o.a1 + 0.4f}, m);
+            for (float zz : {o.a0 - 0.3f, o.a1 + 0.3f})
+              add_beam(s, {xf, o.y0 - 0.6f, zz}, {xf + out * 0.9f, o.y0 - 0.12f, zz}, 0.06f, m);
+            for (float zz = o.a0 - 0.35f; zz <= o.a1 + 0.36f; zz += 0.12f)
+              add_round_cylinder(s, {xf + out * 0.95f, o.y0, zz}, {xf + out * 0.95f, o.y0 + 0.9f, zz}, 0.01f,
+                                 st.segments(6), iron, st.smooth, false);
+            add_beam(s, {xf + out * 0.95f, o.y0 + 0.9f, o.a0 - 0.4f}, {xf + out * 0.95f, o.y0 + 0.9f, o.a1 + 0.4f},
+                     0.04f, iron);
+          } else if (f > 0) {  // a sill
+            add_box(s, {std::min(side * half_w, side * (half_w - 0.08f)), o.y0 - 0.06f, o.a0 - 0.08f},
+                    {std::max(side * half_w, side * (half_w - 0.08f)), o.y0, o.a1 + 0.08f}, m);
+          }
+        }
+        add_facade_storey(s, x, z, z + bw, y0, y1, thick, holes, m);
+      }
+      add_box(s, {std::min(x, x + side * 3), 0.15f + fh * float(floors), z},
+              {std::max(x, x + side * 3), 0.45f + fh * float(floors), z + bw}, m);  // roof edge / cornice
+      z += bw;
+    }
+    for (float z = -len + float(rng.uniform(1, 6)); z < len - 3;) {  // parked cars along the kerb
+      if (rng.below(3) != 0) add_car(s, rng, {kerb - side * 1.1f, 0, z + 2.2f}, st);
+      z += float(rng.uniform(4.8, 7));
+    }
+    for (float z = -len + 3; z < len; z += float(rng.uniform(8, 14))) {  // lamp posts
+      Vec3 b(kerb + side * 0.4f, 0.15f, z);
+      add_round_cylinder(s, b, b + Vec3(0, 4.5f, 0), 0.06f, st.segments(12), iron, st.smooth);
+      add_sphere(s, b + Vec3(0, 4.7f, 0), 0.2f, st.segments(16), iron, st.smooth);
+    }
+    for (int k = scaled_count(8, st.density); k > 0; --k) {  // bollards
+      Vec3 b(kerb + side * 0.25f, 0.15f, float(rng.uniform(-len, len)));
+      add_lathe(s, b, {0, 1, 0}, {{0.1f, 0}, {0.1f, 0.8f}, {0.1f, 0.8f}, {0.12f, 0.85f}, {0, 0.95f}}, st.segments(16),
+                iron, st.smooth);
+    }
+  }
+  outdoor_lighting(s, rng, 25, 70);
+  s.cameras = {{-half_w + 0.6f, 1.0f, -25}, {half_w - 0.6f, 3.5f, 25}, -20, 20};
+  return s;
+}
+
+}  // namespace nns::data
