@@ -79,12 +79,7 @@ Scene make_room(uint64_t seed) {
   furnish(s, rng, hx, hz, h);
   // Lamps: a ceiling panel that rays see (emission) and the rect light it stands for,
   // plus a point light; the rest of the room is lit by bounces.
-  float lw = float(rng.uniform(0.4, 1.0));
-  Vec3 lc(float(rng.uniform(-hx / 2, hx / 2)), h - 0.01f, float(rng.uniform(-hz / 2, hz / 2)));
-  Vec3 radiance(12.0f, 11.4f, 10.2f);
-  uint32_t lamp = s.add_material({{0.8f, 0.8f, 0.8f}, radiance * 0.25f});
-  add_quad(s, lc - Vec3(lw / 2, -0.005f, lw / 2), {lw, 0, 0}, {0, 0, lw}, lamp);
-  s.rects.push_back({lc - Vec3(lw / 2, 0, lw / 2), {lw, 0, 0}, {0, 0, lw}, radiance});
+  add_ceiling_panel(s, rng, hx, hz, h);
   if (rng.below(2))
     s.points.push_back({{float(rng.uniform(-hx + 0.5, hx - 0.5)), float(rng.uniform(1.2, h - 0.4)),
                          float(rng.uniform(-hz + 0.5, hz - 0.5))},

@@ -39,15 +39,21 @@ inline void add_room_shell(Scene& s, float hx, float hz, float h, uint32_t wall,
   add_wall(s, false, hx + 0.05f, -hz, hz, h, 0.1f, {}, wall);
 }
 
-// A ceiling panel (emissive, and the rect light it stands for) and 1-2 point lamps;
-// a black sky. Enough light for the GI presets; AO does not need it.
-inline void indoor_lights(Scene& s, Rng& rng, float hx, float hz, float h) {
+// A square ceiling lamp somewhere over the middle of the room: a panel that rays see
+// (emission) and the rect light it stands for.
+inline void add_ceiling_panel(Scene& s, Rng& rng, float hx, float hz, float h) {
   float lw = float(rng.uniform(0.4, 1.0));
   Vec3 lc(float(rng.uniform(-hx / 2, hx / 2)), h - 0.01f, float(rng.uniform(-hz / 2, hz / 2)));
   Vec3 radiance(12.0f, 11.4f, 10.2f);
   uint32_t lamp = s.add_material({{0.8f, 0.8f, 0.8f}, radiance * 0.25f});
   add_quad(s, lc - Vec3(lw / 2, -0.005f, lw / 2), {lw, 0, 0}, {0, 0, lw}, lamp);
   s.rects.push_back({lc - Vec3(lw / 2, 0, lw / 2), {lw, 0, 0}, {0, 0, lw}, radiance});
+}
+
+// A ceiling panel and 1-2 point lamps; a black sky. Enough light for the GI presets;
+// AO does not need it.
+inline void indoor_lights(Scene& s, Rng& rng, float hx, float hz, float h) {
+  add_ceiling_panel(s, rng, hx, hz, h);
   for (int k = 1 + int(rng.below(2)); k > 0; --k)
     s.points.push_back({{float(rng.uniform(-hx * 0.7, hx * 0.7)), float(rng.uniform(1.0, h - 0.3)),
                          float(rng.uniform(-hz * 0.7, hz * 0.7))},
