@@ -4,6 +4,7 @@
 //   render-dataset --out data/nnao --preset nnao --views 80
 //   render-dataset --out data/gi --preset surround --size 64x64 --views 200 --path-frames 10
 //   render-dataset --out data/mine --preset gi --scene a.obj --scene b.gltf
+//   render-dataset --out data/v2 --preset nnao-v2 --views 400 --holdout-families cave,arcade
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
@@ -31,15 +32,17 @@ bool parse_size(const std::string& s, int& w, int& h) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string families_help = "procedural scene families, comma-separated (";
+  std::string families_help = "procedural scene families, comma-separated (default: nnao-v2 all, other presets the first eight: ";
   for (auto& f : data::scene_families()) families_help += f.name + (&f == &data::scene_families().back() ? ")" : ", ");
   cli::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
   data::DatasetJob job;
   job.out = args.get_string("--out", "", "output dataset folder (required)");
-  job.preset = args.get_choice("--preset", "nnao", {"nnao", "gi", "surround"},
-                               "channels: nnao = Z N albedo AO; gi = + direct emission env indirect; surround = gi as cube frames");
+  job.preset = args.get_choice("--preset", "nnao", {"nnao", "nnao-v2", "gi", "surround"},
+                               "channels: nnao = Z N albedo AO; nnao-v2 = nnao over all families with per-view fov, "
+                               "aspect, size, AO radius and pitch varied; gi = + direct emission env indirect; "
+                               "surround = gi as cube frames");
   job.views = args.get_int("--views", 80, "views (surround: frames) over train + test", 1, 1000000);
-  std::string size = args.get_string("--size", "", "image size WxH (default 320x180; gi 256x144; surround 64x64 faces)");
+  std::string size = args.get_string("--size", "", "image size WxH (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
   job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel", 1, 65536);
   job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel", 1, 65536);
   job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)", 1, 64);
@@ -47,10 +50,13 @@ int main(int argc, char** argv) {
   int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
   job.scene_files = args.get_list("--scene", "an OBJ or glTF scene file instead of the procedural families");
   std::string fams = args.get_string("--families", "", families_help);
+  std::string holdout = args.get_string("--holdout-families", "",
+                                        "families rendered only into holdout/ (leave-families-out), comma-separated");
+  job.holdout_fraction = args.get_double("--holdout-fraction", 0.2, "share of views in holdout/ (with --holdout-families)", 0.01, 0.9);
   job.path_frames = args.get_int("--path-frames", 1, "> 1: views come as smooth camera paths of this many frames", 1, 10000);
   job.views_per_scene = args.get_int("--views-per-scene", 4, "views rendered in one scene before the next", 1, 1000000);
   job.test_fraction = args.get_double("--test-fraction", 0.2, "share of views from held-out scenes (test/)", 0, 0.95);
-  job.fov_y_deg = float(args.get_double("--fov", 60, "vertical field of view in degrees (not surround)", 1, 179));
+  job.fov_y_deg = float(args.get_double("--fov", 60, "vertical field of view in degrees (not surround; nnao-v2 draws one per view)", 1, 179));
   args.done();
   if (job.out.empty()) args.error("--out is required"), args.done();
 
@@ -61,17 +67,24 @@ int main(int argc, char** argv) {
   std::stringstream ss(fams);
   for (std::string f; std::getline(ss, f, ',');)
     if (!f.empty()) job.families.push_back(f);
+  std::stringstream hs(holdout);
+  for (std::string f; std::getline(hs, f, ',');)
+    if (!f.empty()) job.holdout_families.push_back(f);
+  if (!holdout.empty() && job.holdout_families.empty()) args.error("--holdout-families: no family named in '" + holdout + "'");
+  if (!(job.holdout_fraction > 0 && job.holdout_fraction < 1)) args.error("--holdout-fraction must be in (0, 1)");
   args.done();
   job.width = w, job.height = h;
 
   return cli::run_main("render-dataset", [&] {
     set_num_threads(threads);
     data::DatasetReport r = data::render_dataset(job);
-    int n = std::max(1, r.train_views + r.test_views);
-    std::printf("%s: %d train + %d test %s (%zu + %zu scenes), %.1f s; per %s %.2f s wall, %.2f CPU-s; "
+    int n = std::max(1, r.train_views + r.test_views + r.holdout_views);
+    std::string held = r.holdout_views ? " + " + std::to_string(r.holdout_views) + " holdout" : "";
+    std::string held_scenes = r.holdout_views ? " + " + std::to_string(r.holdout_scenes.size()) : "";
+    std::printf("%s: %d train + %d test%s %s (%zu + %zu%s scenes), %.1f s; per %s %.2f s wall, %.2f CPU-s; "
                 "%.2f Mrays/s wall, %.2f Mrays per CPU-s\n",
-                job.out.c_str(), r.train_views, r.test_views, job.preset == "surround" ? "frames" : "views",
-                r.train_scenes.size(), r.test_scenes.size(), r.total_seconds,
+                job.out.c_str(), r.train_views, r.test_views, held.c_str(), job.preset == "surround" ? "frames" : "views",
+                r.train_scenes.size(), r.test_scenes.size(), held_scenes.c_str(), r.total_seconds,
                 job.preset == "surround" ? "frame" : "view", r.render_seconds / n, r.cpu_seconds / n,
                 r.render_seconds > 0 ? r.rays / r.render_seconds * 1e-6 : 0.0,
                 r.cpu_seconds > 0 ? r.rays / r.cpu_seconds * 1e-6 : 0.0);

@@ -70,6 +70,8 @@ DatasetListing list_dataset(const std::string& root) {
     if (has_train || has_test) {
       if (has_train) d.train = list_split(r / "train", d.notes);
       if (has_test) d.test = list_split(r / "test", d.notes);
+      d.has_holdout = fs::is_directory(r / "holdout");
+      if (d.has_holdout) d.holdout = list_split(r / "holdout", d.notes);
       if (!has_train) d.notes.push_back(root + ": has test/ but no train/");
       if (!has_test) d.notes.push_back(root + ": has train/ but no test/");
     } else {

@@ -36,6 +36,10 @@ struct DatasetListing {
   std::string root;
   bool flat = false;                // no train/ and test/: everything is in `train`
   SplitListing train, test;
+  // holdout/: views of whole scene families kept out of train/ and test/
+  // (render-dataset --holdout-families); trainers never read it.
+  SplitListing holdout;
+  bool has_holdout = false;
   std::vector<std::string> notes;   // e.g. "DATA/train/x: folder without face files, ignored"
 };
 

@@ -1,7 +1,11 @@
 #include "data/validate.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "data/dataset.h"
@@ -191,7 +195,46 @@ bool check_file(const std::string& path, bool is_front, const ValidateOptions& o
   return true;
 }
 
+// Reads DIR/metadata.txt into the report: "key: value" lines, '#' comments and blank
+// lines; unknown keys are kept and ignored (newer writers may add some).
+void read_metadata(const std::string& root, ValidationReport& r, ProblemSink& sink) {
+  std::filesystem::path path = std::filesystem::path(root) / "metadata.txt";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return;
+  std::ifstream in(path);
+  if (!in) {
+    sink.error(path.string(), "", "cannot read");
+    return;
+  }
+  r.has_metadata = true;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.empty() || line[0] == '#') continue;
+    size_t colon = line.find(": ");
+    if (colon == std::string::npos || colon == 0) {
+      sink.error(path.string(), "", "line " + std::to_string(n) + ": expected 'key: value', got '" + line + "'");
+      continue;
+    }
+    std::string key = line.substr(0, colon), value = line.substr(colon + 2);
+    r.metadata[key] = value;
+    if (key.rfind("families.", 0) == 0) {
+      std::vector<std::string>& list = r.split_families[key.substr(9)];
+      std::stringstream ss(value);
+      for (std::string f; std::getline(ss, f, ',');)
+        if (!f.empty()) list.push_back(f);
+    }
+  }
+}
+
 }  // namespace
+
+std::string scene_family_of(const std::string& scene) {
+  size_t dash = scene.rfind('-');
+  if (dash == std::string::npos || dash + 1 == scene.size()) return scene;
+  for (size_t i = dash + 1; i < scene.size(); ++i)
+    if (scene[i] < '0' || scene[i] > '9') return scene;
+  return scene.substr(0, dash);
+}
 
 ValidationReport validate_dataset(const std::string& root, const ValidateOptions& o) {
   ValidationReport r;
@@ -207,9 +250,12 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
   r.flat = d.flat;
   for (auto& note : d.notes) sink.warn("", "", note);
 
+  read_metadata(root, r, sink);
+
   std::vector<std::pair<std::string, const SplitListing*>> splits;
   if (d.flat) splits = {{"flat", &d.train}};
   else splits = {{"train", &d.train}, {"test", &d.test}};
+  if (!d.flat && d.has_holdout) splits.push_back({"holdout", &d.holdout});
   std::map<std::string, std::map<std::string, std::string>> first_file;  // split -> scene -> file
 
   for (auto& [name, split] : splits) {
@@ -255,6 +301,37 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
                    "scene '" + scene + "' is in both train/ and test/ (e.g. " + first_file["train"][scene] +
                        "); test views must come from held-out scenes");
 
+  // Leave-families-out: no scene of holdout/ elsewhere, and (when metadata.txt names
+  // the held-out families) none of their scenes in train/ or test/, and nothing else
+  // in holdout/.
+  if (d.has_holdout)
+    for (auto& scene : r.scenes["holdout"])
+      for (const char* other : {"train", "test"})
+        if (r.scenes[other].count(scene))
+          sink.error(first_file["holdout"][scene], "",
+                     "scene '" + scene + "' is in both holdout/ and " + other + "/ (e.g. " + first_file[other][scene] +
+                         "); held-out views must come from held-out families");
+  if (r.split_families.count("holdout")) {
+    const auto& held = r.split_families["holdout"];
+    auto is_held = [&](const std::string& scene) {
+      return std::find(held.begin(), held.end(), scene_family_of(scene)) != held.end();
+    };
+    std::string meta = (std::filesystem::path(root) / "metadata.txt").string();
+    if (!d.has_holdout)
+      sink.error(meta, "", "families.holdout names held-out families but the dataset has no holdout/ folder");
+    for (const char* split : {"train", "test"})
+      for (auto& scene : r.scenes[split])
+        if (is_held(scene))
+          sink.error(first_file[split][scene], "",
+                     "scene '" + scene + "' belongs to family '" + scene_family_of(scene) +
+                         "', held out in metadata.txt, but is in " + split + "/");
+    for (auto& scene : r.scenes["holdout"])
+      if (!is_held(scene))
+        sink.error(first_file["holdout"][scene], "",
+                   "scene '" + scene + "' is in holdout/ but its family '" + scene_family_of(scene) +
+                       "' is not in metadata.txt's families.holdout");
+  }
+
   int64_t total = 0;
   for (auto& [n, c] : r.views) total += c;
   for (auto& [n, c] : r.frames) total += c;
@@ -263,8 +340,9 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
 }
 
 void print_report(std::FILE* out, const ValidationReport& r) {
-  std::fprintf(out, "dataset %s (%s)\n", r.root.c_str(), r.flat ? "flat: no train/ test/ split" : "train/ + test/");
-  for (const char* split : {"train", "test", "flat"}) {
+  std::fprintf(out, "dataset %s (%s)\n", r.root.c_str(),
+               r.flat ? "flat: no train/ test/ split" : r.views.count("holdout") ? "train/ + test/ + holdout/" : "train/ + test/");
+  for (const char* split : {"train", "test", "holdout", "flat"}) {
     if (!r.views.count(split)) continue;
     const int64_t n = r.views.at(split);
     std::fprintf(out, "  %-6s %lld views, %lld surround frames, %zu scenes", split, (long long)n,
@@ -280,8 +358,32 @@ void print_report(std::FILE* out, const ValidationReport& r) {
     }
     std::fprintf(out, "\n");
   }
+  if (r.has_metadata) {
+    auto get = [&](const std::string& k) { return r.metadata.count(k) ? r.metadata.at(k) : std::string("-"); };
+    std::fprintf(out, "  metadata.txt: preset %s, seed %s\n", get("preset").c_str(), get("seed").c_str());
+    for (auto& [split, fams] : r.split_families) {
+      std::string names;
+      for (auto& f : fams) names += (names.empty() ? "" : ", ") + f;
+      std::fprintf(out, "    families in %s/: %s\n", split.c_str(), names.c_str());
+    }
+    if (r.split_families.count("holdout"))
+      std::fprintf(out, "    held out (leave-families-out): %zu families, only in holdout/\n",
+                   r.split_families.at("holdout").size());
+    if (r.metadata.count("view-variation"))
+      std::fprintf(out, "    view variation: %s\n", r.metadata.at("view-variation").c_str());
+  }
   std::string res;
-  for (auto& [wh, n] : r.resolutions) res += (res.empty() ? "" : ", ") + wh + " (" + std::to_string(n) + " files)";
+  if (r.resolutions.size() <= 8) {
+    for (auto& [wh, n] : r.resolutions) res += (res.empty() ? "" : ", ") + wh + " (" + std::to_string(n) + " files)";
+  } else {  // nnao-v2 gives nearly every view its own size: a range says more than a list
+    int64_t files = 0, wmin = INT64_MAX, wmax = 0, hmin = INT64_MAX, hmax = 0;
+    for (auto& [wh, n] : r.resolutions) {
+      int64_t w = std::stoll(wh.substr(0, wh.find('x'))), h = std::stoll(wh.substr(wh.find('x') + 1));
+      files += n, wmin = std::min(wmin, w), wmax = std::max(wmax, w), hmin = std::min(hmin, h), hmax = std::max(hmax, h);
+    }
+    res = std::to_string(r.resolutions.size()) + " sizes over " + std::to_string(files) + " files, width " +
+          std::to_string(wmin) + "-" + std::to_string(wmax) + ", height " + std::to_string(hmin) + "-" + std::to_string(hmax);
+  }
   std::fprintf(out, "  resolutions: %s\n", res.empty() ? "none" : res.c_str());
   std::fprintf(out, "  channels:       files        min        max\n");
   for (auto& [ch, s] : r.channels) {

@@ -36,7 +36,12 @@ struct ValidationReport {
   bool flat = false;
   std::map<std::string, int64_t> views, frames;          // per split ("train", "test")
   std::map<std::string, int64_t> resolutions;            // "WxH" -> files
-  std::map<std::string, std::set<std::string>> scenes;   // split -> scene names
+  std::map<std::string, std::set<std::string>> scenes;   // split -> scene names ("holdout" too)
+  // DIR/metadata.txt, when present (render-dataset writes it for nnao-v2 and for
+  // --holdout-families): every "key: value" line, and the "families.<split>" lists.
+  bool has_metadata = false;
+  std::map<std::string, std::string> metadata;
+  std::map<std::string, std::vector<std::string>> split_families;
   std::map<std::string, ChannelSummary> channels;
   std::vector<Problem> problems;     // the first max_problems errors and warnings
   int64_t errors = 0, warnings = 0;  // all of them, also those not kept
@@ -77,6 +82,10 @@ void check_view(const View& v, const ExrInfo* info, bool is_front, const Validat
                 ProblemSink& sink, ValidationReport* summary = nullptr);
 
 ValidationReport validate_dataset(const std::string& root, const ValidateOptions& o);
+
+// The family of a procedural scene name "<family>-<instance>" (the name without its
+// trailing "-<digits>"); a name without such a suffix is its own family.
+std::string scene_family_of(const std::string& scene);
 
 void print_report(std::FILE* out, const ValidationReport& r);
 

@@ -1,11 +1,16 @@
 #include "render/dataset_writer.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <set>
 #include <stdexcept>
+#include <unistd.h>
 
 #include "core/progress.h"
 #include "data/exr_io.h"
@@ -23,17 +28,25 @@ void apply_preset(DatasetJob& job) {
   RenderSettings& s = job.settings;
   if (job.preset == "nnao") {
     s.ao = true, s.lighting = false;
+  } else if (job.preset == "nnao-v2") {
+    s.ao = true, s.lighting = false;
+    job.vary_views = true;
   } else if (job.preset == "gi" || job.preset == "surround") {
     s.ao = true, s.lighting = true, s.indirect = true;
   } else {
-    throw std::invalid_argument("unknown preset '" + job.preset + "' (nnao, gi, surround)");
+    throw std::invalid_argument("unknown preset '" + job.preset + "' (nnao, nnao-v2, gi, surround)");
   }
+}
+
+const std::vector<std::pair<int, int>>& ViewVariation::aspects() {
+  static const std::vector<std::pair<int, int>> a = {{1, 1}, {4, 3}, {3, 2}, {16, 9}, {2, 1}, {3, 4}};
+  return a;
 }
 
 namespace {
 // One scene to render `views` views (or frames) of, into `split`.
 struct SceneTask {
-  std::string split;        // "train" or "test"
+  std::string split;        // "train", "test" or "holdout"
   std::string family;       // procedural family, or empty for a file
   int instance = 0;
   std::string file;
@@ -50,6 +63,93 @@ std::string zero_padded(int i, int width) {
   char buf[16];
   std::snprintf(buf, sizeof buf, "%0*d", width, i);
   return buf;
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string out;
+  for (auto& x : v) out += (out.empty() ? "" : ",") + x;
+  return out;
+}
+
+// Checks the holdout list against the families to render and takes it out of them.
+void split_off_holdout(std::vector<std::string>& families, const std::vector<std::string>& holdout,
+                       bool families_given) {
+  std::set<std::string> seen;
+  for (auto& h : holdout) {
+    try {
+      scene_family(h);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--holdout-families: ") + e.what());
+    }
+    if (!seen.insert(h).second) throw std::invalid_argument("--holdout-families: '" + h + "' is listed twice");
+    if (std::find(families.begin(), families.end(), h) == families.end())
+      throw std::invalid_argument("--holdout-families: '" + h + "' is not among the families rendered (" +
+                                  (families_given ? "--families " : "the preset's: ") + joined(families) + ")");
+  }
+  families.erase(std::remove_if(families.begin(), families.end(), [&](const std::string& f) { return seen.count(f) > 0; }),
+                 families.end());
+  if (families.empty())
+    throw std::invalid_argument("--holdout-families: holds out every family (" + joined(holdout) +
+                                "), leaving none for train/ and test/");
+}
+
+// A view's size, fov and AO radius: the job's, or (vary_views) drawn from ViewVariation.
+struct ViewShape {
+  int width, height;
+  float fov, ao_radius;  // ao_radius 0 = the scene's
+};
+ViewShape draw_view_shape(const DatasetJob& job, Rng& rng) {
+  ViewVariation var;
+  ViewShape v{job.width, job.height, job.fov_y_deg, 0};
+  if (!job.vary_views) return v;
+  v.fov = float(rng.uniform(var.fov_min, var.fov_max));
+  auto [aw, ah] = ViewVariation::aspects()[rng.below(ViewVariation::aspects().size())];
+  double area = double(job.width) * job.height * rng.uniform(var.area_min, var.area_max);
+  v.height = std::max(8, int(std::lround(std::sqrt(area * ah / aw))));
+  v.width = std::max(8, int(std::lround(double(v.height) * aw / ah)));
+  v.ao_radius = float(std::exp(rng.uniform(std::log(double(var.radius_min)), std::log(double(var.radius_max)))));
+  return v;
+}
+
+// The families that have at least one scene in `split`, in task order.
+std::vector<std::string> families_in(const std::vector<SceneTask>& tasks, const std::string& split) {
+  std::vector<std::string> out;
+  for (auto& t : tasks)
+    if (t.split == split && !t.family.empty() && std::find(out.begin(), out.end(), t.family) == out.end())
+      out.push_back(t.family);
+  return out;
+}
+
+// DIR/metadata.txt (docs/dataset-format.md): "key: value" lines, written to a
+// temporary name and renamed like the views. Train and test list the families they
+// really hold (a small job may not reach every family); holdout lists every held-out
+// family, since none of them may appear elsewhere, rendered or not.
+void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) {
+  const std::vector<std::string>& holdout = job.holdout_families;
+  fs::path path = fs::path(job.out) / kMetadataFile;
+  fs::path tmp = path.string() + ".partial-" + std::to_string(::getpid());
+  {
+    std::ofstream m(tmp);
+    m << "# nnshade dataset metadata (docs/dataset-format.md, \"Dataset metadata\")\n"
+      << "format: nnshade-dataset-metadata 1\n"
+      << "preset: " << job.preset << "\n"
+      << "seed: " << job.settings.seed << "\n"
+      << "families.train: " << joined(families_in(tasks, "train")) << "\n"
+      << "families.test: " << joined(families_in(tasks, "test")) << "\n";
+    if (!holdout.empty()) m << "families.holdout: " << joined(holdout) << "\n";
+    if (job.vary_views) {
+      ViewVariation v;
+      char buf[512];
+      std::snprintf(buf, sizeof buf,
+                    "view-variation: fovY %g-%g deg uniform; aspect 1:1 4:3 3:2 16:9 2:1 3:4; pixels %g-%g x %dx%d; "
+                    "aoRadius %g-%g log-uniform; pitch range widened %g deg each way\n",
+                    v.fov_min, v.fov_max, v.area_min, v.area_max, job.width, job.height, v.radius_min, v.radius_max,
+                    v.pitch_widen);
+      m << buf;
+    }
+    if (!m) throw std::runtime_error(tmp.string() + ": cannot write");
+  }
+  fs::rename(tmp, path);
 }
 
 // Splits `total` views over scenes of about `per_scene` views each (whole paths of
@@ -93,9 +193,26 @@ DatasetReport render_dataset(DatasetJob job) {
   int per_scene = std::max(job.views_per_scene, P);
 
   std::vector<std::string> families = job.families;
-  if (families.empty())
-    for (auto& f : scene_families()) families.push_back(f.name);
+  if (families.empty()) {
+    // The older presets keep their eight families, so their datasets do not change.
+    // nnao-v2 takes both generations, interleaved: scenes go to families round-robin,
+    // so a split with fewer scenes than families still mixes old and new kinds.
+    std::vector<std::string> g1 = scene_family_names(1), g2 = scene_family_names(2);
+    if (job.preset != "nnao-v2") g2.clear();
+    for (size_t i = 0; i < std::max(g1.size(), g2.size()); ++i) {
+      if (i < g1.size()) families.push_back(g1[i]);
+      if (i < g2.size()) families.push_back(g2[i]);
+    }
+  }
   for (auto& f : families) scene_family(f);  // validates the names
+  const bool holdout = !job.holdout_families.empty();
+  if (holdout) {
+    if (!job.scene_files.empty())
+      throw std::invalid_argument("--holdout-families holds out procedural families; it cannot be used with --scene");
+    if (!(job.holdout_fraction > 0 && job.holdout_fraction < 1))
+      throw std::invalid_argument("--holdout-fraction must be in (0, 1)");
+    split_off_holdout(families, job.holdout_families, !job.families.empty());
+  }
 
   // Train and test from disjoint scenes: held-out instances of every family, or
   // held-out files (a single file cannot be split, so it all goes to train).
@@ -110,12 +227,28 @@ DatasetReport render_dataset(DatasetJob job) {
   // Whole paths in each split, at least one in test (when there is a test scene).
   int n_test_views = std::max(1, int(job.views * job.test_fraction / P + 0.5)) * P;
   if ((!job.scene_files.empty() && test_files.empty()) || job.views < 2 * P) n_test_views = 0;
-  int n_train_views = job.views - n_test_views;
+  int n_holdout_views = holdout ? std::max(1, int(job.views * job.holdout_fraction / P + 0.5)) * P : 0;
+  int n_train_views = job.views - n_test_views - n_holdout_views;
+  if (n_train_views < 1)
+    throw std::invalid_argument("--views " + std::to_string(job.views) + " leaves no train view after " +
+                                std::to_string(n_test_views) + " test and " + std::to_string(n_holdout_views) +
+                                " holdout views");
   std::vector<SceneTask> tasks;
   add_tasks(tasks, "train", n_train_views, per_scene, P, families, train_files, 0);
   add_tasks(tasks, "test", n_test_views, per_scene, P, families, test_files, 100000);
+  // Instances of their own, so even a dataset that trains on these families (another
+  // job) never shares a scene with this holdout split.
+  add_tasks(tasks, "holdout", n_holdout_views, per_scene, P, job.holdout_families, {}, 200000);
 
   fs::create_directories(job.out);
+  if (holdout) {
+    std::vector<std::string> rendered = families_in(tasks, "holdout");
+    for (auto& f : job.holdout_families)
+      if (std::find(rendered.begin(), rendered.end(), f) == rendered.end())
+        std::fprintf(stderr, "render-dataset: held-out family '%s' gets no view (%d holdout views for %zu families)\n",
+                     f.c_str(), n_holdout_views, job.holdout_families.size());
+  }
+  if (holdout || job.vary_views) write_metadata(job, tasks);
   DatasetReport report;
   Progress bar("render " + job.preset, job.views);
   int done = 0;
@@ -124,14 +257,26 @@ DatasetReport render_dataset(DatasetJob job) {
   for (const SceneTask& task : tasks) {
     Scene scene = task.file.empty() ? make_family_scene(task.family, task.instance, job.settings.seed)
                                     : load_mesh_scene(task.file);
+    if (job.vary_views) {
+      ViewVariation var;
+      scene.cameras.pitch_min_deg = std::max(-80.0f, scene.cameras.pitch_min_deg - var.pitch_widen);
+      scene.cameras.pitch_max_deg = std::min(70.0f, scene.cameras.pitch_max_deg + var.pitch_widen);
+    }
     RayTracer rt(scene);
-    (task.split == "train" ? report.train_scenes : report.test_scenes).push_back(scene.name);
+    (task.split == "train" ? report.train_scenes : task.split == "test" ? report.test_scenes : report.holdout_scenes)
+        .push_back(scene.name);
     fs::path dir = fs::path(job.out) / task.split;
     fs::create_directories(dir);
     Rng cam_rng = Rng(job.settings.seed).fork(hash_name(scene.name));
-    int w = job.width, h = surround ? job.width : job.height;
-    float fov = surround ? 90.0f : job.fov_y_deg;
+    // A stream of its own: drawing view shapes must not move the cameras of the presets
+    // that do not vary them.
+    Rng shape_rng = Rng(job.settings.seed ^ 0x5eed5eed5eedull).fork(hash_name(scene.name));
     for (int v0 = 0; v0 < task.views; v0 += P) {
+      ViewShape shape = draw_view_shape(job, shape_rng);
+      int w = shape.width, h = surround ? shape.width : shape.height;
+      float fov = surround ? 90.0f : shape.fov;
+      RenderSettings settings = job.settings;
+      settings.ao_radius = shape.ao_radius;
       std::vector<Camera> cams;
       if (P == 1) cams.push_back(place_camera(rt, w, h, fov, cam_rng));
       else cams = camera_path(rt, w, h, fov, std::min(P, task.views - v0), cam_rng);
@@ -141,13 +286,13 @@ DatasetReport render_dataset(DatasetJob job) {
         // View ids mix the dataset-wide counter with the scene, so no two views share noise.
         uint64_t id = hash_name(scene.name) ^ (view_counter++ * 0x9E3779B97F4A7C15ull);
         if (surround) {
-          auto faces = render_surround(rt, cams[f], w, job.settings, id, false, &stats);
+          auto faces = render_surround(rt, cams[f], w, settings, id, false, &stats);
           fs::create_directories(dir / name);
           for (int i = 0; i < 6; ++i) write_view((dir / name / (cube_face_names()[size_t(i)] + ".exr")).string(), faces[size_t(i)]);
         } else {
-          write_view((dir / (name + ".exr")).string(), render_view(rt, cams[f], job.settings, id, nullptr, &stats));
+          write_view((dir / (name + ".exr")).string(), render_view(rt, cams[f], settings, id, nullptr, &stats));
         }
-        (task.split == "train" ? report.train_views : report.test_views)++;
+        (task.split == "train" ? report.train_views : task.split == "test" ? report.test_views : report.holdout_views)++;
         ++done;
         if (job.progress) {
           char status[64];

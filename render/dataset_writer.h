@@ -2,6 +2,8 @@
 // render_dataset: renders a whole dataset (docs/dataset-format.md) from procedural
 // scene families and/or mesh files, into DIR/train and DIR/test. Train and test never
 // share a scene: test views come from other instances of each family (or other files).
+// Held-out families (leave-families-out) go only to DIR/holdout, and DIR/metadata.txt
+// records which families are in which split.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -12,7 +14,8 @@ namespace nns::data {
 
 struct DatasetJob {
   std::string out;                     // dataset folder (created)
-  std::string preset = "nnao";         // nnao: Z N albedo AO; gi: + lighting; surround: cube frames
+  std::string preset = "nnao";         // nnao: Z N albedo AO; nnao-v2: nnao with varied views
+                                       // and all families; gi: + lighting; surround: cube frames
   int views = 80;                      // views (frames for surround) over train + test
   double test_fraction = 0.2;          // share of views rendered from held-out scenes
   int views_per_scene = 4;             // views taken in one scene before the next
@@ -20,21 +23,44 @@ struct DatasetJob {
   float fov_y_deg = 60;                // ignored for surround (faces are 90 degrees)
   int path_frames = 1;                 // > 1: views come as camera paths of this length
   std::vector<std::string> scene_files;  // OBJ / glTF; none = procedural families
-  std::vector<std::string> families;     // procedural families to use; empty = all
+  std::vector<std::string> families;     // procedural families to use; empty = the preset's
+                                         // (generation 1 for nnao/gi/surround, all for nnao-v2)
+  // Leave-families-out: these families render only into holdout/, never into train/
+  // or test/; they must be among `families` (or the preset's), and leave at least one.
+  std::vector<std::string> holdout_families;
+  double holdout_fraction = 0.2;       // share of `views` that goes to holdout/
+  // Per-view randomisation of what real scenes vary (set by the nnao-v2 preset; see
+  // ViewVariation): fov, aspect, resolution, AO radius, a wider pitch range.
+  bool vary_views = false;
   RenderSettings settings;             // spp, bounces, seed; ao/lighting set by preset
   bool progress = true;                // progress bar on stderr
 };
 
+// The ranges nnao-v2 draws from, per view (per path for camera paths). The image keeps
+// about the job's pixel count times `area` so every view costs about the same.
+struct ViewVariation {
+  float fov_min = 35, fov_max = 90;        // vertical fov, degrees, uniform
+  float area_min = 0.6f, area_max = 1.0f;  // pixel count relative to width x height, uniform
+  float radius_min = 0.1f, radius_max = 3; // AO radius in metres, log-uniform
+  float pitch_widen = 10;                  // degrees added to each end of the scene's pitch range
+  static const std::vector<std::pair<int, int>>& aspects();  // 1:1 4:3 3:2 16:9 2:1 3:4
+};
+
 struct DatasetReport {
-  int train_views = 0, test_views = 0;  // files (surround: frames)
+  int train_views = 0, test_views = 0, holdout_views = 0;  // files (surround: frames)
   uint64_t rays = 0;
   double render_seconds = 0, total_seconds = 0;  // wall clock: rendering, everything
   double cpu_seconds = 0;  // process CPU time (both threads): the figure a busy machine cannot inflate
-  std::vector<std::string> train_scenes, test_scenes;
+  std::vector<std::string> train_scenes, test_scenes, holdout_scenes;
 };
 
 // Applies a preset's channel choice to job.settings (called by render_dataset).
 void apply_preset(DatasetJob& job);
+
+// The metadata file of a dataset (DIR/metadata.txt, docs/dataset-format.md): written
+// when a job holds families out or varies its views, so the older presets' folders
+// stay byte for byte what they were.
+inline constexpr const char* kMetadataFile = "metadata.txt";
 
 DatasetReport render_dataset(DatasetJob job);
 

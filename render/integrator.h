@@ -17,6 +17,7 @@ struct RenderSettings {
   bool lighting = true;  // write direct / emission / env (and indirect, below)
   bool indirect = true;  // with lighting: also path-trace `indirect`, the GI target
   uint64_t seed = 0;
+  float ao_radius = 0;   // > 0: AO radius for this view instead of the scene's (nnao-v2 varies it per view)
 };
 
 // Cosine-weighted fraction of the hemisphere around hit.normal whose rays travel

@@ -28,6 +28,9 @@ RayTracer::RayTracer(const Scene& scene) : scene_(scene) {
       if (v >= scene.positions.size())
         throw std::runtime_error("scene '" + scene.name + "': triangle vertex index out of range");
   }
+  if (!scene.normals.empty() && scene.normals.size() != scene.positions.size())
+    throw std::runtime_error("scene '" + scene.name + "': " + std::to_string(scene.normals.size()) +
+                             " vertex normals for " + std::to_string(scene.positions.size()) + " positions");
   // One build thread: the BVH (and so tie-breaking between coincident triangles) does
   // not then depend on the machine, and our own pool owns the cores while tracing.
   device_ = rtcNewDevice("threads=1");
@@ -89,6 +92,19 @@ Hit RayTracer::intersect(Vec3 o, Vec3 d, float tnear, float tfar) const {
   Vec3 n = normalize(cross(scene_.positions[tri.v[1]] - scene_.positions[tri.v[0]],
                            scene_.positions[tri.v[2]] - scene_.positions[tri.v[0]]));
   h.normal = dot(n, d) > 0 ? -n : n;
+  if (!scene_.normals.empty()) {
+    const Vec3 &n0 = scene_.normals[tri.v[0]], &n1 = scene_.normals[tri.v[1]], &n2 = scene_.normals[tri.v[2]];
+    if (dot(n0, n0) > 0 && dot(n1, n1) > 0 && dot(n2, n2) > 0) {
+      // Embree's (u, v) weight vertices 1 and 2. The interpolated normal goes to the
+      // side the ray sees (surfaces are two-sided); it may lean a few degrees past the
+      // facet, so AO rays below the facet hit the surface itself, as they would on
+      // the true faceted geometry (a (1 - cos d) / 2 loss for a lean of d: < 0.3% at
+      // the 6 degrees of a 32-sided cylinder).
+      float u = rh.hit.u, v = rh.hit.v;
+      Vec3 s = normalize(n0 * (1 - u - v) + n1 * u + n2 * v);
+      if (dot(s, s) > 0) h.normal = dot(s, h.normal) < 0 ? -s : s;
+    }
+  }
   h.material = &scene_.materials[tri.material];
   return h;
 }

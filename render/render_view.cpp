@@ -46,8 +46,9 @@ View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s
   p.ny = v.add_channel("N.Y").data();
   p.nz = v.add_channel("N.Z").data();
   rgb_planes(v, "albedo", p.alb);
+  const float ao_radius = s.ao_radius > 0 ? s.ao_radius : sc.ao_radius;
   if (s.ao) {
-    v.ao_radius = sc.ao_radius;
+    v.ao_radius = ao_radius;
     p.ao = v.add_channel("AO").data();
   }
   if (s.lighting) {
@@ -81,7 +82,7 @@ View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s
         Vec3 n = nframe.to_camera(h.normal);
         p.nx[i] = n.x, p.ny[i] = n.y, p.nz[i] = n.z;
         put(p.alb, i, h.material->albedo);
-        if (p.ao) p.ao[i] = ambient_occlusion(rt, h, sc.ao_radius, s.ao_spp, rng);
+        if (p.ao) p.ao[i] = ambient_occlusion(rt, h, ao_radius, s.ao_spp, rng);
         if (s.lighting) {
           put(p.dir, i, direct_light(rt, h.position, h.normal, s.light_spp, rng));
           put(p.emi, i, h.material->emission);

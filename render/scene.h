@@ -68,6 +68,11 @@ struct CameraRegion {
 struct Scene {
   std::string name;  // the dataset's `scene` attribute: family-instance or file stem
   std::vector<Vec3> positions;
+  // Per-vertex shading normals (render/scenes/mesh_builder.h): empty, or one per
+  // position. A triangle whose three vertex normals are non-zero is shaded with their
+  // barycentric interpolation (smooth curved surfaces); a zero normal at any of its
+  // vertices keeps it flat, so faceted and smooth parts share one vertex array.
+  std::vector<Vec3> normals;
   std::vector<Triangle> triangles;
   std::vector<Material> materials;
   std::vector<Sun> suns;

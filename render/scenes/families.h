@@ -15,10 +15,16 @@ struct SceneFamily {
   std::string name;
   std::string what_it_tests;
   Scene (*make)(uint64_t seed);
+  // 1: the original eight, the default of the nnao/gi/surround presets (whose output
+  // must not change); 2: the families built on mesh_builder.h (curved surfaces,
+  // generated meshes), added for the nnao-v2 preset.
+  int generation = 1;
 };
 
-// All families, in a fixed order.
+// All families, in a fixed order: generation 1, then generation 2.
 const std::vector<SceneFamily>& scene_families();
+// The names of the families of one generation, in that order.
+std::vector<std::string> scene_family_names(int generation);
 // Throws naming the unknown family and listing the known ones.
 const SceneFamily& scene_family(const std::string& name);
 // Instance `instance` of `family` under dataset seed `seed`; named "<family>-<instance>".
@@ -33,5 +39,17 @@ Scene make_voxel(uint64_t seed);
 Scene make_thin(uint64_t seed);
 Scene make_floating(uint64_t seed);
 Scene make_offscreen(uint64_t seed);
+// Generation 2 (families_interior/architecture/nature/shapes.cpp).
+Scene make_lounge(uint64_t seed);
+Scene make_clutter(uint64_t seed);
+Scene make_stairwell(uint64_t seed);
+Scene make_arcade(uint64_t seed);
+Scene make_vaults(uint64_t seed);
+Scene make_street(uint64_t seed);
+Scene make_foliage(uint64_t seed);
+Scene make_terrain(uint64_t seed);
+Scene make_cave(uint64_t seed);
+Scene make_round(uint64_t seed);
+Scene make_pipes(uint64_t seed);
 
 }  // namespace nns::data

@@ -1,7 +1,7 @@
 // Indoor families: furnished rooms lit by lamps, and rooms lit through windows by a
 // sun that falls behind the camera.
 #include "render/scenes/families.h"
-#include "render/scenes/family_util.h"
+#include "render/scenes/family_kit.h"
 
 namespace nns::data {
 
@@ -69,12 +69,7 @@ Scene make_room(uint64_t seed) {
   float hx = float(rng.uniform(2.5, 4.5)), hz = float(rng.uniform(2.5, 4.5)), h = float(rng.uniform(2.6, 3.4));
   uint32_t wall = s.add_material(random_material(rng, 0.5f, 0.85f));
   uint32_t floor = s.add_material(random_material(rng, 0.2f, 0.6f));
-  add_box(s, {-hx - 0.1f, -0.1f, -hz - 0.1f}, {hx + 0.1f, 0, hz + 0.1f}, floor);
-  add_box(s, {-hx - 0.1f, h, -hz - 0.1f}, {hx + 0.1f, h + 0.1f, hz + 0.1f}, wall);
-  add_wall(s, true, -hz - 0.05f, -hx, hx, h, 0.1f, {}, wall);
-  add_wall(s, true, hz + 0.05f, -hx, hx, h, 0.1f, {}, wall);
-  add_wall(s, false, -hx - 0.05f, -hz, hz, h, 0.1f, {}, wall);
-  add_wall(s, false, hx + 0.05f, -hz, hz, h, 0.1f, {}, wall);
+  add_room_shell(s, hx, hz, h, wall, floor);
   // A pillar or a partition breaks the box into corners and occluded nooks.
   if (rng.below(2)) {
     uint32_t m = s.add_material(random_material(rng));
@@ -84,12 +79,7 @@ Scene make_room(uint64_t seed) {
   furnish(s, rng, hx, hz, h);
   // Lamps: a ceiling panel that rays see (emission) and the rect light it stands for,
   // plus a point light; the rest of the room is lit by bounces.
-  float lw = float(rng.uniform(0.4, 1.0));
-  Vec3 lc(float(rng.uniform(-hx / 2, hx / 2)), h - 0.01f, float(rng.uniform(-hz / 2, hz / 2)));
-  Vec3 radiance(12.0f, 11.4f, 10.2f);
-  uint32_t lamp = s.add_material({{0.8f, 0.8f, 0.8f}, radiance * 0.25f});
-  add_quad(s, lc - Vec3(lw / 2, -0.005f, lw / 2), {lw, 0, 0}, {0, 0, lw}, lamp);
-  s.rects.push_back({lc - Vec3(lw / 2, 0, lw / 2), {lw, 0, 0}, {0, 0, lw}, radiance});
+  add_ceiling_panel(s, rng, hx, hz, h);
   if (rng.below(2))
     s.points.push_back({{float(rng.uniform(-hx + 0.5, hx - 0.5)), float(rng.uniform(1.2, h - 0.4)),
                          float(rng.uniform(-hz + 0.5, hz - 0.5))},

@@ -187,3 +187,60 @@ TEST(DatasetInfo, EmptyFolderIsAProblemNotACrash) {
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_TRUE(has(r.output, "no views found")) << r.output;
 }
+
+// A leave-families-out dataset: holdout/ is listed as a split of its own and
+// metadata.txt's family lists are shown; a held-out family leaking into train/, a
+// holdout/ scene of another family and a malformed metadata line are problems.
+TEST(DatasetInfo, HoldoutSplitAndMetadata) {
+  Dataset d("holdout");
+  d.add("train/a.exr", nnao_view("room-0"));
+  d.add("test/b.exr", nnao_view("room-100000"));
+  d.add("holdout/c.exr", nnao_view("cave-200000"));
+  d.add("holdout/d.exr", nnao_view("cave-200001"));
+  auto metadata = [&](const std::string& extra) {
+    std::ofstream(d.file("metadata.txt")) << "# comment\nformat: nnshade-dataset-metadata 1\npreset: nnao-v2\nseed: 7\n"
+                                             "families.train: room\nfamilies.test: room\nfamilies.holdout: cave\n"
+                                          << extra;
+  };
+  metadata("");
+  Outcome r = run("--purpose nnao " + d.root.string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(has(r.output, "(train/ + test/ + holdout/)")) << r.output;
+  EXPECT_TRUE(has(r.output, "holdout 2 views, 0 surround frames, 2 scenes: cave-200000, cave-200001")) << r.output;
+  EXPECT_TRUE(has(r.output, "metadata.txt: preset nnao-v2, seed 7")) << r.output;
+  EXPECT_TRUE(has(r.output, "families in holdout/: cave")) << r.output;
+  EXPECT_TRUE(has(r.output, "held out (leave-families-out): 1 families, only in holdout/")) << r.output;
+
+  d.add("train/leak.exr", nnao_view("cave-3"));
+  d.add("holdout/stray.exr", nnao_view("room-200000"));
+  metadata("this line has no colon\n");
+  r = run("--purpose nnao " + d.root.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(has(r.output, d.file("train/leak.exr") + ": scene 'cave-3' belongs to family 'cave', held out in "
+                            "metadata.txt, but is in train/")) << r.output;
+  EXPECT_TRUE(has(r.output, d.file("holdout/stray.exr") + ": scene 'room-200000' is in holdout/ but its family 'room'"))
+      << r.output;
+  EXPECT_TRUE(has(r.output, d.file("metadata.txt") + ": line 8: expected 'key: value'")) << r.output;
+}
+
+// Without metadata.txt a holdout/ folder is still a split; its scenes must not be in
+// train/ or test/.
+TEST(DatasetInfo, HoldoutSceneAlsoInTrainIsALeak) {
+  Dataset d("holdout-leak");
+  d.add("train/a.exr", nnao_view("kitchen"));
+  d.add("test/b.exr", nnao_view("attic"));
+  d.add("holdout/c.exr", nnao_view("kitchen"));
+  Outcome r = run(d.root.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(has(r.output, d.file("holdout/c.exr") + ": scene 'kitchen' is in both holdout/ and train/")) << r.output;
+}
+
+// Many sizes (nnao-v2 varies them per view) are summarised as ranges.
+TEST(DatasetInfo, ManyResolutionsAreSummarised) {
+  Dataset d("sizes");
+  for (int i = 0; i < 10; ++i) d.add("train/v" + std::to_string(i) + ".exr", nnao_view("kitchen", 8 + i, 6 + i / 2));
+  d.add("test/t.exr", nnao_view("attic"));
+  Outcome r = run(d.root.string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(has(r.output, "resolutions: 10 sizes over 11 files, width 8-17, height 6-10")) << r.output;
+}

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 #include <string>
 
 #include "data/validate.h"
@@ -41,6 +42,21 @@ TEST(RenderDatasetCli, TinyRenderValidates) {
   fs::remove_all(out);
 }
 
+TEST(RenderDatasetCli, HoldoutRenderValidates) {
+  ASSERT_TRUE(fs::exists(kBin)) << kBin << " is not built (ninja render-dataset)";
+  std::string out = temp_dir() + "-holdout", log;
+  int rc = run(kBin + " --out " + out + " --preset nnao-v2 --views 4 --size 16x9 --spp 4 --families room,cave,pipes"
+                      " --holdout-families cave --threads 2",
+               log);
+  ASSERT_EQ(rc, 0) << log;
+  EXPECT_NE(log.find("2 train + 1 test + 1 holdout views"), std::string::npos) << log;
+  nns::data::ValidationReport v = nns::data::validate_dataset(out, {nns::data::Purpose::nnao});
+  EXPECT_TRUE(v.clean());
+  for (auto& p : v.problems) ADD_FAILURE() << p.str();
+  EXPECT_EQ(v.scenes["holdout"], std::set<std::string>{"cave-200000"});
+  fs::remove_all(out);
+}
+
 TEST(RenderDatasetCli, BadInputIsAnErrorThatSaysWhy) {
   ASSERT_TRUE(fs::exists(kBin)) << kBin << " is not built (ninja render-dataset)";
   std::string out = temp_dir() + "-bad", log;
@@ -52,6 +68,14 @@ TEST(RenderDatasetCli, BadInputIsAnErrorThatSaysWhy) {
   EXPECT_NE(log.find("square"), std::string::npos) << log;
   EXPECT_EQ(run(kBin + " --out " + out + " --families castle --views 2 --size 16x9", log), 1);
   EXPECT_NE(log.find("unknown scene family 'castle'"), std::string::npos) << log;
+  EXPECT_EQ(run(kBin + " --out " + out + " --holdout-families castle --views 4 --size 16x9", log), 1);
+  EXPECT_NE(log.find("--holdout-families: unknown scene family 'castle'"), std::string::npos) << log;
+  EXPECT_EQ(run(kBin + " --out " + out + " --families room,thin --holdout-families thin,room --views 4 --size 16x9", log), 1);
+  EXPECT_NE(log.find("leaving none for train/ and test/"), std::string::npos) << log;
+  EXPECT_EQ(run(kBin + " --out " + out + " --holdout-families room --holdout-fraction 1.5 --size 16x9", log), 2);
+  EXPECT_NE(log.find("--holdout-fraction must be in (0, 1)"), std::string::npos) << log;
+  EXPECT_EQ(run(kBin + " --out " + out + " --holdout-families , --size 16x9", log), 2);
+  EXPECT_NE(log.find("--holdout-families: no family named"), std::string::npos) << log;
   EXPECT_EQ(run(kBin + " --out " + out + " --scene /no/such/file.obj --views 2 --size 16x9", log), 1);
   EXPECT_NE(log.find("/no/such/file.obj"), std::string::npos) << log;
   fs::remove_all(out);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <set>
 
+#include "core/thread_pool.h"
 #include "data/dataset.h"
 #include "render/default_dataset.h"
 #include "data/exr_io.h"
@@ -138,4 +139,145 @@ TEST(DefaultDataset, CacheRootAndSizes) {
     EXPECT_EQ(j.preset, p);
   }
   EXPECT_THROW(default_dataset_job("nope"), std::invalid_argument);
+}
+
+// Leave-families-out: the held-out families render only into holdout/, with instances
+// of their own; metadata.txt says which families are where; the validator agrees.
+TEST(RenderDataset, HoldoutFamiliesGoOnlyToHoldout) {
+  std::string out = temp_dir("holdout");
+  DatasetJob job = tiny("nnao", out);
+  job.families = {"room", "floating", "thin"};
+  job.holdout_families = {"thin"};
+  job.views = 8;
+  job.holdout_fraction = 0.25;
+  DatasetReport r = render_dataset(job);
+  EXPECT_EQ(r.train_views + r.test_views + r.holdout_views, 8);
+  EXPECT_EQ(r.holdout_views, 2);
+  ASSERT_FALSE(r.holdout_scenes.empty());
+  for (auto& s : r.holdout_scenes) EXPECT_EQ(s.rfind("thin-2000", 0), 0u) << s;
+  for (auto* list : {&r.train_scenes, &r.test_scenes})
+    for (auto& s : *list) EXPECT_EQ(s.rfind("thin", 0), std::string::npos) << s << " should be held out";
+  DatasetListing l = list_dataset(out);
+  EXPECT_TRUE(l.has_holdout);
+  EXPECT_EQ(l.holdout.views.size(), 2u);
+  ValidationReport v = validate_dataset(out, {Purpose::nnao});
+  for (auto& p : v.problems) ADD_FAILURE() << p.str();
+  EXPECT_TRUE(v.clean());
+  EXPECT_EQ(v.views["holdout"], 2);
+  ASSERT_TRUE(v.has_metadata);
+  EXPECT_EQ(v.split_families["holdout"], std::vector<std::string>{"thin"});
+  EXPECT_EQ(v.split_families["train"], (std::vector<std::string>{"room", "floating"}));
+  EXPECT_EQ(v.metadata["preset"], "nnao");
+  // Held-out views change nothing about the others: train/ is what the same job
+  // without the holdout family renders (same scenes, same cameras, same noise).
+  std::string plain = temp_dir("holdout-plain");
+  DatasetJob twin = tiny("nnao", plain);
+  twin.families = {"room", "floating"};
+  twin.views = 6;
+  twin.test_fraction = 2.0 / 6;  // the same 2 test views as above (0.2 of 8, rounded)
+  render_dataset(twin);
+  DatasetListing lp = list_dataset(plain);
+  ASSERT_EQ(lp.train.views.size(), l.train.views.size());
+  for (size_t i = 0; i < lp.train.views.size(); ++i)
+    EXPECT_EQ(read_view(lp.train.views[i]).channel("AO"), read_view(l.train.views[i]).channel("AO")) << i;
+  EXPECT_FALSE(fs::exists(fs::path(plain) / kMetadataFile)) << "the older presets write no metadata file";
+}
+
+// A leak the validator must catch: a held-out family's scene in train/.
+TEST(RenderDataset, ValidatorCatchesAHeldOutFamilyInTrain) {
+  std::string out = temp_dir("leak");
+  DatasetJob job = tiny("nnao", out);
+  job.families = {"room", "floating"};
+  job.holdout_families = {"floating"};
+  render_dataset(job);
+  ASSERT_TRUE(validate_dataset(out, {Purpose::nnao}).clean());
+  DatasetListing l = list_dataset(out);
+  ASSERT_FALSE(l.holdout.views.empty());
+  fs::copy_file(l.holdout.views[0], fs::path(out) / "train" / "moved.exr");
+  ValidationReport v = validate_dataset(out, {Purpose::nnao});
+  EXPECT_FALSE(v.clean());
+  bool named = false;
+  for (auto& p : v.problems) named |= p.message.find("held out in metadata.txt, but is in train/") != std::string::npos;
+  EXPECT_TRUE(named);
+}
+
+TEST(RenderDataset, BadHoldoutListsFailWithAReason) {
+  auto fails_with = [](DatasetJob job, const std::string& needle) {
+    try {
+      render_dataset(job);
+      ADD_FAILURE() << "no error, expected '" << needle << "'";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  DatasetJob job = tiny("nnao", temp_dir("bad-holdout"));
+  job.holdout_families = {"castle"};
+  fails_with(job, "unknown scene family 'castle'");
+  job.holdout_families = {"room", "floating"};
+  fails_with(job, "leaving none for train/ and test/");
+  job.holdout_families = {"room", "room"};
+  fails_with(job, "listed twice");
+  job.holdout_families = {"thin"};  // a real family, but not among --families room,floating
+  fails_with(job, "not among the families rendered");
+  job.holdout_families = {"room"};
+  job.views = 2;  // 1 test + 1 holdout leaves no train view
+  fails_with(job, "leaves no train view");
+  job = tiny("nnao", temp_dir("bad-holdout"));
+  job.holdout_families = {"room"};
+  job.scene_files = {"a.obj", "b.obj"};
+  fails_with(job, "cannot be used with --scene");
+}
+
+// nnao-v2: every view its own fov, size and AO radius (recorded in its header), the
+// second-generation families by default, and still bit-identical for a seed whatever
+// the thread count.
+TEST(RenderDataset, NnaoV2VariesViewsDeterministically) {
+  std::string out = temp_dir("v2");
+  DatasetJob job = tiny("nnao-v2", out);
+  job.families = {};
+  job.views = 10;
+  job.views_per_scene = 1;
+  job.width = 32, job.height = 18;
+  set_num_threads(1);
+  DatasetReport r = render_dataset(job);
+  EXPECT_EQ(r.train_views + r.test_views, 10);
+  ValidationReport v = validate_dataset(out, {Purpose::nnao});
+  for (auto& p : v.problems) ADD_FAILURE() << p.str();
+  EXPECT_TRUE(v.clean());
+  EXPECT_EQ(v.metadata["preset"], "nnao-v2");
+  EXPECT_NE(v.metadata["view-variation"].find("fovY 35-90"), std::string::npos);
+  // 8 train scenes: the generations interleave, so both are in even a small dataset.
+  EXPECT_EQ(v.split_families["train"],
+            (std::vector<std::string>{"room", "lounge", "window-room", "clutter", "colonnade", "stairwell", "stairs", "arcade"}));
+  std::set<float> fovs, radii;
+  std::set<std::pair<int, int>> sizes;
+  DatasetListing l = list_dataset(out);
+  std::vector<std::string> all = l.train.views;
+  all.insert(all.end(), l.test.views.begin(), l.test.views.end());
+  for (auto& path : all) {
+    View view = read_view(path);
+    EXPECT_GE(view.fov_y_deg, 35.0f);
+    EXPECT_LE(view.fov_y_deg, 90.0f);
+    ASSERT_TRUE(view.ao_radius.has_value());
+    EXPECT_GE(*view.ao_radius, 0.1f);
+    EXPECT_LE(*view.ao_radius, 3.0f);
+    EXPECT_LE(view.width * view.height, 32 * 18 + 40);  // about 0.6-1.0 of the job's pixels
+    EXPECT_GE(view.width * view.height, 32 * 18 / 2);
+    fovs.insert(view.fov_y_deg), radii.insert(*view.ao_radius), sizes.insert({view.width, view.height});
+  }
+  EXPECT_GE(fovs.size(), 8u);
+  EXPECT_GE(radii.size(), 8u);
+  EXPECT_GE(sizes.size(), 4u);
+  std::string again = temp_dir("v2-again");
+  job.out = again;
+  set_num_threads(2);
+  render_dataset(job);
+  DatasetListing l2 = list_dataset(again);
+  ASSERT_EQ(l2.train.views.size(), l.train.views.size());
+  for (size_t i = 0; i < l.train.views.size(); ++i) {
+    View a = read_view(l.train.views[i]), b = read_view(l2.train.views[i]);
+    EXPECT_EQ(a.width, b.width);
+    EXPECT_EQ(a.channel("AO"), b.channel("AO")) << l.train.views[i];
+    EXPECT_EQ(a.channel("N.X"), b.channel("N.X")) << l.train.views[i];
+  }
 }
