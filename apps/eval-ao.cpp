@@ -4,7 +4,8 @@
 //   eval-ao --data DIR --model nnao.blob --out DIR [--methods NNAO,SSAO,...] [--threads 2]
 //
 // DIR is a split folder or a flat folder; a dataset root with train/ + test/ means its
-// test/ split. Writes results.csv, results_by_scene.csv, failure_bands.csv,
+// test/ split, and its holdout/ split (whole families never trained on) goes to OUT/holdout
+// with the same files. Writes results.csv, results_by_scene.csv, failure_bands.csv,
 // temporal.csv, timing.csv, speed_vs_accuracy.svg/.png, previews/ and report.md.
 // Temporal stability is measured on camera-path frames (files "<scene>-pNN-fNNN.exr", or
 // surround frame folders of that name, as render-dataset --path-frames writes them),
@@ -14,6 +15,7 @@
 
 #include "apps/args.h"
 #include "core/thread_pool.h"
+#include "data/dataset.h"
 #include "render/default_dataset.h"
 #include "runs/ao/eval_ao.h"
 
@@ -34,6 +36,8 @@ int main(int argc, char** argv) {
     int max_views = args.get_int("--max-views", 0, "evaluate at most this many views (0 = all)", 0, INT_MAX);
     int repeat = args.get_int("--repeat", 3, "time each method this many times per view and keep the fastest (>= 1)", 1, 1000);
     std::string params_file = args.get_string("--classical-params", "", "parameter file from tune-classical-ao (default: the built-in parameters)");
+    const std::string split = args.get_choice("--split", "both", {"test", "holdout", "both"},
+                                              "both: the test split into OUT and, if the data has one, the held-out families into OUT/holdout");
     bool scalar = args.get_flag("--scalar", "run the scalar per-pixel reference loops instead of the vectorised ones (to measure the speed-up)");
     args.done();
     set_num_threads(threads);
@@ -41,7 +45,13 @@ int main(int argc, char** argv) {
     o.data_dir = data_dir, o.model = model, o.out = out, o.methods = methods_flag, o.nnao_samples = nnao_samples;
     o.threads = threads, o.previews = previews, o.max_views = max_views, o.repeat = repeat;
     o.params_file = params_file, o.scalar = scalar;
-    ao_eval::evaluate_ao(o);
+    const bool has_holdout = data::list_dataset(data_dir).has_holdout;
+    if (split != "holdout") ao_eval::evaluate_ao(o);
+    if (split == "holdout" || (split == "both" && has_holdout)) {
+      o.split = "holdout";
+      if (split == "both") o.out += "/holdout";
+      ao_eval::evaluate_ao(o);
+    }
     return 0;
   });
 }

@@ -71,7 +71,6 @@ int main(int argc, char** argv) {
   for (std::string f; std::getline(hs, f, ',');)
     if (!f.empty()) job.holdout_families.push_back(f);
   if (!holdout.empty() && job.holdout_families.empty()) args.error("--holdout-families: no family named in '" + holdout + "'");
-  if (!(job.holdout_fraction > 0 && job.holdout_fraction < 1)) args.error("--holdout-fraction must be in (0, 1)");
   args.done();
   job.width = w, job.height = h;
 

@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     // --preset paper: Holden et al.'s settings (hidden 4, gamma 0.01); the default preset
     // is what this project's sweep chose on validation scenes (docs/nnao.md).
     const std::string preset = args.get_choice("--preset", "default", {"default", "paper"},
-                                               "default: hidden 8, gamma 1e-4 (the sweep's choice); paper: hidden 4, gamma 0.01");
+                                               "default: hidden 4, gamma 1e-4 (chosen on validation scenes); paper: hidden 4, gamma 0.01");
     const nnao::Preset p = nnao::preset(preset);
     o.net.hidden = args.get_int("--hidden", p.hidden, "hidden units per layer (overrides the preset)", 1, 64);
     o.radius = float(args.get_double("--radius", 0, "AO radius (0 = each view's aoRadius)", 0, HUGE_VAL));

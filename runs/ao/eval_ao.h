@@ -128,6 +128,7 @@ struct EvalAoOptions {
   int threads = 2, previews = 3, max_views = 0, repeat = 3;
   std::string params_file;      // tune-classical-ao's output; empty: built-in parameters
   bool scalar = false;          // the scalar reference loops instead of the vectorised ones
+  std::string split = "test";   // "test", or "holdout": the families render-dataset held out
 };
 
 inline void evaluate_ao(const EvalAoOptions& o) {
@@ -138,9 +139,12 @@ inline void evaluate_ao(const EvalAoOptions& o) {
   const bool scalar = o.scalar;
 
   data::DatasetListing d = data::list_dataset(data_dir);
-  const data::SplitListing& split = d.flat ? d.train : d.test;
+  if (o.split == "holdout" && !d.has_holdout)
+    throw std::runtime_error(data_dir + ": no holdout/ split (render-dataset --holdout-families makes one)");
+  const data::SplitListing& split = o.split == "holdout" ? d.holdout : d.flat ? d.train : d.test;
   std::vector<std::string> views = split.views;
-  std::string split_note = d.flat ? data_dir : (d.test.dir + " (the test split)");
+  std::string split_note = o.split == "holdout" ? d.holdout.dir + " (the held-out families: never in train/ or test/)"
+                           : d.flat ? data_dir : (d.test.dir + " (the test split)");
   // Surround (cube) frames: their front faces, in path order — camera-path data, where
   // the temporal check means something.
   for (auto& f : split.frames)

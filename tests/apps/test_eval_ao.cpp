@@ -115,3 +115,25 @@ TEST(EvalAo, NanGroundTruthIsRefusedNamingTheFile) {
   EXPECT_FALSE(fs::exists(d / "out" / "results.csv"));
   fs::remove_all(d);
 }
+
+// A dataset with holdout/ (render-dataset --holdout-families) is scored on both splits:
+// the test split into OUT, the held-out families into OUT/holdout.
+TEST(EvalAo, ScoresTheHeldOutFamiliesBesideTheTestSplit) {
+  fs::path d = temp_dir("holdout");
+  for (const char* split : {"train", "test", "holdout"}) {
+    fs::create_directories(d / "data" / split);
+    auto view = nns::fixtures::synthetic_view(24, 16, split[0] == 'h' ? 3 : 1, 8);
+    view.scene = std::string(split[0] == 'h' ? "cave" : "room") + "-" + std::to_string(split[1] == 'e' ? 100000 : 7);
+    nns::data::write_view((d / "data" / split / "v.exr").string(), view);
+  }
+  CommandResult r = run("--data " + (d / "data").string() + " --out " + (d / "out").string() + " --methods SSAO --previews 0");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(read(d / "out" / "results_by_family.csv").find("\nroom,SSAO,"), std::string::npos);
+  EXPECT_NE(read(d / "out" / "holdout" / "results_by_family.csv").find("\ncave,SSAO,"), std::string::npos);
+  EXPECT_NE(read(d / "out" / "holdout" / "report.md").find("held-out families"), std::string::npos);
+  fs::remove_all(d / "data" / "holdout");
+  r = run("--data " + (d / "data").string() + " --out " + (d / "out2").string() + " --methods SSAO --split holdout");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("no holdout/ split"), std::string::npos) << r.output;
+  fs::remove_all(d);
+}

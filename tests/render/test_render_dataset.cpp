@@ -136,8 +136,10 @@ TEST(DefaultDataset, CacheRootAndSizes) {
   for (std::string p : {"nnao", "surround", "gi"}) {
     DatasetJob j = default_dataset_job(p);
     EXPECT_GE(j.views, 100) << p;
-    EXPECT_EQ(j.preset, p);
+    EXPECT_EQ(j.preset, p == "nnao" ? std::string("nnao-v2") : p);  // nnao v3: every family
   }
+  EXPECT_FALSE(default_dataset_job("nnao").holdout_families.empty());
+  EXPECT_GT(default_dataset_job("nnao").path_frames, 1);  // flicker on the default data
   EXPECT_THROW(default_dataset_job("nope"), std::invalid_argument);
 }
 
