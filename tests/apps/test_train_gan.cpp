@@ -304,9 +304,11 @@ TEST_F(TrainGan, KilledAtRandomMomentsAndResumedEndsBitwiseEqual) {
   auto t0 = std::chrono::steady_clock::now();
   ASSERT_EQ(run(train_cmd(full, ""), full + ".log"), 0) << read_all(full + ".log");
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  auto st = nns::testing::kill_and_resume(train_cmd(killed, ""), killed, killed + ".log", 8, 0.6 * ms, 5);
-  // A resumed run has less left to do and may finish before its kill: at least half land.
-  EXPECT_GE(st.kills, 4);
+  auto st = nns::testing::kill_and_resume(train_cmd(killed, ""), killed, killed + ".log", 10, 0.4 * ms, 5);
+  // Delays under 0.4x an uninterrupted run: the first two kills land whatever the load
+  // (each leaves over 0.6x of the work); later, shorter resumed runs may finish first.
+  EXPECT_GE(st.kills, 2);
+  std::printf("%d kills in %d runs\n", st.kills, st.runs);
   ASSERT_TRUE(fs::exists(killed + "/G.blob")) << read_all(killed + ".log");
   EXPECT_EQ(read_all(full + "/G.blob"), read_all(killed + "/G.blob"));
   EXPECT_EQ(read_all(full + "/checkpoint.blob"), read_all(killed + "/checkpoint.blob"));

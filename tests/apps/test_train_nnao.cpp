@@ -178,9 +178,11 @@ TEST_F(TrainNnao, KilledAtRandomMomentsAndResumedEndsBitwiseEqual) {
   auto a = run(common() + "--epochs 4 --out " + full);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_EQ(a.code, 0) << a.output;
-  auto st = nns::testing::kill_and_resume(cmd + killed, killed, killed + ".log", 8, 0.6 * ms, 11);
-  // A resumed run has less left to do and may finish before its kill: at least half land.
-  EXPECT_GE(st.kills, 4);
+  auto st = nns::testing::kill_and_resume(cmd + killed, killed, killed + ".log", 10, 0.4 * ms, 11);
+  // Delays under 0.4x an uninterrupted run: the first two kills land whatever the load
+  // (each leaves over 0.6x of the work); later, shorter resumed runs may finish first.
+  EXPECT_GE(st.kills, 2);
+  std::printf("%d kills in %d runs\n", st.kills, st.runs);
   ASSERT_TRUE(fs::exists(killed + "/nnao.blob")) << bytes(killed + ".log");
   EXPECT_TRUE(bytes(full + "/nnao.blob") == bytes(killed + "/nnao.blob"));
   EXPECT_EQ(bytes(full + "/metrics.jsonl"), bytes(killed + "/metrics.jsonl"));
