@@ -23,6 +23,7 @@
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "models/nnao/nnao_fast_step.h"
+#include "models/nnao/nnao_metrics.h"
 #include "models/nnao/nnao_model.h"
 #include "models/nnao/nnao_points.h"
 #include "nn/serialize.h"
@@ -156,13 +157,9 @@ inline TrainResult train_nnao(const TrainOptions& o) {
     ck.load(ck_path);
     // Keep the metrics of the epochs the checkpoint covers.
     std::ifstream mf(metrics_path);
-    std::string line;
-    while (std::getline(mf, line) && int64_t(metrics_lines.size()) < epoch) {
-      metrics_lines.push_back(line);
-      double e = 0, tl = 0, tm = 0;
-      if (std::sscanf(line.c_str(), "{\"epoch\": %lf, \"train_loss\": %lf, \"test_mse\": %lf", &e, &tl, &tm) == 3)
-        ep_x.push_back(e), tr_y.push_back(tl), te_y.push_back(tm);
-    }
+    ResumedMetrics kept = read_resumed_metrics(mf, epoch);
+    metrics_lines = std::move(kept.lines);
+    ep_x = std::move(kept.epoch), tr_y = std::move(kept.train_loss), te_y = std::move(kept.test_mse);
     say("resuming from " + ck_path + " at epoch " + std::to_string(epoch));
   }
 

@@ -248,3 +248,53 @@ TEST(ExrIo, WriteRejectsPlanesOfTheWrongSize) {
   }
   EXPECT_FALSE(fs::exists(dir.file("bad.exr")));
 }
+
+namespace {
+// Rewrites the dataWindow attribute of an EXR file in place (box2i: xmin ymin xmax ymax).
+void patch_data_window(const std::string& path, int32_t xmin, int32_t ymin, int32_t xmax, int32_t ymax) {
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::string key("dataWindow\0box2i\0", 17);
+  auto at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const int32_t box[4] = {xmin, ymin, xmax, ymax};
+  f.clear();
+  f.seekp(std::streamoff(at + key.size() + 4));
+  f.write(reinterpret_cast<const char*>(box), sizeof box);
+}
+
+long peak_rss_kb() {
+  std::ifstream s("/proc/self/status");
+  std::string line;
+  while (std::getline(s, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6));
+  return 0;
+}
+}  // namespace
+
+// Issue 13: a ~10 KB file declaring 1,048,577 x 32 pixels made the reader allocate the
+// planes (hundreds of MB) before finding out the data is not there.
+TEST(ExrIo, HeaderSizeIsCheckedAgainstTheFileBeforeAllocating) {
+  TempDir dir;
+  write_view(dir.file("huge.exr"), sample_view(1, 32));
+  patch_data_window(dir.file("huge.exr"), 0, 0, 1048576, 31);
+  ASSERT_LT(fs::file_size(dir.file("huge.exr")), 20000u);
+  const long before = peak_rss_kb();
+  std::string e = read_error(dir.file("huge.exr"));
+  const long grown_mb = (peak_rss_kb() - before) / 1024;
+  EXPECT_NE(e.find(dir.file("huge.exr") + ": "), std::string::npos) << e;
+  EXPECT_NE(e.find("1048577x32"), std::string::npos) << e;
+  EXPECT_LT(grown_mb, 64) << "the reader allocated for the declared size: " << e;
+  ReadOptions header_only;
+  header_only.header_only = true;
+  EXPECT_NE(read_error(dir.file("huge.exr"), header_only).find("1048577x32"), std::string::npos);
+
+  // Past any sane size, and a window whose width overflows 32 bits.
+  write_view(dir.file("giant.exr"), sample_view(1, 32));
+  patch_data_window(dir.file("giant.exr"), 0, 0, 1 << 30, 31);
+  EXPECT_NE(read_error(dir.file("giant.exr")).find("giant.exr: "), std::string::npos);
+  patch_data_window(dir.file("giant.exr"), -2147483647 - 1, 0, 2147483647, 31);
+  std::string wrap = read_error(dir.file("giant.exr"));
+  EXPECT_NE(wrap.find("giant.exr: "), std::string::npos) << wrap;
+  EXPECT_NE(wrap.find("4294967296x32"), std::string::npos) << wrap;
+}
