@@ -17,7 +17,7 @@ struct ExrHeaderLimits {
   int64_t max_expansion = 4096;
   // ...but a small file may always declare this much (tiny constant images compress
   // better than any ratio), and no file more than max_decoded_bytes.
-  int64_t small_file_allowance = int64_t(32) << 20;
+  int64_t small_file_allowance = int64_t(8) << 20;
   int64_t max_decoded_bytes = int64_t(4) << 30;
 };
 
