@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace nns::data {
@@ -48,8 +49,8 @@ class HeaderReader {
     std::memcpy(&v, b.data(), 4);
     return v;
   }
-  // A NUL-terminated name of at most 255 characters (OpenEXR's long-name limit).
-  std::string name(const char* what) {
+  // A NUL-terminated name of at most `max` characters (OpenEXR stops reading there).
+  std::string name(const char* what, size_t max = 255) {
     std::string s;
     for (;;) {
       if (left_ <= 0) fail(std::string(what) + " runs past the end of the file");
@@ -57,7 +58,9 @@ class HeaderReader {
       if (!in_.get(c)) fail("cannot read " + std::string(what));
       --left_;
       if (c == '\0') return s;
-      if (s.size() == 255) fail(std::string(what) + " is longer than 255 characters");
+      if (s.size() == max)
+        fail(std::string(what) + " is longer than " + std::to_string(max) + " characters" +
+             (max < 255 ? " (the long-names flag is not set)" : ""));
       s += c;
     }
   }
@@ -67,6 +70,20 @@ class HeaderReader {
   std::ifstream in_;
   int64_t left_;
 };
+
+// Bytes of the OpenEXR 3.1 attribute types whose values have a fixed size; -1 for the
+// others (chlist, preview and stringvector are walked; string, floatvector and unknown
+// types are read by their declared size).
+int fixed_size(const std::string& type) {
+  static const std::pair<const char*, int> sizes[] = {
+      {"box2i", 16}, {"box2f", 16}, {"chromaticities", 32}, {"compression", 1}, {"double", 8},
+      {"envmap", 1}, {"float", 4}, {"int", 4}, {"keycode", 28}, {"lineOrder", 1}, {"m33f", 36},
+      {"m33d", 72}, {"m44f", 64}, {"m44d", 128}, {"rational", 8}, {"tiledesc", 9}, {"timecode", 8},
+      {"v2i", 8}, {"v2f", 8}, {"v2d", 16}, {"v3i", 12}, {"v3f", 12}, {"v3d", 24}, {"deepImageState", 1}};
+  for (auto& [t, n] : sizes)
+    if (type == t) return n;
+  return -1;
+}
 
 int32_t get_i32(const std::string& v, size_t at) {
   int32_t x;
@@ -88,18 +105,27 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
   if (magic != std::string("\x76\x2f\x31\x01", 4)) r.fail("bad magic number");
   const int32_t version = r.i32("the version field");
   f.tiled = (version & 0x200) != 0;
+  const size_t max_name = (version & 0x400) ? 255 : 31;
 
   bool have_window = false;
   int32_t box[4] = {0, 0, 0, 0};
   for (;;) {
-    std::string name = r.name("an attribute name");
+    std::string name = r.name("an attribute name", max_name);
     if (name.empty()) break;
-    std::string type = r.name("an attribute type");
+    std::string type = r.name("an attribute type", max_name);
     const int32_t size = r.i32("an attribute size");
     const std::string what = "attribute '" + name + "'";
     if (size < 0) r.fail(what + " has a negative size");
+    // OpenEXR reads a value of a type it knows by the type, not by the declared size, and
+    // goes on from where the value ended: a size that disagrees would let it parse bytes
+    // this pass never checked. Fixed-size types must declare their size exactly.
+    if (int expected = fixed_size(type); expected >= 0 && size != expected)
+      r.fail(what + " of type " + type + " declares " + std::to_string(size) + " bytes, the type has " +
+             std::to_string(expected));
     const bool needed = type == "box2i" || type == "chlist" || type == "tiledesc" || type == "preview" ||
                         type == "stringvector";
+    if (type == "floatvector" && size % 4 != 0)
+      r.fail(what + " of type floatvector declares " + std::to_string(size) + " bytes, not a multiple of 4");
     if (!needed) {
       r.skip(size, what);
       continue;
@@ -117,7 +143,10 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
       for (;;) {
         size_t end = v.find('\0', p);
         if (end == std::string::npos) r.fail("the channel list runs past its attribute");
-        if (end == p) break;  // the empty name closes the list
+        if (end == p) {       // the empty name closes the list, and must end the value
+          if (end + 1 != v.size()) r.fail("the channel list ends before its attribute does");
+          break;
+        }
         if (end - p > 255) r.fail("a channel name is longer than 255 characters");
         p = end + 1 + 16;     // pixel type, pLinear + 3 reserved, x and y sampling
         if (p > v.size()) r.fail("the channel list runs past its attribute");

@@ -135,8 +135,16 @@ void load_gltf(const std::string& path, Scene& s) {
                         : Vec3();
     s.add_material({albedo, emission});
   }
+  // glTF nodes form a forest: a node reached a second time (its own ancestor, or a child
+  // of two parents) would recurse forever or multiply the work of its subtree.
+  std::vector<uint8_t> reached(model.nodes.size(), 0);
+  int depth = 0;
   std::function<void(int, const Mat4&)> visit = [&](int node_index, const Mat4& parent) {
     const tinygltf::Node& node = model.nodes.at(size_t(node_index));
+    if (reached[size_t(node_index)]++)
+      throw error(path, "node " + std::to_string(node_index) +
+                            " is reached twice in the node hierarchy (a cycle, or two parents)");
+    if (++depth > 256) throw error(path, "node hierarchy deeper than 256 levels");
     Mat4 world = mul(parent, node_matrix(node));
     if (node.mesh >= 0) {
       for (const auto& prim : model.meshes.at(size_t(node.mesh)).primitives) {
@@ -166,13 +174,20 @@ void load_gltf(const std::string& path, Scene& s) {
       }
     }
     for (int child : node.children) visit(child, world);
+    --depth;
   };
   const Mat4 identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   if (!model.scenes.empty()) {
     const auto& sc = model.scenes.at(size_t(model.defaultScene >= 0 ? model.defaultScene : 0));
     for (int n : sc.nodes) visit(n, identity);
   } else {
-    for (size_t n = 0; n < model.nodes.size(); ++n) visit(int(n), identity);
+    // No scene: every node that is nobody's child is a root.
+    std::vector<uint8_t> is_child(model.nodes.size(), 0);
+    for (auto& node : model.nodes)
+      for (int c : node.children)
+        if (c >= 0 && size_t(c) < is_child.size()) is_child[size_t(c)] = 1;
+    for (size_t n = 0; n < model.nodes.size(); ++n)
+      if (!is_child[n]) visit(int(n), identity);
   }
 }
 }  // namespace

@@ -309,3 +309,32 @@ TEST(MeshLoader, NonFiniteVerticesAreRefusedNamingTheFile) {
     EXPECT_NE(std::string(e.what()).find(gltf + ": "), std::string::npos) << e.what();
   }
 }
+
+// Found by fuzz/fuzz_scene.cpp: a glTF node listed among its own children recursed until
+// the stack overflowed. glTF nodes form a forest (one parent at most); a node reached
+// twice would also multiply the work of every shared subtree.
+TEST(MeshLoader, GltfNodeHierarchyMustBeAForest) {
+  auto write = [](const std::string& path, const std::string& nodes) {
+    std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":)" << nodes
+                        << R"(,"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+                        << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
+                        << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+                        << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)"
+                        << R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/"}]})";
+  };
+  for (const char* nodes : {R"([{"mesh":0,"children":[0]}])", R"([{"mesh":0,"children":[1]},{"children":[0]}])",
+                            R"([{"mesh":0,"children":[1,1]},{"mesh":0}])"}) {
+    std::string path = temp_path("cycle.gltf");
+    write(path, nodes);
+    try {
+      load_mesh_scene(path);
+      ADD_FAILURE() << "accepted " << nodes;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ": "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("node"), std::string::npos) << e.what();
+    }
+  }
+  std::string ok = temp_path("tree.gltf");
+  write(ok, R"([{"mesh":0,"children":[1]},{"mesh":0}])");
+  EXPECT_EQ(load_mesh_scene(ok).triangles.size(), 2u);
+}
