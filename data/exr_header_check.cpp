@@ -137,9 +137,9 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
         for (int k = 0; k < 4; ++k) box[k] = get_i32(v, size_t(4 * k));
         have_window = true;
       }
-    } else if (type == "chlist" && name == "channels") {
+    } else if (type == "chlist") {  // any name: OpenEXR parses every chlist by its type
       size_t p = 0;
-      f.channels = 0;
+      int64_t channels = 0;
       for (;;) {
         size_t end = v.find('\0', p);
         if (end == std::string::npos) r.fail("the channel list runs past its attribute");
@@ -150,8 +150,9 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
         if (end - p > 255) r.fail("a channel name is longer than 255 characters");
         p = end + 1 + 16;     // pixel type, pLinear + 3 reserved, x and y sampling
         if (p > v.size()) r.fail("the channel list runs past its attribute");
-        ++f.channels;
+        ++channels;
       }
+      if (name == "channels") f.channels = channels;
     } else if (type == "tiledesc") {
       if (v.size() != 9) r.fail(what + " has " + std::to_string(v.size()) + " bytes, a tiledesc has 9");
       uint32_t tx, ty;

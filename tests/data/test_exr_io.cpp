@@ -3,6 +3,7 @@
 
 #include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfChannelListAttribute.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfMatrixAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
@@ -323,6 +324,28 @@ TEST(ExrIo, AttributeSizesMustMatchTheirType) {
   std::string e = read_error(dir.file("f.exr"));
   EXPECT_NE(e.find(dir.file("f.exr") + ": "), std::string::npos) << e;
   EXPECT_NE(e.find("attribute 'fovY' of type float declares 8 bytes"), std::string::npos) << e;
+
+  // A channel list under another name is parsed by OpenEXR all the same.
+  {
+    Imf::Header hd(2, 2);
+    hd.insert("scene", Imf::StringAttribute("s"));
+    hd.insert("fovY", Imf::FloatAttribute(60));
+    hd.channels().insert("Z", Imf::Channel(Imf::FLOAT));
+    Imf::ChannelList extra;
+    extra.insert("AO", Imf::Channel(Imf::FLOAT));
+    hd.insert("moreChannels", Imf::ChannelListAttribute(extra));
+    std::vector<float> z(4, 1.0f);
+    Imf::FrameBuffer fb;
+    fb.insert("Z", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(z.data()), 4, 8));
+    Imf::OutputFile out(dir.file("extra.exr").c_str(), hd);
+    out.setFrameBuffer(fb);
+    out.writePixels(2);
+  }
+  EXPECT_EQ(read_error(dir.file("extra.exr")), "");
+  patch_attribute_size(dir.file("extra.exr"), std::string("moreChannels\0chlist\0", 20), 40);
+  std::string chl = read_error(dir.file("extra.exr"));
+  EXPECT_NE(chl.find(dir.file("extra.exr") + ": malformed EXR header (the channel list ends before its attribute does"),
+            std::string::npos) << chl;
 
   // Every input the fuzzer found is refused with the file's name.
   const fs::path regressions = fs::path(NNSHADE_SOURCE_DIR) / "fuzz" / "regressions" / "exr";
