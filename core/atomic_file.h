@@ -83,9 +83,19 @@ inline int remove_stale_temporaries(const std::string& dir) {
 }
 
 inline std::string read_file(const std::string& path) {
+  // A folder opens as a stream on Linux and fails on the first read with a message
+  // ("basic_filebuf::underflow ... Is a directory") that names no file.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw std::runtime_error("cannot read '" + path + "': it is a folder, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open '" + path + "': " + std::strerror(errno));
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes;
+  try {
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot read '" + path + "': " + e.what());
+  }
   if (in.bad()) throw std::runtime_error("cannot read '" + path + "'");
   return bytes;
 }

@@ -2,6 +2,8 @@
 // every channel lands in a FLOAT slice whatever it was stored as.
 #include "data/exr_io.h"
 
+#include "data/exr_header_check.h"
+
 #include <unistd.h>
 
 #include <OpenEXR/ImfChannelList.h>
@@ -80,6 +82,8 @@ View read_view(const std::string& path, const ReadOptions& options, ExrInfo* inf
     throw file_error(path, "not an OpenEXR file (bad magic number or unreadable)");
   if (multipart) throw file_error(path, "multi-part EXR; the dataset format needs single-part files");
   if (deep) throw file_error(path, "deep EXR; the dataset format needs flat images");
+  // Sizes and lengths checked against the file before OpenEXR or we allocate from them.
+  check_exr_header(path);
 
   View v;
   v.source = path;

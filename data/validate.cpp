@@ -68,7 +68,7 @@ std::string strip_prefix(const std::string& message, const std::string& file) {
 std::string Problem::str() const {
   std::string s = file.empty() ? "" : file + ": ";
   if (!channel.empty()) s += "channel '" + channel + "': ";
-  return s + (warning ? "warning: " : "") + message;
+  return s + (warning ? "warning: " : "") + message + (split.empty() ? "" : " in split '" + split + "'");
 }
 
 void check_view(const View& v, const ExrInfo* info, bool is_front, const ValidateOptions& o,
@@ -259,6 +259,7 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
   std::map<std::string, std::map<std::string, std::string>> first_file;  // split -> scene -> file
 
   for (auto& [name, split] : splits) {
+    sink.set_split(name);
     r.views[name] = int64_t(split->views.size());
     r.frames[name] = int64_t(split->frames.size());
     auto note_scene = [&, name = name](const View& v) {
@@ -294,6 +295,7 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
     }
   }
 
+  sink.set_split("");
   if (!d.flat)
     for (auto& scene : r.scenes["test"])
       if (r.scenes["train"].count(scene))

@@ -21,7 +21,8 @@ enum class Purpose { any, nnao, gi };
 struct Problem {
   std::string file, channel, message;
   bool warning = false;   // reported, but does not make the dataset fail
-  std::string str() const;  // "<file>: channel '<channel>': <message>"
+  std::string split;      // "train", "test" or "flat" when found by validate_dataset
+  std::string str() const;  // "<file>: channel '<channel>': <message>[ in split '<split>']"
 };
 
 struct ChannelSummary {
@@ -60,19 +61,23 @@ class ProblemSink {
  public:
   explicit ProblemSink(ValidationReport& r, int64_t limit) : r_(r), limit_(limit) {}
   void error(const std::string& file, const std::string& channel, const std::string& message) {
-    add({file, channel, message, false});
+    add({file, channel, message, false, ""});
   }
   void warn(const std::string& file, const std::string& channel, const std::string& message) {
-    add({file, channel, message, true});
+    add({file, channel, message, true, ""});
   }
+  // The split the next problems belong to ("" outside a split).
+  void set_split(std::string split) { split_ = std::move(split); }
 
  private:
   void add(Problem p) {
+    if (!p.file.empty()) p.split = split_;
     (p.warning ? r_.warnings : r_.errors)++;
     if (int64_t(r_.problems.size()) < limit_) r_.problems.push_back(std::move(p));
   }
   ValidationReport& r_;
   int64_t limit_;
+  std::string split_;
 };
 
 // Checks one view already in memory. `is_front` is false for the five non-front faces of

@@ -2,6 +2,7 @@
 // One camera view of a G-buffer dataset (docs/dataset-format.md): named float planes
 // of width x height, plus the header attributes. Channel names follow the spec
 // exactly ("Z", "N.X", "AO", "albedo.R", ...). Planes are row-major, row 0 at the top.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <map>
@@ -46,5 +47,24 @@ struct View {
 // Depth at or beyond this (or inf) is sky: no geometry.
 inline constexpr float kSkyDepth = 1e30f;
 inline bool is_sky(float z) { return !(z < kSkyDepth) || z <= 0; }
+
+// The depth the format allows: > 0, sky as +inf or >= 1e30. NaN, 0, negative and -inf
+// are defects (is_sky() alone would take them for sky): throws "<file>: channel 'Z':
+// ..." naming the first such pixel and how many there are.
+inline void check_depth(const View& v) {
+  if (!v.has("Z")) return;
+  const auto& z = v.channel("Z");
+  size_t first = 0, bad = 0;
+  for (size_t i = 0; i < z.size(); ++i)
+    if (!(z[i] > 0)) {
+      if (bad++ == 0) first = i;
+    }
+  if (!bad) return;
+  const size_t w = size_t(std::max(v.width, 1));
+  throw std::runtime_error((v.source.empty() ? std::string("view") : v.source) + ": channel 'Z': invalid depth " +
+                           std::to_string(z[first]) + " at x=" + std::to_string(first % w) + ", y=" +
+                           std::to_string(first / w) + " (" + std::to_string(bad) +
+                           (bad == 1 ? " pixel" : " pixels") + "); depth must be > 0, sky is +inf or >= 1e30");
+}
 
 }  // namespace nns::data

@@ -217,6 +217,7 @@ DatasetReport render_dataset(DatasetJob job) {
   // Train and test from disjoint scenes: held-out instances of every family, or
   // held-out files (a single file cannot be split, so it all goes to train).
   std::vector<std::string> train_files, test_files;
+  check_unique_scene_names(job.scene_files);
   if (!job.scene_files.empty()) {
     size_t n_test = job.scene_files.size() >= 2 ? std::max<size_t>(1, size_t(job.scene_files.size() * job.test_fraction + 0.5)) : 0;
     train_files.assign(job.scene_files.begin(), job.scene_files.end() - long(n_test));

@@ -102,6 +102,7 @@ inline Tensor<float> view_planes(const data::View& v, const GiNormalisation& nor
     const auto& nc = finite_channel(v, normals[c]);
     for (int64_t i = 0; i < n; ++i) p[(3 + c) * n + i] = nc[size_t(i)];
   }
+  data::check_depth(v);
   const auto& z = v.channel("Z");
   for (int64_t i = 0; i < n; ++i) {
     float d = data::is_sky(z[size_t(i)]) ? 1.0f : std::min(z[size_t(i)] / norm.depth_max, 1.0f);
@@ -140,6 +141,7 @@ inline void fill_front_targets(GiSample& s, const data::View& v, const GiNormali
       s.target[c * n + i] = hdr.to_tanh(t);
     }
   }
+  data::check_depth(v);
   const auto& z = v.channel("Z");
   s.geometry.resize(size_t(n));
   for (int64_t i = 0; i < n; ++i) s.geometry[size_t(i)] = data::is_sky(z[size_t(i)]) ? 0 : 1;

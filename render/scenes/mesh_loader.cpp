@@ -5,9 +5,13 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <map>
+#include <sstream>
 #include <stdexcept>
 
 namespace nns::data {
@@ -17,7 +21,30 @@ std::runtime_error error(const std::string& path, const std::string& what) {
   return std::runtime_error(path + ": " + what);
 }
 
+// tinyobjloader reads "nan", "inf" or "abc" as a vertex coordinate of 0 and says
+// nothing; refuse them before it does, naming the line.
+void check_obj_vertices(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int64_t no = 1; std::getline(in, line); ++no) {
+    size_t p = line.find_first_not_of(" \t");
+    if (p == std::string::npos || line[p] != 'v' || p + 1 >= line.size() || (line[p + 1] != ' ' && line[p + 1] != '\t'))
+      continue;
+    std::istringstream tokens(line.substr(p + 1));
+    std::string tok;
+    for (int k = 0; k < 3 && tokens >> tok; ++k) {
+      char* end = nullptr;
+      double x = std::strtod(tok.c_str(), &end);
+      if (end != tok.c_str() + tok.size())
+        throw error(path, "line " + std::to_string(no) + ": vertex coordinate '" + tok + "' is not a number");
+      if (!std::isfinite(x))
+        throw error(path, "line " + std::to_string(no) + ": vertex coordinate '" + tok + "' is non-finite");
+    }
+  }
+}
+
 void load_obj(const std::string& path, Scene& s) {
+  check_obj_vertices(path);
   tinyobj::ObjReaderConfig cfg;
   cfg.triangulate = true;
   cfg.mtl_search_path = std::filesystem::path(path).parent_path().string();
@@ -108,8 +135,16 @@ void load_gltf(const std::string& path, Scene& s) {
                         : Vec3();
     s.add_material({albedo, emission});
   }
+  // glTF nodes form a forest: a node reached a second time (its own ancestor, or a child
+  // of two parents) would recurse forever or multiply the work of its subtree.
+  std::vector<uint8_t> reached(model.nodes.size(), 0);
+  int depth = 0;
   std::function<void(int, const Mat4&)> visit = [&](int node_index, const Mat4& parent) {
     const tinygltf::Node& node = model.nodes.at(size_t(node_index));
+    if (reached[size_t(node_index)]++)
+      throw error(path, "node " + std::to_string(node_index) +
+                            " is reached twice in the node hierarchy (a cycle, or two parents)");
+    if (++depth > 256) throw error(path, "node hierarchy deeper than 256 levels");
     Mat4 world = mul(parent, node_matrix(node));
     if (node.mesh >= 0) {
       for (const auto& prim : model.meshes.at(size_t(node.mesh)).primitives) {
@@ -139,13 +174,20 @@ void load_gltf(const std::string& path, Scene& s) {
       }
     }
     for (int child : node.children) visit(child, world);
+    --depth;
   };
   const Mat4 identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   if (!model.scenes.empty()) {
     const auto& sc = model.scenes.at(size_t(model.defaultScene >= 0 ? model.defaultScene : 0));
     for (int n : sc.nodes) visit(n, identity);
   } else {
-    for (size_t n = 0; n < model.nodes.size(); ++n) visit(int(n), identity);
+    // No scene: every node that is nobody's child is a root.
+    std::vector<uint8_t> is_child(model.nodes.size(), 0);
+    for (auto& node : model.nodes)
+      for (int c : node.children)
+        if (c >= 0 && size_t(c) < is_child.size()) is_child[size_t(c)] = 1;
+    for (size_t n = 0; n < model.nodes.size(); ++n)
+      if (!is_child[n]) visit(int(n), identity);
   }
 }
 }  // namespace
@@ -153,7 +195,7 @@ void load_gltf(const std::string& path, Scene& s) {
 Scene load_mesh_scene(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) throw error(path, "no such file");
   Scene s;
-  s.name = std::filesystem::path(path).stem().string();
+  s.name = mesh_scene_name(path);
   std::string ext = std::filesystem::path(path).extension().string();
   for (auto& c : ext) c = char(std::tolower(c));
   try {
@@ -164,6 +206,12 @@ Scene load_mesh_scene(const std::string& path) {
     throw error(path, std::string("malformed file: ") + e.what());
   }
   if (s.triangles.empty()) throw error(path, "no triangles");
+  for (size_t i = 0; i < s.positions.size(); ++i) {
+    const Vec3& p = s.positions[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw error(path, "vertex " + std::to_string(i + 1) + " has a non-finite coordinate (" + std::to_string(p.x) +
+                            ", " + std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
+  }
   for (auto& t : s.triangles)
     for (uint32_t v : t.v)
       if (v >= s.positions.size()) throw error(path, "a face refers to a vertex that does not exist");
@@ -178,6 +226,18 @@ Scene load_mesh_scene(const std::string& path) {
   s.suns.push_back({{std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az)}, {3, 2.9f, 2.7f}, 0.0093f});
   s.sky = Sky{{0.25f, 0.45f, 0.9f}, {0.7f, 0.8f, 0.95f}, {0.15f, 0.13f, 0.1f}};
   return s;
+}
+
+std::string mesh_scene_name(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+
+void check_unique_scene_names(const std::vector<std::string>& paths) {
+  std::map<std::string, std::string> first;  // name -> file
+  for (auto& p : paths) {
+    auto [it, fresh] = first.emplace(mesh_scene_name(p), p);
+    if (!fresh)
+      throw std::invalid_argument("scene files '" + it->second + "' and '" + p + "' both give the scene name '" +
+                                  it->first + "' (the file name without its extension); rename one of them");
+  }
 }
 
 }  // namespace nns::data

@@ -27,6 +27,7 @@ namespace nns::gi {
 // Box-filters every plane of `v` by `factor`. Depth averages the geometry pixels of a
 // block (sky only if the whole block is sky); normals are renormalised.
 inline data::View downsample_view(const data::View& v, int factor) {
+  data::check_depth(v);  // NaN, 0 or negative depth would be averaged away as sky
   if (factor == 1) return v;
   if (v.width % factor || v.height % factor)
     throw std::runtime_error(v.source + ": size " + std::to_string(v.width) + "x" +

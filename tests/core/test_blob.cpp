@@ -125,6 +125,19 @@ TEST_F(BlobTest, UnwritableFolderNamesThePath) {
 
 TEST_F(BlobTest, MissingFileNamesThePath) { expect_load_error(path("absent.blob"), "cannot open"); }
 
+// Issue 13: a folder given as --model failed with "basic_filebuf::underflow ... Is a
+// directory", naming no path.
+TEST_F(BlobTest, AFolderNamesThePath) {
+  fs::create_directories(path("model.blob"));
+  expect_load_error(path("model.blob"), "is a folder");
+  try {
+    read_file(path("model.blob"));
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path("model.blob")), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(BlobTest, TruncatedFilesAreReported) {
   std::string bytes = sample().serialize();
   for (size_t n : {size_t(0), size_t(5), size_t(20), size_t(40), bytes.size() / 2, bytes.size() - 1}) {

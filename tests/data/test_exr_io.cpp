@@ -3,6 +3,7 @@
 
 #include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfChannelListAttribute.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfMatrixAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
@@ -247,4 +248,113 @@ TEST(ExrIo, WriteRejectsPlanesOfTheWrongSize) {
         << e.what();
   }
   EXPECT_FALSE(fs::exists(dir.file("bad.exr")));
+}
+
+namespace {
+// Rewrites the dataWindow attribute of an EXR file in place (box2i: xmin ymin xmax ymax).
+void patch_data_window(const std::string& path, int32_t xmin, int32_t ymin, int32_t xmax, int32_t ymax) {
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::string key("dataWindow\0box2i\0", 17);
+  auto at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const int32_t box[4] = {xmin, ymin, xmax, ymax};
+  f.clear();
+  f.seekp(std::streamoff(at + key.size() + 4));
+  f.write(reinterpret_cast<const char*>(box), sizeof box);
+}
+
+long peak_rss_kb() {
+  std::ifstream s("/proc/self/status");
+  std::string line;
+  while (std::getline(s, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6));
+  return 0;
+}
+}  // namespace
+
+// Issue 13: a ~10 KB file declaring 1,048,577 x 32 pixels made the reader allocate the
+// planes (hundreds of MB) before finding out the data is not there.
+TEST(ExrIo, HeaderSizeIsCheckedAgainstTheFileBeforeAllocating) {
+  TempDir dir;
+  write_view(dir.file("huge.exr"), sample_view(1, 32));
+  patch_data_window(dir.file("huge.exr"), 0, 0, 1048576, 31);
+  ASSERT_LT(fs::file_size(dir.file("huge.exr")), 20000u);
+  const long before = peak_rss_kb();
+  std::string e = read_error(dir.file("huge.exr"));
+  const long grown_mb = (peak_rss_kb() - before) / 1024;
+  EXPECT_NE(e.find(dir.file("huge.exr") + ": "), std::string::npos) << e;
+  EXPECT_NE(e.find("1048577x32"), std::string::npos) << e;
+  EXPECT_LT(grown_mb, 64) << "the reader allocated for the declared size: " << e;
+  ReadOptions header_only;
+  header_only.header_only = true;
+  EXPECT_NE(read_error(dir.file("huge.exr"), header_only).find("1048577x32"), std::string::npos);
+
+  // Past any sane size, and a window whose width overflows 32 bits.
+  write_view(dir.file("giant.exr"), sample_view(1, 32));
+  patch_data_window(dir.file("giant.exr"), 0, 0, 1 << 30, 31);
+  EXPECT_NE(read_error(dir.file("giant.exr")).find("giant.exr: "), std::string::npos);
+  patch_data_window(dir.file("giant.exr"), -2147483647 - 1, 0, 2147483647, 31);
+  std::string wrap = read_error(dir.file("giant.exr"));
+  EXPECT_NE(wrap.find("giant.exr: "), std::string::npos) << wrap;
+  EXPECT_NE(wrap.find("4294967296x32"), std::string::npos) << wrap;
+}
+
+namespace {
+// Rewrites the declared size of attribute `name` in place.
+void patch_attribute_size(const std::string& path, const std::string& name_and_type, int32_t size) {
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  auto at = bytes.find(name_and_type);
+  ASSERT_NE(at, std::string::npos);
+  f.clear();
+  f.seekp(std::streamoff(at + name_and_type.size()));
+  f.write(reinterpret_cast<const char*>(&size), 4);
+}
+}  // namespace
+
+// Found by fuzz/fuzz_exr.cpp: OpenEXR reads a value of a type it knows by the type and
+// carries on where the value ended, so an attribute whose declared size disagrees made
+// it parse the rest of the header out of step with the size check, into an allocation
+// sized by stray bytes (a timeout in a 603-byte file, fuzz/regressions/exr/).
+TEST(ExrIo, AttributeSizesMustMatchTheirType) {
+  TempDir dir;
+  write_view(dir.file("f.exr"), sample_view(2, 2));
+  patch_attribute_size(dir.file("f.exr"), std::string("fovY\0float\0", 11), 8);
+  std::string e = read_error(dir.file("f.exr"));
+  EXPECT_NE(e.find(dir.file("f.exr") + ": "), std::string::npos) << e;
+  EXPECT_NE(e.find("attribute 'fovY' of type float declares 8 bytes"), std::string::npos) << e;
+
+  // A channel list under another name is parsed by OpenEXR all the same.
+  {
+    Imf::Header hd(2, 2);
+    hd.insert("scene", Imf::StringAttribute("s"));
+    hd.insert("fovY", Imf::FloatAttribute(60));
+    hd.channels().insert("Z", Imf::Channel(Imf::FLOAT));
+    Imf::ChannelList extra;
+    extra.insert("AO", Imf::Channel(Imf::FLOAT));
+    hd.insert("moreChannels", Imf::ChannelListAttribute(extra));
+    std::vector<float> z(4, 1.0f);
+    Imf::FrameBuffer fb;
+    fb.insert("Z", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(z.data()), 4, 8));
+    Imf::OutputFile out(dir.file("extra.exr").c_str(), hd);
+    out.setFrameBuffer(fb);
+    out.writePixels(2);
+  }
+  EXPECT_EQ(read_error(dir.file("extra.exr")), "");
+  patch_attribute_size(dir.file("extra.exr"), std::string("moreChannels\0chlist\0", 20), 40);
+  std::string chl = read_error(dir.file("extra.exr"));
+  EXPECT_NE(chl.find(dir.file("extra.exr") + ": malformed EXR header (the channel list ends before its attribute does"),
+            std::string::npos) << chl;
+
+  // Every input the fuzzer found is refused with the file's name.
+  const fs::path regressions = fs::path(NNSHADE_SOURCE_DIR) / "fuzz" / "regressions" / "exr";
+  int replayed = 0;
+  for (auto& entry : fs::directory_iterator(regressions)) {
+    std::string p = entry.path().string();
+    std::string err = read_error(p);
+    EXPECT_NE(err.find(p + ": "), std::string::npos) << p << ": " << err;
+    ++replayed;
+  }
+  EXPECT_GE(replayed, 1);
 }

@@ -171,3 +171,34 @@ TEST(Dataset, NotAFolderNamesThePath) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/nns: not a folder");
   }
 }
+
+// Issue 13: a NaN in AO or a normal must fail validation, with the file, the channel
+// and the split named, also on sky pixels and also when stored as HALF.
+TEST(Dataset, NonFiniteAoAndNormalsAreRefusedNamingFileChannelAndSplit) {
+  TempDir d;
+  auto with_ao = [](const std::string& scene) {
+    View v = plane_view(scene);
+    v.ao_radius = 1.0f;
+    v.add_channel("AO").assign(12, 0.5f);
+    return v;
+  };
+  write_view(d.file("train/ok.exr"), with_ao("a"));
+  View nan_normal = with_ao("a");
+  nan_normal.channels["Z"][4] = INFINITY;  // sky: the normal may be zero, but not NaN
+  nan_normal.channels["N.Y"][4] = NAN;
+  write_view(d.file("train/n.exr"), nan_normal, {.half = true});
+  View nan_ao = with_ao("b");
+  nan_ao.channels["AO"][7] = NAN;
+  write_view(d.file("test/ao.exr"), nan_ao);
+  ValidateOptions o;
+  o.purpose = Purpose::nnao;
+  ValidationReport r = validate_dataset(d.path.string(), o);
+  EXPECT_FALSE(r.clean());
+  auto has = [&](const std::string& file, const std::string& what) {
+    for (auto& p : r.problems)
+      if (!p.warning && p.file == file && p.str().find(what) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(has(d.file("test/ao.exr"), "channel 'AO': NaN or Inf at 1 pixel (first at x=3, y=1) in split 'test'"));
+  EXPECT_TRUE(has(d.file("train/n.exr"), "channel 'N.X/N.Y/N.Z': NaN or Inf normal at 1 pixel (first at x=0, y=1) in split 'train'"));
+}

@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <unistd.h>
+
+#include <filesystem>
 
 #include "models/gi/crop.h"
 #include "runs/gi/gi_data.h"
@@ -143,4 +146,49 @@ TEST(GiInputs, DownsampleAveragesAndKeepsSkyOnlyWhereAllSky) {
   float nx = d.channel("N.X")[0], ny = d.channel("N.Y")[0], nz = d.channel("N.Z")[0];
   EXPECT_NEAR(nx * nx + ny * ny + nz * nz, 1.0f, 1e-6f);  // renormalised
   EXPECT_THROW(downsample_view(v, 3), std::runtime_error);
+}
+
+// Issue 13: the GI tools took a NaN, zero or negative depth for sky. The contract
+// (docs/dataset-format.md) has sky as +inf or >= 1e30 and everything else invalid.
+TEST(GiInputs, InvalidDepthIsRefusedNotTakenForSky) {
+  GiInputConfig cfg;
+  cfg.mode = GiMode::front;
+  for (float bad : {NAN, 0.0f, -1.0f, -INFINITY}) {
+    View v = make_view(4, 4, 1.0f);
+    v.channels["Z"][6] = bad;
+    SCOPED_TRACE(bad);
+    try {
+      assemble_front(v, cfg);
+      ADD_FAILURE() << "depth " << bad << " was accepted";
+    } catch (const std::runtime_error& e) {
+      std::string m = e.what();
+      EXPECT_NE(m.find("mem.exr: channel 'Z'"), std::string::npos) << m;
+      EXPECT_NE(m.find("x=2, y=1"), std::string::npos) << m;
+    }
+    EXPECT_THROW(downsample_view(v, 2), std::runtime_error);
+  }
+  View sky = make_view(4, 4, 1.0f);
+  sky.channels["Z"][6] = 1e30f;
+  EXPECT_NO_THROW(assemble_front(sky, cfg));
+  EXPECT_NO_THROW(downsample_view(sky, 2));
+}
+
+// The same through the file reader the GI tools use (train-gan, sweep-gan, eval-gi).
+TEST(GiInputs, ItemReaderRefusesInvalidDepthNamingTheFile) {
+  auto dir = std::filesystem::temp_directory_path() / ("nns_gi_depth_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  View v = make_view(4, 4, 1.0f);
+  v.channels["Z"][5] = -2.0f;
+  std::string path = (dir / "neg.exr").string();
+  data::write_view(path, v);
+  for (int size : {0, 2}) {
+    GiItemReader rd{GiMode::front, size};
+    try {
+      rd.view(path);
+      ADD_FAILURE() << "negative depth accepted at --size " << size;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ": channel 'Z'"), std::string::npos) << e.what();
+    }
+  }
+  std::filesystem::remove_all(dir);
 }

@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include "core/thread_pool.h"
@@ -282,4 +283,33 @@ TEST(RenderDataset, NnaoV2VariesViewsDeterministically) {
     EXPECT_EQ(a.channel("AO"), b.channel("AO")) << l.train.views[i];
     EXPECT_EQ(a.channel("N.X"), b.channel("N.X")) << l.train.views[i];
   }
+}
+
+// Issue 13: scene.obj and scene.gltf both became scene "scene"; the dataset then had the
+// same scene in train/ and test/ and dataset-info rejected what render-dataset wrote.
+TEST(RenderDataset, MeshFilesWithTheSameStemAreRefusedBeforeRendering) {
+  std::string in = temp_dir("stems"), out = temp_dir("stems-out");
+  fs::create_directories(fs::path(in) / "other");
+  // A closed 10-unit box with a block inside, as OBJ and (another copy) in a sub-folder.
+  const char* box =
+      "v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nv -5 6 -5\nv 5 6 -5\nv 5 6 5\nv -5 6 5\n"
+      "f 1 2 3\nf 1 3 4\nf 5 7 6\nf 5 8 7\nf 1 5 6\nf 1 6 2\nf 2 6 7\nf 2 7 3\nf 3 7 8\nf 3 8 4\nf 4 8 5\nf 4 5 1\n"
+      "v -1 0 -1\nv 1 0 -1\nv 1 2 -1\nv -1 2 -1\nf 9 10 11\nf 9 11 12\n";
+  std::string a = (fs::path(in) / "scene.obj").string(), b = (fs::path(in) / "other" / "scene.obj").string();
+  std::ofstream(a) << box;
+  std::ofstream(b) << box;
+  DatasetJob job = tiny("nnao", out);
+  job.families.clear();
+  job.scene_files = {a, b};
+  job.views = 4;
+  try {
+    render_dataset(job);
+    ADD_FAILURE() << "two files named scene.* were accepted";
+  } catch (const std::exception& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find(a), std::string::npos) << m;
+    EXPECT_NE(m.find(b), std::string::npos) << m;
+    EXPECT_NE(m.find("'scene'"), std::string::npos) << m;
+  }
+  EXPECT_FALSE(fs::exists(out)) << "output written before the names were checked";
 }

@@ -271,3 +271,70 @@ TEST(MeshLoader, ErrorsNameTheFile) {
   std::ofstream(empty) << "# nothing\n";
   EXPECT_THROW(load_mesh_scene(empty), std::runtime_error);
 }
+
+// Issue 13: an OBJ with a NaN vertex rendered all-zero depth and exited 0.
+TEST(MeshLoader, NonFiniteVerticesAreRefusedNamingTheFile) {
+  for (const char* bad : {"nan", "inf", "-inf", "1e40"}) {
+    std::string obj = temp_path(std::string("bad-") + bad + ".obj");
+    std::ofstream(obj) << "v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv " << bad << " 0 5\nf 1 2 3\nf 1 3 4\n";
+    try {
+      load_mesh_scene(obj);
+      ADD_FAILURE() << "no error for a vertex coordinate '" << bad << "'";
+    } catch (const std::runtime_error& e) {
+      std::string m = e.what();
+      EXPECT_NE(m.find(obj + ": "), std::string::npos) << m;
+      EXPECT_NE(m.find("non-finite"), std::string::npos) << m;
+    }
+  }
+  // A glTF node scale of 1e39 overflows float when applied.
+  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 0, 1};
+  const unsigned char* bytes = reinterpret_cast<const unsigned char*>(pos);
+  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string enc;
+  for (int i = 0; i < 36; i += 3) {
+    uint32_t v = uint32_t(bytes[i]) << 16 | uint32_t(bytes[i + 1]) << 8 | bytes[i + 2];
+    for (int k = 3; k >= 0; --k) enc += b64[(v >> (6 * k)) & 63];
+  }
+  std::string gltf = temp_path("huge.gltf");
+  std::ofstream(gltf) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
+                      << R"("nodes":[{"mesh":0,"scale":[1e39,1,1]}],)"
+                      << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+                      << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
+                      << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+                      << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)" << enc << R"("}]})";
+  try {
+    load_mesh_scene(gltf);
+    ADD_FAILURE() << "no error for a non-finite transformed vertex";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(gltf + ": "), std::string::npos) << e.what();
+  }
+}
+
+// Found by fuzz/fuzz_scene.cpp: a glTF node listed among its own children recursed until
+// the stack overflowed. glTF nodes form a forest (one parent at most); a node reached
+// twice would also multiply the work of every shared subtree.
+TEST(MeshLoader, GltfNodeHierarchyMustBeAForest) {
+  auto write = [](const std::string& path, const std::string& nodes) {
+    std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":)" << nodes
+                        << R"(,"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+                        << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
+                        << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+                        << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)"
+                        << R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/"}]})";
+  };
+  for (const char* nodes : {R"([{"mesh":0,"children":[0]}])", R"([{"mesh":0,"children":[1]},{"children":[0]}])",
+                            R"([{"mesh":0,"children":[1,1]},{"mesh":0}])"}) {
+    std::string path = temp_path("cycle.gltf");
+    write(path, nodes);
+    try {
+      load_mesh_scene(path);
+      ADD_FAILURE() << "accepted " << nodes;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ": "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("node"), std::string::npos) << e.what();
+    }
+  }
+  std::string ok = temp_path("tree.gltf");
+  write(ok, R"([{"mesh":0,"children":[1]},{"mesh":0}])");
+  EXPECT_EQ(load_mesh_scene(ok).triangles.size(), 2u);
+}

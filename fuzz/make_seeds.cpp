@@ -1,0 +1,140 @@
+// Writes the seed corpus of every fuzz target with the project's own writers:
+//   make_seeds DIR   ->  DIR/blob, DIR/checkpoint, DIR/exr, DIR/scene, DIR/metrics
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfTiledOutputFile.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/blob.h"
+#include "data/exr_io.h"
+#include "nn/linear.h"
+#include "optim/adam.h"
+#include "optim/checkpoint.h"
+
+using namespace nns;
+namespace fs = std::filesystem;
+
+namespace {
+void put(const fs::path& p, const std::string& bytes) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+data::View view(int w, int h) {
+  data::View v;
+  v.width = w, v.height = h;
+  v.fov_y_deg = 60, v.ao_radius = 0.5f, v.scene = "seed";
+  v.world_to_camera = std::array<float, 16>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, -2, 0, 0, 0, 1};
+  for (const char* c : {"Z", "N.X", "N.Y", "N.Z", "AO", "albedo.R", "direct.R", "indirect.R"}) v.add_channel(c);
+  for (int i = 0; i < w * h; ++i) {
+    v.channels["Z"][size_t(i)] = 1 + 0.01f * float(i);
+    v.channels["N.Z"][size_t(i)] = 1;
+    v.channels["AO"][size_t(i)] = float(i % 5) / 5;
+    v.channels["albedo.R"][size_t(i)] = 0.5f;
+    v.channels["direct.R"][size_t(i)] = float(i % 3);
+  }
+  v.channels["Z"][0] = INFINITY;
+  return v;
+}
+
+// Compressions and layouts write_view does not produce, through OpenEXR directly.
+void raw_exr(const fs::path& p, Imf::Compression c, bool tiled, Imf::PixelType type) {
+  const int w = 8, h = 8;
+  Imf::Header hd(w, h);
+  hd.compression() = c;
+  hd.channels().insert("Z", Imf::Channel(Imf::FLOAT));
+  hd.channels().insert("AO", Imf::Channel(type));
+  std::vector<float> z(size_t(w * h), 2.0f), ao(size_t(w * h), 0.25f);
+  std::vector<half> ao_h(ao.begin(), ao.end());
+  Imf::FrameBuffer fb;
+  fb.insert("Z", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(z.data()), 4, 4 * w));
+  if (type == Imf::HALF) fb.insert("AO", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(ao_h.data()), 2, 2 * w));
+  else fb.insert("AO", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(ao.data()), 4, 4 * w));
+  fs::create_directories(p.parent_path());
+  if (tiled) {
+    hd.setTileDescription(Imf::TileDescription(4, 4, Imf::ONE_LEVEL));
+    Imf::TiledOutputFile out(p.c_str(), hd);
+    out.setFrameBuffer(fb);
+    out.writeTiles(0, out.numXTiles() - 1, 0, out.numYTiles() - 1);
+  } else {
+    Imf::OutputFile out(p.c_str(), hd);
+    out.setFrameBuffer(fb);
+    out.writePixels(h);
+  }
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_seeds DIR\n");
+    return 2;
+  }
+  const fs::path dir = argv[1];
+  Rng rng(7);
+
+  // blob: a small weights file like save_weights writes.
+  Blob w("nnao");
+  w.set_config("hidden", 4), w.set_config("lr", 1e-3), w.set_config("activation", "prelu");
+  w.put("fc.weight", Tensor<float>::from({2, 3}, {1, -2, 3.5f, 0, 1e-30f, -0.0f}));
+  w.put("fc.bias", Tensor<double>::from({2}, {0.1, -0.2}));
+  w.put_i64("step", 3);
+  put(dir / "blob" / "weights.blob", w.serialize());
+  put(dir / "blob" / "empty.blob", Blob("x").serialize());
+
+  // checkpoint: what the fuzz target restores into, saved by Checkpoint itself.
+  {
+    Linear<float> net(rng, 3, 2);
+    Adam<float> opt(net.parameters());
+    Rng data_rng(2);
+    int64_t epoch = 4, step = 40;
+    Checkpoint<float> ck;
+    ck.add_module("net", net).add_optimizer("adam", opt).add_rng("data", data_rng)
+        .add_counter("epoch", epoch).add_counter("step", step);
+    Blob meta("nnao-checkpoint");
+    meta.set_config("lr", 1e-3);
+    ck.fill(meta);
+    put(dir / "checkpoint" / "run.ckpt", meta.serialize());
+  }
+
+  // exr: the project's writer (FLOAT and HALF), then other layouts OpenEXR reads.
+  fs::create_directories(dir / "exr");
+  data::write_view((dir / "exr" / "float.exr").string(), view(6, 4));
+  data::write_view((dir / "exr" / "half.exr").string(), view(5, 3), {.half = true});
+  raw_exr(dir / "exr" / "piz_tiled.exr", Imf::PIZ_COMPRESSION, true, Imf::HALF);
+  raw_exr(dir / "exr" / "rle.exr", Imf::RLE_COMPRESSION, false, Imf::FLOAT);
+  raw_exr(dir / "exr" / "none.exr", Imf::NO_COMPRESSION, false, Imf::HALF);
+  raw_exr(dir / "exr" / "pxr24.exr", Imf::PXR24_COMPRESSION, false, Imf::FLOAT);
+  raw_exr(dir / "exr" / "b44.exr", Imf::B44_COMPRESSION, false, Imf::HALF);
+  raw_exr(dir / "exr" / "dwaa.exr", Imf::DWAA_COMPRESSION, false, Imf::HALF);
+
+  // scene: first byte 0 = OBJ, 1 = glTF, 2 = GLB (fuzz_scene.cpp).
+  put(dir / "scene" / "quad.obj",
+      std::string(1, '\0') + "v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nv 0 1 0\nvn 0 1 0\nvt 0 0\n"
+                             "o q\ng quad\nusemtl none\nf 1 2 3 4\nf 1/1/1 2/1/1 5/1/1\nf -1 -2 -3\n");
+  put(dir / "scene" / "tri.gltf",
+      std::string(1, '\1') +
+          R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
+          R"("nodes":[{"mesh":0,"translation":[0,2,0],"children":[1]},{"mesh":0,"scale":[2,2,2],"rotation":[0,0,0,1]}],)"
+          R"("materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.2,0.4,0.6,1]},"emissiveFactor":[1,0,0]}],)"
+          R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0}]}],)"
+          R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]},)"
+          R"({"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}],)"
+          R"("bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],)"
+          R"("buffers":[{"byteLength":42,"uri":"data:application/octet-stream;base64,)"
+          R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/AAABAAIA"}]})");
+
+  // metrics: two little-endian bytes of the checkpoint's step, then the file the run
+  // layer writes (runs/metrics_log.h), with a null and a torn last line.
+  put(dir / "metrics" / "three.jsonl",
+      std::string("\x14\x00", 2) +
+          "{\"step\":10,\"epoch\":1,\"train_loss\":0.5,\"test_mse\":0.25}\n"
+          "{\"step\":20,\"epoch\":2,\"train_loss\":0.125,\"test_mse\":null}\n"
+          "{\"step\":30,\"epoch\":3,\"train_loss\":0.001,\"test_m");
+  std::printf("make_seeds: wrote %s/{blob,checkpoint,exr,scene,metrics}\n", dir.c_str());
+  return 0;
+}
