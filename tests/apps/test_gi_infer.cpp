@@ -62,8 +62,8 @@ class GiInfer : public ::testing::Test {
     root_ = fs::temp_directory_path() / ("nns_gi_infer_" + std::to_string(::getpid()));
     fs::remove_all(root_);
     nns::testing::write_dataset(data(), 3, 2, false, /*face_size=*/32);
-    // A path-traced dataset too (Embree; emission and sky pixels, which the synthetic
-    // one lacks): 2 train frames and 1 held-out frame, cheap settings.
+    // A path-traced dataset too (Embree, procedural rooms with an emission channel,
+    // which the synthetic one lacks): 2 train frames and 1 held-out frame, cheap settings.
     auto rd = run_app("render-dataset", "--out " + rendered() + " --preset surround --views 3 --views-per-scene 1"
                                         " --test-fraction 0.34 --size 32x32 --spp 2 --gi-spp 4 --bounces 2 --seed 5");
     ASSERT_EQ(rd.code, 0) << rd.output;
