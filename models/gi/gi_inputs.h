@@ -59,10 +59,10 @@ struct GiSample {
   std::string name;   // the view file or the frame folder
   std::string scene;
   Tensor<float> input;   // (1, C, H, W)      the generator's input
-  Tensor<float> target;  // (1, 3, h, w)      Tanh range, the front view
+  Tensor<float> target;  // (1, 3, h, w)      Tanh range, the front view; undefined without ground truth
   Rect front;            // the front view inside the input (all of it in front mode)
   // The front view, linear HDR, (3, h, w): for shading, references and metrics.
-  Tensor<float> albedo, emission, direct_env, target_linear;
+  Tensor<float> albedo, emission, direct_env, target_linear;  // target_linear: as target
   std::vector<uint8_t> geometry;  // h * w, 1 where there is geometry (not sky)
   // Share of the frame's direct light on the front face (gi_data.h); NaN for a single
   // view, where the surroundings are unknown.
@@ -117,34 +117,51 @@ inline Tensor<float> view_planes(const data::View& v, const GiNormalisation& nor
   return t;
 }
 
-// Fills the linear front-view planes and the target of `s` from the front view.
-inline void fill_front_targets(GiSample& s, const data::View& v, const GiNormalisation& norm) {
+// Fills the linear front-view planes that shade a prediction (albedo, emission,
+// direct + env, the geometry mask) from the front view; needs no ground truth, so
+// gi-infer assembles a user's frame with this alone.
+inline void fill_front_shading(GiSample& s, const data::View& v) {
   const int64_t n = int64_t(v.width) * v.height;
-  HdrMapping hdr(norm.hdr_scale);
   s.albedo = Tensor<float>({3, v.height, v.width});
   s.emission = Tensor<float>({3, v.height, v.width});
   s.direct_env = Tensor<float>({3, v.height, v.width});
-  s.target_linear = Tensor<float>({3, v.height, v.width});
-  s.target = Tensor<float>({1, 3, v.height, v.width});
   for (int c = 0; c < 3; ++c) {
     const auto& a = finite_channel(v, std::string("albedo.") + "RGB"[c]);
     const auto& dir = finite_channel(v, std::string("direct.") + "RGB"[c]);
-    const auto& ind = finite_channel(v, std::string("indirect.") + "RGB"[c]);
     auto em = rgb_or_zero(v, "emission", c), env = rgb_or_zero(v, "env", c);
     for (int64_t i = 0; i < n; ++i) {
       size_t k = size_t(i);
       s.albedo[c * n + i] = a[k];
       s.emission[c * n + i] = em[k];
       s.direct_env[c * n + i] = dir[k] + env[k];
-      float t = dir[k] + env[k] + ind[k];
-      s.target_linear[c * n + i] = t;
-      s.target[c * n + i] = hdr.to_tanh(t);
     }
   }
   data::check_depth(v);
   const auto& z = v.channel("Z");
   s.geometry.resize(size_t(n));
   for (int64_t i = 0; i < n; ++i) s.geometry[size_t(i)] = data::is_sky(z[size_t(i)]) ? 0 : 1;
+}
+
+// Fills the shading planes and the target of `s` from the front view (needs indirect.*).
+// The target sums dir + env + ind in this order, as it always has: training numbers
+// stay bitwise the same.
+inline void fill_front_targets(GiSample& s, const data::View& v, const GiNormalisation& norm) {
+  fill_front_shading(s, v);
+  const int64_t n = int64_t(v.width) * v.height;
+  HdrMapping hdr(norm.hdr_scale);
+  s.target_linear = Tensor<float>({3, v.height, v.width});
+  s.target = Tensor<float>({1, 3, v.height, v.width});
+  for (int c = 0; c < 3; ++c) {
+    const auto& dir = finite_channel(v, std::string("direct.") + "RGB"[c]);
+    const auto& ind = finite_channel(v, std::string("indirect.") + "RGB"[c]);
+    auto env = rgb_or_zero(v, "env", c);
+    for (int64_t i = 0; i < n; ++i) {
+      size_t k = size_t(i);
+      float t = dir[k] + env[k] + ind[k];
+      s.target_linear[c * n + i] = t;
+      s.target[c * n + i] = hdr.to_tanh(t);
+    }
+  }
 }
 
 }  // namespace nns::gi

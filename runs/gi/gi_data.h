@@ -87,8 +87,9 @@ inline void append_coords(Tensor<float>& input, const std::vector<float>& c0,
   }
 }
 
-// One front view -> sample.
-inline GiSample assemble_front(const data::View& v, const GiInputConfig& cfg) {
+// One front view -> sample. targets = false: a frame without ground truth (gi-infer);
+// the sample gets no target, only what shades a prediction.
+inline GiSample assemble_front(const data::View& v, const GiInputConfig& cfg, bool targets = true) {
   GiSample s;
   s.name = v.source;
   s.scene = v.scene;
@@ -100,7 +101,8 @@ inline GiSample assemble_front(const data::View& v, const GiInputConfig& cfg) {
     append_coords(s.input, xy.x, xy.y, 10);
   }
   s.front = {0, 0, v.width, v.height};
-  fill_front_targets(s, v, cfg.norm);
+  if (targets) fill_front_targets(s, v, cfg.norm);
+  else fill_front_shading(s, v);
   return s;
 }
 
@@ -121,7 +123,7 @@ inline float front_direct_share(const std::array<data::View, 6>& faces) {
 
 // Six faces -> sample on the global view (front region = the front face).
 inline GiSample assemble_surround(const std::array<data::View, 6>& faces, const GiInputConfig& cfg,
-                                  const std::string& name) {
+                                  const std::string& name, bool targets = true) {
   const int F = faces[0].width;
   std::array<Tensor<float>, 6> planes;
   for (int f = 0; f < 6; ++f) planes[size_t(f)] = view_planes(faces[size_t(f)], cfg.norm);
@@ -142,7 +144,8 @@ inline GiSample assemble_surround(const std::array<data::View, 6>& faces, const 
   }
   auto r = layout.front_rect();
   s.front = {r.x0, r.y0, r.w, r.h};
-  fill_front_targets(s, faces[0], cfg.norm);
+  if (targets) fill_front_targets(s, faces[0], cfg.norm);
+  else fill_front_shading(s, faces[0]);
   s.front_direct_share = front_direct_share(faces);
   return s;
 }

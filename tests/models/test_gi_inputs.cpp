@@ -191,4 +191,35 @@ TEST(GiInputs, ItemReaderRefusesInvalidDepthNamingTheFile) {
     }
   }
   std::filesystem::remove_all(dir);
+// gi-infer's frames have no indirect.*: assembled without targets they give the same
+// input and shading planes, bit for bit, as the training path does with targets.
+TEST(GiInputs, WithoutTargetsTheInputAndShadingPlanesAreBitwiseTheTrainingOnes) {
+  GiInputConfig cfg;
+  cfg.mode = GiMode::front;
+  cfg.norm.hdr_scale = 1.7f;
+  cfg.norm.depth_max = 3.0f;
+  View with = make_view(4, 3, 1.0f), without = make_view(4, 3, 1.0f, true, /*targets=*/false);
+  GiSample a = assemble_front(with, cfg), b = assemble_front(without, cfg, /*targets=*/false);
+  auto same = [](const Tensor<float>& x, const Tensor<float>& y) {
+    return x.shape() == y.shape() && std::equal(x.begin(), x.end(), y.begin());
+  };
+  EXPECT_TRUE(same(a.input, b.input));
+  EXPECT_TRUE(same(a.albedo, b.albedo));
+  EXPECT_TRUE(same(a.emission, b.emission));
+  EXPECT_TRUE(same(a.direct_env, b.direct_env));
+  EXPECT_EQ(a.geometry, b.geometry);
+  EXPECT_FALSE(b.target.defined());
+  EXPECT_FALSE(b.target_linear.defined());
+
+  std::array<View, 6> faces, bare;
+  for (int f = 0; f < 6; ++f) {
+    faces[size_t(f)] = make_view(8, 8, 1.0f + f, true, f == 0);
+    bare[size_t(f)] = make_view(8, 8, 1.0f + f, true, false);
+  }
+  cfg.mode = GiMode::surround;
+  GiSample c = assemble_surround(faces, cfg, "frame"), d = assemble_surround(bare, cfg, "frame", false);
+  EXPECT_TRUE(same(c.input, d.input));
+  EXPECT_TRUE(same(c.direct_env, d.direct_env));
+  EXPECT_EQ(c.front_direct_share, d.front_direct_share);
+  EXPECT_THROW(assemble_surround(bare, cfg, "frame"), std::runtime_error);  // targets need indirect
 }

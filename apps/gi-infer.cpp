@@ -1,0 +1,47 @@
+// gi-infer: a trained GI generator on one frame without ground truth.
+//
+//   gi-infer --model gan-out/G.blob --in frame7 --out frame7_gi.exr
+// --in is one G-buffer view (front-mode model) or a folder of six faces
+// front/back/left/right/up/down.exr (surround model). Writes OUT.exr (light.*, indirect.*,
+// shaded.*, Z) and OUT_shaded.png, OUT_indirect.png; on any error, nothing. See docs/gan.md.
+#include <cstdio>
+
+#include "apps/args.h"
+#include "core/thread_pool.h"
+#include "runs/gi/gi_infer.h"
+
+using namespace nns;
+
+int main(int argc, char** argv) {
+  return cli::run_main("gi-infer", [&] {
+    cli::Args a(argc, argv, "gi-infer",
+                "Predict indirect light and the lit image of one G-buffer frame with a trained GI generator.\n"
+                "--in: a view EXR (front-mode model) or a folder with front/back/left/right/up/down.exr\n"
+                "(surround model); needs Z, N.X/Y/Z, albedo.R/G/B, direct.R/G/B (emission, env optional),\n"
+                "no indirect.*. Views larger than the model's face size are box-filtered down by an integer\n"
+                "factor. Writes OUT.exr (light.*, indirect.* = light - direct - env, signed; shaded.* =\n"
+                "albedo * light + emission; Z), OUT_shaded.png and OUT_indirect.png; on error, nothing.");
+    gi::InferOptions o;
+    o.model = a.get_string("--model", "", "generator blob (G.blob) from train-gan");
+    o.in = a.get_string("--in", "", "the frame: a view .exr or a folder of six faces");
+    o.out = a.get_string("--out", "", "output .exr (default: <input name>_gi.exr in the current folder)");
+    std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics, as eval-gi");
+    std::string drop = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time, as eval-gi");
+    int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
+    if (o.model.empty()) a.error("--model is required");
+    if (o.in.empty()) a.error("--in is required");
+    a.done();
+    o.bn_batch_stats = bn == "batch";
+    o.dropout_on = drop == "on";
+    set_num_threads(threads);
+    gi::InferResult r = gi::infer_gi(o);
+    for (auto& note : r.notes) std::printf("gi-infer: %s\n", note.c_str());
+    std::printf("gi-infer: %s model, %s %dx%d -> %dx%d (box filter %d), network %.1f ms\n", r.mode.c_str(),
+                r.front_file.c_str(), r.in_width, r.in_height, r.width, r.height, r.reduction, r.ms);
+    std::printf("gi-infer: predicted light below direct+env (negative indirect, kept signed in the EXR) on "
+                "%lld of %lld geometry pixels, minimum %.4g\n",
+                (long long)r.negative_indirect_pixels, (long long)r.geometry_pixels, double(r.min_indirect));
+    std::printf("gi-infer: wrote %s, %s, %s\n", r.exr.c_str(), r.shaded_png.c_str(), r.indirect_png.c_str());
+    return 0;
+  });
+}

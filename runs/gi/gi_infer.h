@@ -1,0 +1,285 @@
+#pragma once
+// gi-infer: a trained generator on one frame that has no ground truth.
+//
+//   InferResult r = infer_gi({.model = "gan-out/G.blob", .in = "frame7", .out = "f7.exr"});
+//
+// The frame is a single G-buffer view (front-mode model) or a folder of six faces,
+// front/back/left/right/up/down.exr (surround model); a front-mode model given a folder
+// takes its front.exr and says so. Each view must meet the dataset contract of a
+// surround face (docs/dataset-format.md: Z, N.*, albedo.*, direct.*, emission/env
+// optional, no ground truth needed) and is box-filtered to the model's face size by an
+// integer factor exactly as training and eval-gi do (gi_data.h), so the prediction is
+// eval-gi's prediction for the same frame.
+//
+// Output, all written to temporary names and renamed only once everything succeeded
+// (an error leaves no output at all):
+//   OUT.exr           light.R/G/B     predicted total diffuse light (direct + env + indirect)
+//                     indirect.R/G/B  light - (direct + env), signed (see below)
+//                     shaded.R/G/B    albedo * light + emission, the lit image
+//                     Z               the input's depth at the output size
+//                     header: fovY, scene (and worldToCamera) of the input's front view
+//   OUT_shaded.png, OUT_indirect.png  previews (exposure 1/k, the model's HDR scale)
+// Negative indirect light: the true indirect light is >= 0, but the network predicts the
+// total light, which can fall below direct + env. The EXR keeps the signed difference,
+// so light = direct + env + indirect holds and the shortfall stays visible; the PNG
+// clamps it at 0; InferResult counts the geometry pixels where it happened.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "data/dataset.h"
+#include "data/exr_io.h"
+#include "data/validate.h"
+#include "models/gi/gi_model_io.h"
+#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_previews.h"
+
+namespace nns::gi {
+
+struct InferOptions {
+  std::string model, in;
+  std::string out;              // "": <name of the input>_gi.exr in the current folder
+  bool bn_batch_stats = true;   // test-time BatchNorm, as eval-gi (docs/gan.md)
+  bool dropout_on = false;
+};
+
+struct InferResult {
+  std::string exr, shaded_png, indirect_png;
+  std::string mode;                      // the model's: front | surround
+  std::string front_file;                // the view whose light was predicted
+  int in_width = 0, in_height = 0;       // the front view as stored
+  int width = 0, height = 0, reduction = 1;
+  std::vector<std::string> notes;        // e.g. the front.exr a front-mode model used
+  int64_t geometry_pixels = 0;
+  int64_t negative_indirect_pixels = 0;  // geometry pixels with some indirect channel < 0
+  float min_indirect = 0;
+  double ms = 0;                         // the network alone
+};
+
+namespace infer_detail {
+
+// What view_planes and fill_front_shading read from every view; emission and env are
+// optional (zero when absent), indirect is the ground truth gi-infer does without.
+inline const std::vector<std::string>& required_channels() {
+  static const std::vector<std::string> c = {"Z", "N.X", "N.Y", "N.Z", "albedo.R", "albedo.G",
+                                             "albedo.B", "direct.R", "direct.G", "direct.B"};
+  return c;
+}
+
+// Every missing channel in one message, then the errors of the dataset contract (NaN or
+// Inf, NaN or non-positive depth, non-unit normals, header attributes): the checks
+// training ran on its data (data/validate.h), so the network sees inputs of the kind it
+// learned from. The contract's warnings (albedo outside [0, 1], negative light) pass, as
+// they do for training.
+inline void check_input(const data::View& v) {
+  std::string missing;
+  for (auto& c : required_channels())
+    if (!v.has(c)) missing += (missing.empty() ? "'" : ", '") + c + "'";
+  if (!missing.empty())
+    throw std::runtime_error(v.source + ": missing channel " + missing +
+                             " (the GI model's inputs: Z, N.X/Y/Z, albedo.R/G/B, direct.R/G/B; "
+                             "emission and env are optional)");
+  data::ValidationReport report;
+  data::ValidateOptions o;
+  o.purpose = data::Purpose::gi;
+  data::ProblemSink sink(report, 5);
+  data::check_view(v, nullptr, /*is_front=*/false, o, sink);
+  if (report.errors == 0) return;
+  std::string msg = v.source + ": not a valid G-buffer view (" + std::to_string(report.errors) + " problem" +
+                    (report.errors == 1 ? "" : "s") + "; `dataset-info` lists them all):";
+  for (auto& p : report.problems)
+    if (!p.warning) msg += "\n  " + p.str();
+  throw std::runtime_error(msg);
+}
+
+// The integer box reduction of gi_data.h's reduction_for, with a message that names the
+// sizes (gi-infer has no --size flag: the size is the model's).
+inline int reduction_to_model(const data::View& v, int size, const std::string& model) {
+  if (size <= 0) return 1;  // a model trained on views as stored
+  const std::string got = std::to_string(v.width) + "x" + std::to_string(v.height);
+  const std::string want = std::to_string(size);
+  const bool fits = (v.width == v.height || v.width == size) && v.width >= size && v.width % size == 0;
+  if (!fits)
+    throw std::runtime_error(v.source + ": view is " + got + " but the model " + model + " takes faces of " +
+                             want + "x" + want + "; gi-infer only box-filters square views down by an "
+                             "integer factor (sizes " + want + ", " + std::to_string(2 * size) + ", " +
+                             std::to_string(3 * size) + ", ...), it never enlarges or crops");
+  return reduction_for(v, size, v.source);
+}
+
+inline std::string default_out(const std::string& in) {
+  std::filesystem::path p = std::filesystem::path(in).lexically_normal();
+  if (p.filename().empty()) p = p.parent_path();  // "frame7/" -> "frame7"
+  std::string name = std::filesystem::is_directory(in) ? p.filename().string() : p.stem().string();
+  return (name.empty() || name == "." || name == ".." ? std::string("frame") : name) + "_gi.exr";
+}
+
+// Temporaries end in ".tmp.<pid>": core/atomic_file.h's remove_stale_temporaries and
+// the dataset listing (non-EXR names) both ignore or clean them.
+inline std::string temp_name(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
+
+}  // namespace infer_detail
+
+inline InferResult infer_gi(const InferOptions& o) {
+  namespace fs = std::filesystem;
+  using namespace infer_detail;
+  InferResult r;
+  r.exr = o.out.empty() ? default_out(o.in) : o.out;
+  if (r.exr.size() < 5 || r.exr.compare(r.exr.size() - 4, 4, ".exr") != 0)
+    throw std::runtime_error(r.exr + ": the output must be an .exr file name");
+  const std::string stem = r.exr.substr(0, r.exr.size() - 4);
+  r.shaded_png = stem + "_shaded.png";
+  r.indirect_png = stem + "_indirect.png";
+
+  LoadedGenerator g;
+  try {
+    g = load_generator(o.model);
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    throw std::runtime_error(what.find(o.model) == std::string::npos
+                                 ? o.model + ": cannot load the generator: " + what
+                                 : what);
+  }
+  const GiInputConfig& cfg = g.inputs;
+  r.mode = mode_name(cfg.mode);
+
+  std::error_code ec;
+  if (!fs::exists(o.in, ec)) throw std::runtime_error(o.in + ": no such file or folder");
+  const bool folder = fs::is_directory(o.in, ec);
+  std::vector<std::string> inputs;  // every file read, so the output cannot overwrite one
+  GiSample s;
+  data::View front;
+  if (cfg.mode == GiMode::surround) {
+    if (!folder)
+      throw std::runtime_error(o.in + ": the model " + o.model + " is a surround model; it needs a folder "
+                               "of six faces (front.exr, back.exr, left.exr, right.exr, up.exr, down.exr), "
+                               "not a single view");
+    data::FrameEntry e;
+    e.dir = o.in;
+    for (size_t f = 0; f < 6; ++f) {
+      const std::string p = (fs::path(o.in) / (std::string(data::kFaceNames[f]) + ".exr")).string();
+      if (fs::is_regular_file(p, ec)) e.faces[f] = p;
+      else e.missing.push_back(data::kFaceNames[f]);
+    }
+    if (!e.complete()) {
+      std::string names;
+      for (auto& m : e.missing) names += (names.empty() ? "" : ", ") + m + ".exr";
+      throw std::runtime_error(o.in + ": a surround frame needs six faces; missing " + names);
+    }
+    auto faces = data::read_frame(e);  // same size, square, or an error naming the face
+    for (auto& f : faces) check_input(f);
+    r.in_width = faces[0].width, r.in_height = faces[0].height;
+    r.reduction = reduction_to_model(faces[0], cfg.size, o.model);
+    for (auto& f : faces) f = downsample_view(f, r.reduction);
+    s = assemble_surround(faces, cfg, o.in, /*targets=*/false);
+    front = faces[0];
+    inputs.assign(e.faces.begin(), e.faces.end());
+    r.front_file = e.faces[0];
+  } else {
+    std::string path = o.in;
+    if (folder) {
+      path = (fs::path(o.in) / "front.exr").string();
+      if (!fs::is_regular_file(path, ec))
+        throw std::runtime_error(o.in + ": the model " + o.model + " is a front-mode model and reads one view; "
+                                 "the folder has no front.exr");
+      r.notes.push_back("front-mode model: using " + path + " (the other faces are not inputs of this model)");
+    }
+    data::View v = data::read_view(path);
+    check_input(v);
+    r.in_width = v.width, r.in_height = v.height;
+    r.reduction = reduction_to_model(v, cfg.size, o.model);
+    front = downsample_view(v, r.reduction);
+    s = assemble_front(front, cfg, /*targets=*/false);
+    s.name = path;
+    inputs.push_back(path);
+    r.front_file = path;
+  }
+  for (auto& in : inputs)
+    for (auto* target : {&r.exr, &r.shaded_png, &r.indirect_png})
+      if (fs::exists(*target, ec) && fs::equivalent(*target, in, ec))
+        throw std::runtime_error(*target + ": is an input of this run; choose another --out");
+
+  auto t0 = std::chrono::steady_clock::now();
+  Tensor<float> light;
+  try {
+    light = predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(o.in + ": the model " + o.model + " cannot run on this " +
+                             std::to_string(s.input.size(3)) + "x" + std::to_string(s.input.size(2)) +
+                             " input (" + e.what() + ")");
+  }
+  r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+  const int w = front.width, h = front.height;
+  const int64_t n = int64_t(w) * h;
+  r.width = w, r.height = h;
+  data::View out;
+  out.width = w, out.height = h;
+  out.fov_y_deg = front.fov_y_deg;
+  out.scene = front.scene;
+  out.world_to_camera = front.world_to_camera;
+  out.channels["Z"] = front.channel("Z");
+  std::vector<float> indirect_png(size_t(3 * n)), shaded(size_t(3 * n));
+  r.min_indirect = INFINITY;
+  std::vector<uint8_t> negative(size_t(n), 0);
+  for (int c = 0; c < 3; ++c) {
+    const std::string ch(1, "RGB"[c]);
+    auto &L = out.add_channel("light." + ch), &I = out.add_channel("indirect." + ch),
+         &S = out.add_channel("shaded." + ch);
+    for (int64_t i = 0; i < n; ++i) {
+      const int64_t k = c * n + i;
+      const float l = light[k];
+      if (!std::isfinite(l))
+        throw std::runtime_error(o.model + ": predicted a non-finite light at pixel " + std::to_string(i % w) +
+                                 "," + std::to_string(i / w) + " of " + r.front_file);
+      L[size_t(i)] = l;
+      I[size_t(i)] = l - s.direct_env[k];
+      S[size_t(i)] = s.albedo[k] * l + s.emission[k];
+      shaded[size_t(k)] = S[size_t(i)];
+      indirect_png[size_t(k)] = std::max(I[size_t(i)], 0.0f);
+      if (s.geometry[size_t(i)]) {
+        r.min_indirect = std::min(r.min_indirect, I[size_t(i)]);
+        if (I[size_t(i)] < 0) negative[size_t(i)] = 1;
+      }
+    }
+  }
+  for (int64_t i = 0; i < n; ++i) {
+    r.geometry_pixels += s.geometry[size_t(i)];
+    r.negative_indirect_pixels += negative[size_t(i)];
+  }
+  if (r.geometry_pixels == 0) r.min_indirect = 0;
+
+  // Everything to temporaries first; only when all three exist are they renamed.
+  const std::vector<std::string> finals = {r.exr, r.shaded_png, r.indirect_png};
+  std::vector<std::string> temps;
+  for (auto& f : finals) temps.push_back(temp_name(f));
+  auto remove_all = [&](const std::vector<std::string>& files) {
+    for (auto& f : files) fs::remove(f, ec);
+  };
+  try {
+    const fs::path parent = fs::path(r.exr).parent_path();
+    if (!parent.empty()) fs::create_directories(parent);
+    const HdrMapping hdr(cfg.norm.hdr_scale);
+    data::write_view(temps[0], out);
+    write_light_png(temps[1], shaded.data(), w, h, hdr);
+    write_light_png(temps[2], indirect_png.data(), w, h, hdr);
+    for (size_t i = 0; i < finals.size(); ++i) {
+      fs::rename(temps[i], finals[i]);
+      temps[i].clear();
+    }
+  } catch (const std::exception& e) {
+    remove_all(temps);
+    // A rename that failed half-way: the renamed files are this run's, not a complete set.
+    for (size_t i = 0; i < finals.size(); ++i)
+      if (temps[i].empty()) fs::remove(finals[i], ec);
+    throw std::runtime_error(r.exr + ": cannot write the output (" + e.what() + "); nothing was written");
+  }
+  return r;
+}
+
+}  // namespace nns::gi

@@ -1,0 +1,259 @@
+// gi-infer, run as the user runs it, on frames of a tiny synthetic surround dataset and of
+// a tiny rendered one (render-dataset), both with 32x32 faces (the models take 16x16:
+// every run box-filters by 2). Its light equals the prediction eval-gi's path computes
+// for the same frame (load_samples + predict_linear, with the ground truth present), bit
+// for bit; and it refuses what it must, naming the file and the problem, leaving no
+// output behind.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "data/dataset.h"
+#include "data/exr_io.h"
+#include "models/gi/gi_model_io.h"
+#include "runs/gi/gi_data.h"
+#include "tests/support/run_command.h"
+#include "tests/support/synthetic_gi_dataset.h"
+
+namespace fs = std::filesystem;
+using nns::data::View;
+using nns::testing::run_app;
+
+namespace {
+
+std::string read_all(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> files_in(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (auto& e : fs::directory_iterator(dir, ec)) out.push_back(e.path().filename().string());
+  return out;
+}
+
+// A copy of a frame folder (or one view) without the ground truth: gi-infer's case.
+void copy_without_truth(const std::string& from, const std::string& to) {
+  auto strip = [](View v) {
+    for (const char* c : {"indirect.R", "indirect.G", "indirect.B"}) v.channels.erase(c);
+    return v;
+  };
+  if (fs::is_directory(from)) {
+    fs::create_directories(to);
+    for (auto& e : fs::directory_iterator(from))
+      nns::data::write_view((fs::path(to) / e.path().filename()).string(), strip(nns::data::read_view(e.path().string())));
+  } else {
+    nns::data::write_view(to, strip(nns::data::read_view(from)));
+  }
+}
+
+class GiInfer : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = fs::temp_directory_path() / ("nns_gi_infer_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    nns::testing::write_dataset(data(), 3, 2, false, /*face_size=*/32);
+    // A path-traced dataset too (Embree, procedural rooms with an emission channel,
+    // which the synthetic one lacks): 2 train frames and 1 held-out frame, cheap settings.
+    auto rd = run_app("render-dataset", "--out " + rendered() + " --preset surround --views 3 --views-per-scene 1"
+                                        " --test-fraction 0.34 --size 32x32 --spp 2 --gi-spp 4 --bounces 2 --seed 5");
+    ASSERT_EQ(rd.code, 0) << rd.output;
+    const std::pair<std::string, std::string> runs[] = {
+        {"surround", data()}, {"front", data()}, {"rendered", rendered()}};
+    for (auto& [name, dir] : runs) {
+      const std::string mode = name == "front" ? "front" : "surround";
+      auto r = run_app("train-gan", "--data " + dir + " --out " + (root_ / name).string() + " --mode " + mode +
+                                        " --size 16 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 2"
+                                        " --no-eval --seed 3 --threads 2");
+      ASSERT_EQ(r.code, 0) << r.output;
+    }
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+
+  static std::string data() { return (root_ / "data").string(); }
+  static std::string rendered() { return (root_ / "rendered_data").string(); }
+  static std::string model(const std::string& mode) { return (root_ / mode / "G.blob").string(); }
+  static std::string path(const std::string& name) { return (root_ / name).string(); }
+
+  // What eval-gi predicts for test item `index` (with its ground truth on disk).
+  static nns::Tensor<float> eval_gi_prediction(const std::string& blob, size_t index, nns::gi::GiSample* out,
+                                               const std::string& dataset = data()) {
+    using namespace nns::gi;
+    LoadedGenerator g = load_generator(blob);
+    auto listing = nns::data::list_dataset(dataset);
+    GiItemReader rd{g.inputs.mode, g.inputs.size};
+    auto samples = load_samples(listing.test, rd, g.inputs, index + 1, "test", /*quiet=*/true);
+    *out = samples[index];
+    return predict_linear(g, samples[index], /*bn_batch_stats=*/true, /*dropout_on=*/false);
+  }
+
+  // Bitwise: gi-infer runs the same code on the same numbers (the EXR stores FLOAT).
+  static void expect_output_matches(const std::string& exr, const nns::Tensor<float>& light,
+                                    const nns::gi::GiSample& s) {
+    View o = nns::data::read_view(exr);
+    ASSERT_EQ(o.width, 16);
+    ASSERT_EQ(o.height, 16);
+    const int64_t n = 256;
+    double max_diff = 0, max_light_vs_direct = 0;
+    for (int c = 0; c < 3; ++c) {
+      const std::string ch(1, "RGB"[c]);
+      const auto &L = o.channel("light." + ch), &I = o.channel("indirect." + ch), &S = o.channel("shaded." + ch);
+      for (int64_t i = 0; i < n; ++i) {
+        const int64_t k = c * n + i;
+        max_diff = std::max(max_diff, double(std::abs(L[size_t(i)] - light[k])));
+        EXPECT_EQ(I[size_t(i)], light[k] - s.direct_env[k]) << ch << " " << i;
+        EXPECT_EQ(S[size_t(i)], s.albedo[k] * light[k] + s.emission[k]) << ch << " " << i;
+        max_light_vs_direct = std::max(max_light_vs_direct, double(std::abs(light[k] - s.direct_env[k])));
+      }
+    }
+    EXPECT_EQ(max_diff, 0.0) << "gi-infer's light differs from eval-gi's prediction";
+    EXPECT_GT(max_light_vs_direct, 1e-3);  // the network added something: not an identity copy
+    EXPECT_EQ(o.fov_y_deg, 90.0f);
+    EXPECT_EQ(o.scene, s.scene);
+    EXPECT_FALSE(s.scene.empty());
+    EXPECT_TRUE(o.has("Z"));
+    EXPECT_FALSE(o.has("direct.R"));  // the outputs only, no input planes copied
+  }
+
+  static inline fs::path root_;
+};
+
+}  // namespace
+
+TEST_F(GiInfer, SurroundFrameWithoutTruthGivesEvalGisPrediction) {
+  nns::gi::GiSample s;
+  nns::Tensor<float> light = eval_gi_prediction(model("surround"), 1, &s);
+  const std::string frame = path("bare_frame1");
+  copy_without_truth(data() + "/test/frame1", frame);
+  ASSERT_FALSE(nns::data::read_view(frame + "/front.exr").has("indirect.R"));
+  fs::create_directories(path("out_s"));
+  const std::string exr = path("out_s") + "/f1.exr";
+  auto r = run_app("gi-infer", "--model " + model("surround") + " --in " + frame + " --out " + exr);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("32x32 -> 16x16 (box filter 2)"), std::string::npos) << r.output;
+  expect_output_matches(exr, light, s);
+  auto files = files_in(path("out_s"));
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"f1.exr", "f1_indirect.png", "f1_shaded.png"}));
+
+  // One thread gives the same bytes (the determinism contract reaches the app).
+  auto r1 = run_app("gi-infer", "--model " + model("surround") + " --in " + frame + " --out " + path("out_s") +
+                                    "/t1.exr --threads 1");
+  ASSERT_EQ(r1.code, 0) << r1.output;
+  EXPECT_EQ(read_all(path("out_s") + "/t1.exr"), read_all(exr));
+}
+
+TEST_F(GiInfer, RenderedSurroundFrameGivesEvalGisPrediction) {
+  auto listing = nns::data::list_dataset(rendered());
+  ASSERT_EQ(listing.test.frames.size(), 1u);
+  nns::gi::GiSample s;
+  nns::Tensor<float> light = eval_gi_prediction(model("rendered"), 0, &s, rendered());
+  const std::string frame = path("bare_rendered");
+  copy_without_truth(listing.test.frames[0].dir, frame);
+  const std::string exr = path("out_r") + "/r.exr";
+  auto r = run_app("gi-infer", "--model " + model("rendered") + " --in " + frame + " --out " + exr);
+  ASSERT_EQ(r.code, 0) << r.output;
+  expect_output_matches(exr, light, s);
+}
+
+TEST_F(GiInfer, FrontModelOnASingleViewAndOnAFolder) {
+  nns::gi::GiSample s;
+  nns::Tensor<float> light = eval_gi_prediction(model("front"), 0, &s);
+  const std::string view = path("bare_view0.exr");
+  copy_without_truth(data() + "/test/frame0/front.exr", view);
+  fs::create_directories(path("out_f"));
+  auto r = run_app("gi-infer", "--model " + model("front") + " --in " + view + " --out " + path("out_f") + "/v.exr");
+  ASSERT_EQ(r.code, 0) << r.output;
+  expect_output_matches(path("out_f") + "/v.exr", light, s);
+
+  // Given a folder, a front-mode model takes its front.exr and says so.
+  const std::string frame = path("bare_frame0");
+  copy_without_truth(data() + "/test/frame0", frame);
+  auto rf = run_app("gi-infer", "--model " + model("front") + " --in " + frame + " --out " + path("out_f") + "/d.exr");
+  ASSERT_EQ(rf.code, 0) << rf.output;
+  EXPECT_NE(rf.output.find("using " + frame + "/front.exr"), std::string::npos) << rf.output;
+  expect_output_matches(path("out_f") + "/d.exr", light, s);
+}
+
+// Each refusal names the file and the problem, exits non-zero, and writes nothing: the
+// output folder stays empty and an existing OUT.exr keeps its bytes.
+TEST_F(GiInfer, RefusesBadInputNamingTheFileAndLeavesNoOutput) {
+  const std::string frame = path("neg_frame");
+  copy_without_truth(data() + "/test/frame0", frame);
+  const std::string out_dir = path("out_neg");
+  fs::create_directories(out_dir);
+  const std::string out = out_dir + "/o.exr";
+  auto expect_refused = [&](const std::string& args, const std::vector<std::string>& needles) {
+    auto r = run_app("gi-infer", args + " --out " + out);
+    EXPECT_NE(r.code, 0) << args << "\n" << r.output;
+    for (auto& s : needles) EXPECT_NE(r.output.find(s), std::string::npos) << "'" << s << "' not in: " << r.output;
+    EXPECT_TRUE(files_in(out_dir).empty()) << args;
+  };
+
+  // A missing channel, named with its file.
+  const std::string no_direct = path("neg_frame_nodirect");
+  copy_without_truth(frame, no_direct);
+  {
+    View v = nns::data::read_view(no_direct + "/right.exr");
+    v.channels.erase("direct.G");
+    nns::data::write_view(no_direct + "/right.exr", v);
+  }
+  expect_refused("--model " + model("surround") + " --in " + no_direct, {no_direct + "/right.exr", "'direct.G'"});
+
+  // NaN in the front view.
+  const std::string nan_view = path("neg_nan.exr");
+  {
+    View v = nns::data::read_view(frame + "/front.exr");
+    v.channels["albedo.R"][37] = NAN;
+    nns::data::write_view(nan_view, v);
+  }
+  expect_refused("--model " + model("front") + " --in " + nan_view, {nan_view, "albedo.R", "NaN"});
+
+  // Wrong mode: a surround model needs a folder of six faces.
+  expect_refused("--model " + model("surround") + " --in " + frame + "/front.exr",
+                 {frame + "/front.exr", "surround model", "folder of six faces"});
+  // A surround frame with a face missing.
+  const std::string five = path("neg_five");
+  copy_without_truth(frame, five);
+  fs::remove(five + "/up.exr");
+  expect_refused("--model " + model("surround") + " --in " + five, {five, "missing up.exr"});
+
+  // Sizes an integer box filter cannot bring to 16: 24 (not a multiple) and 8 (smaller).
+  for (int size : {24, 8}) {
+    const std::string odd = path("neg_size" + std::to_string(size) + ".exr");
+    nns::data::write_view(odd, nns::testing::make_face(size, 3, 0, false, 7));
+    const std::string dims = std::to_string(size) + "x" + std::to_string(size);
+    expect_refused("--model " + model("front") + " --in " + odd, {odd, dims, "16x16"});
+  }
+
+  // A model that is not one.
+  const std::string junk = path("junk.blob");
+  std::ofstream(junk) << "not a blob";
+  expect_refused("--model " + junk + " --in " + frame, {junk});
+  expect_refused("--model " + path("nonexistent.blob") + " --in " + frame, {path("nonexistent.blob")});
+
+  // An existing output survives a failed run unchanged.
+  std::ofstream(out) << "previous";
+  auto r = run_app("gi-infer", "--model " + model("surround") + " --in " + no_direct + " --out " + out);
+  EXPECT_NE(r.code, 0);
+  EXPECT_EQ(read_all(out), "previous");
+  EXPECT_EQ(files_in(out_dir).size(), 1u);
+
+  // Flags: an output that is not .exr; --help.
+  auto bad_out = run_app("gi-infer", "--model " + model("front") + " --in " + nan_view + " --out " + out_dir + "/x.png");
+  EXPECT_NE(bad_out.code, 0);
+  EXPECT_NE(bad_out.output.find(".exr"), std::string::npos) << bad_out.output;
+  auto help = run_app("gi-infer", "--help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_NE(help.output.find("--model"), std::string::npos);
+  EXPECT_NE(help.output.find("front/back/left/right/up/down.exr"), std::string::npos);
+}
