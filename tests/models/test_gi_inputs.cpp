@@ -191,6 +191,8 @@ TEST(GiInputs, ItemReaderRefusesInvalidDepthNamingTheFile) {
     }
   }
   std::filesystem::remove_all(dir);
+}
+
 // gi-infer's frames have no indirect.*: assembled without targets they give the same
 // input and shading planes, bit for bit, as the training path does with targets.
 TEST(GiInputs, WithoutTargetsTheInputAndShadingPlanesAreBitwiseTheTrainingOnes) {
