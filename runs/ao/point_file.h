@@ -15,12 +15,13 @@
 // fewest groups of at most buffer_rows / chunk_rows chunks, all of the same size but
 // for one chunk (so an epoch never ends on a small remainder group whose few chunks
 // would be the last thing the model sees); each group is loaded and its rows shuffled
-// again. Memory: two buffers (the group being trained on and the
-// next one, read by a background thread while the steps run), whatever the row count.
+// again. Memory: two buffers (the group being trained on and the next one, read by a
+// background thread while the steps run), whatever the row count.
 // This is not the global shuffle: a group of consecutive batches draws only from its
-// group's chunks. When one group holds every chunk the chunk order is left alone (it
-// cannot change the result) and the row shuffle over the whole file is exactly the
-// former global shuffle, draw for draw. docs/nnao.md ("Memory") measures the difference.
+// group's chunks. When one group holds every chunk (one buffer, no prefetch) the chunk
+// order is left alone (it cannot change the result) and the row shuffle over the whole
+// file is exactly the former global shuffle, draw for draw. docs/nnao.md ("Memory")
+// measures the difference.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -111,7 +112,11 @@ class ShuffledRows {
     nchunks_ = (f.rows() + chunk_ - 1) / chunk_;
     const int64_t most = std::max<int64_t>(1, std::min(buffer_rows / chunk_, nchunks_));
     ngroups_ = (nchunks_ + most - 1) / most;
-    for (auto& b : buf_) b.resize(size_t(rows_per_group() * f.row_bytes()));
+    // The second buffer is needed only to train on one group while the next is read. One
+    // group (the global shuffle) is read into the one buffer at each epoch's start, so it
+    // holds the data once, as the former matrix did.
+    buf_[0].resize(size_t(rows_per_group() * f.row_bytes()));
+    if (ngroups_ > 1) buf_[1].resize(buf_[0].size());
   }
   ~ShuffledRows() { wait(); }
 
@@ -142,25 +147,26 @@ class ShuffledRows {
     if (pos_ == loaded_) {
       if (!pending_.valid()) throw std::logic_error("ShuffledRows: past the end of the epoch");
       loaded_ = pending_.get();
-      std::swap(buf_[0], buf_[1]);
+      if (ngroups_ > 1) cur_ = 1 - cur_;
       prefetch();
       perm_.resize(size_t(loaded_));
       for (int64_t i = 0; i < loaded_; ++i) perm_[size_t(i)] = i;
       for (int64_t i = loaded_ - 1; i > 0; --i) std::swap(perm_[size_t(i)], perm_[size_t(rng.below(uint64_t(i + 1)))]);
       pos_ = 0;
     }
-    return buf_[0].data() + perm_[size_t(pos_++)] * f_.row_bytes();
+    return buf_[cur_].data() + perm_[size_t(pos_++)] * f_.row_bytes();
   }
 
  private:
-  // Reads the next group into buf_[1] on another thread (plain preads: it never touches
-  // the thread pool, whose workers may be running the caller's parallel loops).
+  // Reads the next group on another thread, into the buffer not being trained on (the
+  // one buffer when there is one group: its rows were all used by then). Plain preads:
+  // it never touches the thread pool, whose workers may run the caller's parallel loops.
   void prefetch() {
     const int64_t g = next_group_;
     if (g >= ngroups_) return;
     ++next_group_;
-    pending_ = std::async(std::launch::async, [this, g] {
-      char* dst = buf_[1].data();
+    char* dst = buf_[ngroups_ > 1 ? 1 - cur_ : cur_].data();
+    pending_ = std::async(std::launch::async, [this, g, dst] {
       int64_t n = 0;
       for (int64_t k = group_begin(g); k < group_begin(g + 1); ++k) {
         const int64_t first = order_[size_t(k)] * chunk_, cnt = std::min(chunk_, f_.rows() - first);
@@ -184,6 +190,7 @@ class ShuffledRows {
   std::vector<int64_t> order_, perm_;
   std::vector<char> buf_[2];
   int64_t pos_ = 0, loaded_ = 0;
+  int cur_ = 0;  // the buffer being trained on
   std::future<int64_t> pending_;
 };
 
