@@ -4,14 +4,17 @@
 // vector (nnao_features.h) and the ground-truth AO of the centre pixel. The target is
 // AO itself (1 = unoccluded), as the dataset stores it.
 //
-// The features are computed once into one matrix (points x w*w*4), so a training step
-// only gathers rows: no feature work and no allocation per step. The matrix is stored in
-// IEEE half precision (binary16, 11-bit significand: relative rounding error <= 2^-11),
-// 2 bytes per feature: w = 31 needs 7.7 KB per point instead of 15.4 KB. Rows are
-// widened to float when a batch is gathered (to_float); the network, the statistics
-// and every sum run in float or double. See docs/nnao.md for the measured effect.
+// The features are computed once, view by view, into rows of a file with no name
+// (runs/ao/point_file.h) in the output folder, so a training step only gathers rows (no
+// feature work, no allocation per step) and the memory does not grow with the number of
+// views. A row is w*w*4 features in IEEE half precision (binary16, 11-bit significand:
+// relative rounding error <= 2^-11, 2 bytes per feature: w = 31 needs 7.7 KB per point
+// instead of 15.4 KB) followed by the float target. Rows are widened to float when a
+// batch is gathered (to_float); the network, the statistics and every sum run in float
+// or double. See docs/nnao.md for the measured effect of both.
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -19,6 +22,7 @@
 #include "core/thread_pool.h"
 #include "data/view.h"
 #include "models/nnao/nnao_features.h"
+#include "runs/ao/point_file.h"
 
 namespace nns::nnao {
 
@@ -34,22 +38,34 @@ inline void to_float(const Half* in, float* out, int64_t n) {
   for (int64_t i = 0; i < n; ++i) out[i] = float(in[i]);
 }
 
-struct PointSet {
-  int window = 31;
-  int64_t count = 0, features = 0;
-  std::vector<Half> x;   // (count, features), row-major, half precision
-  std::vector<float> y;  // (count): AO of the centre pixel, float
+// Bytes of one point's row: the features in binary16, then the target as a float (w*w*4
+// is a multiple of 4, so the float sits at a 4-byte offset of the row).
+inline int64_t point_row_bytes(int64_t features) { return features * int64_t(sizeof(Half)) + int64_t(sizeof(float)); }
+inline const Half* row_features(const char* row) { return reinterpret_cast<const Half*>(row); }
+inline Half* row_features(char* row) { return reinterpret_cast<Half*>(row); }
+inline float row_target(const char* row, int64_t features) {
+  float y;
+  std::memcpy(&y, row + features * int64_t(sizeof(Half)), sizeof y);
+  return y;
+}
+inline void set_row_target(char* row, int64_t features, float y) {
+  std::memcpy(row + features * int64_t(sizeof(Half)), &y, sizeof y);
+}
 
-  void reserve(int64_t n) {
-    x.reserve(size_t(n * features));
-    y.reserve(size_t(n));
-  }
+// A split's points: rows (point_row_bytes) in a file that lives as long as this object.
+struct PointFile {
+  int window = 31;
+  int64_t features = 0;
+  runs::RowFile rows;
+  int64_t count() const { return rows.rows(); }
 };
 
-// Appends the points of one view. `radius` <= 0 uses the view's aoRadius. The pixels
-// are drawn from `rng`; the features are computed in parallel (each row on its own, so
-// the matrix is the same for any thread count).
-inline void add_view_points(PointSet& ps, const data::View& v, int per_view, float radius, Rng& rng) {
+// One view's points as rows (appended to `rows`, which is resized). `radius` <= 0 uses
+// the view's aoRadius. The pixels are drawn from `rng`; the features are computed in
+// parallel (each row on its own, so the rows are the same for any thread count).
+// Returns the number of points.
+inline int64_t view_points(const data::View& v, int window, int per_view, float radius, Rng& rng,
+                           std::vector<char>& rows) {
   ao::GBuffer g = ao::gbuffer_from_view(v, radius);
   if (!v.has("AO"))
     throw std::runtime_error((v.source.empty() ? std::string("view") : v.source) +
@@ -59,20 +75,20 @@ inline void add_view_points(PointSet& ps, const data::View& v, int per_view, flo
   const int64_t n = std::min<int64_t>(per_view, int64_t(pix.size()));
   // Partial Fisher-Yates: the first n entries become a uniform random subset.
   for (int64_t i = 0; i < n; ++i) std::swap(pix[size_t(i)], pix[size_t(i + int64_t(rng.below(pix.size() - size_t(i))))]);
-  const int64_t F = ps.features, base = ps.count;
-  ps.x.resize(size_t((base + n) * F));
-  ps.y.resize(size_t(base + n));
+  const int64_t F = feature_count(window), R = point_row_bytes(F);
+  rows.resize(size_t(n * R));
   parallel_for(n, [&](int64_t b, int64_t e) {
     std::vector<float> row(static_cast<size_t>(F));
     for (int64_t k = b; k < e; ++k) {
       const int64_t p = pix[size_t(k)];
-      compute_features(g, int(p % g.width), int(p / g.width), ps.window, row.data());
-      Half* dst = ps.x.data() + (base + k) * F;
-      for (int64_t f = 0; f < F; ++f) dst[f] = to_half(row[size_t(f)]);
-      ps.y[size_t(base + k)] = ao[size_t(p)];
+      compute_features(g, int(p % g.width), int(p / g.width), window, row.data());
+      char* dst = rows.data() + k * R;
+      Half* x = row_features(dst);
+      for (int64_t f = 0; f < F; ++f) x[f] = to_half(row[size_t(f)]);
+      set_row_target(dst, F, ao[size_t(p)]);
     }
   }, 16);
-  ps.count = base + n;
+  return n;
 }
 
 struct Standardizer {
@@ -80,48 +96,78 @@ struct Standardizer {
   float target_mean = 0, target_std = 1;
 };
 
-// Per-feature mean and standard deviation over the (half-precision) points, in double,
-// feature by feature (each sum runs over the points in order: identical for any thread count).
+// Per-feature mean and standard deviation of the (half-precision) training points, in
+// double, accumulated block by block as the points are written (one pass, no matrix in
+// memory). Each feature's sum runs over the points in file order, whatever the blocks
+// and the thread count, so the statistics are the same for any of them.
 // A feature that never varies (the centre sample is always 0) gets std 1.
-inline Standardizer fit_standardizer(const PointSet& ps) {
-  const int64_t F = ps.features, n = ps.count;
-  Standardizer s;
-  s.mean.assign(size_t(F), 0);
-  s.std.assign(size_t(F), 1);
-  parallel_for(F, [&](int64_t f0, int64_t f1) {
-    std::vector<double> sum(size_t(f1 - f0), 0), sq(size_t(f1 - f0), 0);
-    for (int64_t i = 0; i < n; ++i) {
-      const Half* row = ps.x.data() + i * F;
-      for (int64_t f = f0; f < f1; ++f) {
-        const double v = double(row[f]);
-        sum[size_t(f - f0)] += v;
-        sq[size_t(f - f0)] += v * v;
+struct StandardizerSums {
+  int64_t features = 0, n = 0;
+  std::vector<double> sum, sq;
+  double ts = 0, tq = 0;
+
+  explicit StandardizerSums(int64_t F) : features(F), sum(size_t(F), 0), sq(size_t(F), 0) {}
+
+  void add(const char* rows, int64_t count) {
+    const int64_t F = features, R = point_row_bytes(F);
+    parallel_for(F, [&](int64_t f0, int64_t f1) {
+      for (int64_t i = 0; i < count; ++i) {
+        const Half* x = row_features(rows + i * R);
+        for (int64_t f = f0; f < f1; ++f) {
+          const double v = double(x[f]);
+          sum[size_t(f)] += v;
+          sq[size_t(f)] += v * v;
+        }
       }
+    }, 64, 16);
+    for (int64_t i = 0; i < count; ++i) {
+      const double v = row_target(rows + i * R, F);
+      ts += v, tq += v * v;
     }
-    for (int64_t f = f0; f < f1; ++f) {
-      const double m = n ? sum[size_t(f - f0)] / double(n) : 0;
-      const double var = n ? sq[size_t(f - f0)] / double(n) - m * m : 0;
+    n += count;
+  }
+
+  Standardizer finish() const {
+    Standardizer s;
+    s.mean.assign(size_t(features), 0);
+    s.std.assign(size_t(features), 1);
+    for (int64_t f = 0; f < features; ++f) {
+      const double m = n ? sum[size_t(f)] / double(n) : 0;
+      const double var = n ? sq[size_t(f)] / double(n) - m * m : 0;
       s.mean[size_t(f)] = float(m);
       s.std[size_t(f)] = var > 1e-12 ? float(std::sqrt(var)) : 1.0f;
     }
-  }, 64, 16);
-  double ts = 0, tq = 0;
-  for (float v : ps.y) ts += v, tq += double(v) * v;
-  const double tm = n ? ts / double(n) : 0, tv = n ? tq / double(n) - tm * tm : 0;
-  s.target_mean = float(tm);
-  s.target_std = tv > 1e-12 ? float(std::sqrt(tv)) : 1.0f;
-  return s;
-}
+    const double tm = n ? ts / double(n) : 0, tv = n ? tq / double(n) - tm * tm : 0;
+    s.target_mean = float(tm);
+    s.target_std = tv > 1e-12 ? float(std::sqrt(tv)) : 1.0f;
+    return s;
+  }
+};
 
-inline void apply_standardizer(PointSet& ps, const Standardizer& s) {
-  const int64_t F = ps.features;
-  parallel_for(ps.count, [&](int64_t b, int64_t e) {
+// Standardises rows in place; the features are rounded to binary16 again.
+inline void standardize_rows(char* rows, int64_t count, int64_t F, const Standardizer& s) {
+  const int64_t R = point_row_bytes(F);
+  parallel_for(count, [&](int64_t b, int64_t e) {
     for (int64_t i = b; i < e; ++i) {
-      Half* row = ps.x.data() + i * F;
-      for (int64_t f = 0; f < F; ++f) row[f] = to_half((float(row[f]) - s.mean[size_t(f)]) / s.std[size_t(f)]);
-      ps.y[size_t(i)] = (ps.y[size_t(i)] - s.target_mean) / s.target_std;
+      char* row = rows + i * R;
+      Half* x = row_features(row);
+      for (int64_t f = 0; f < F; ++f) x[f] = to_half((float(x[f]) - s.mean[size_t(f)]) / s.std[size_t(f)]);
+      set_row_target(row, F, (row_target(row, F) - s.target_mean) / s.target_std);
     }
   }, 64);
+}
+
+// Standardises a point file in place, a bounded block of rows at a time (one read and
+// one write of the file, once per run, instead of standardising every epoch).
+inline void standardize_file(PointFile& pf, const Standardizer& s) {
+  const int64_t R = point_row_bytes(pf.features), block = std::max<int64_t>(1, (32ll << 20) / R);
+  std::vector<char> buf(size_t(std::min(block, pf.count()) * R));
+  for (int64_t b = 0; b < pf.count(); b += block) {
+    const int64_t n = std::min(block, pf.count() - b);
+    pf.rows.read_rows(b, n, buf.data());
+    standardize_rows(buf.data(), n, pf.features, s);
+    pf.rows.write_rows(b, n, buf.data());
+  }
 }
 
 }  // namespace nns::nnao

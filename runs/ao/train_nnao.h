@@ -3,6 +3,12 @@
 // standardised with train-set statistics, mini-batches of 16 drawn by a shuffled pass
 // per epoch, loss = MSE + gamma * sum|theta| (eq. 2, gamma = 0.01), Adam.
 //
+// The points of both splits live in unnamed files in the output folder, not in memory
+// (runs/ao/point_file.h): the memory is the shuffle buffers (--shuffle-buffer-mb, two of
+// them) whatever the number of views. The epoch's order is a chunked shuffle (chunks of
+// --shuffle-chunk points in a shuffled order, loaded a buffer at a time, rows shuffled
+// within the buffer); a buffer that holds every point gives the global shuffle.
+//
 // The loop body only; the run layer (runs/training_run.h) owns the folder, the log, the
 // checkpoint and the non-finite stop. Every epoch: the mean training loss and the test
 // MSE (in AO units, on the test split standardised with the *train* statistics) go to
@@ -66,6 +72,10 @@ struct TrainOptions {
   int test_points_per_view = 1024;
   float radius = 0;  // <= 0: each view's aoRadius
   uint64_t seed = 1;
+  // The chunked shuffle (point_file.h): points per chunk read in one piece, and the MiB
+  // of each of the two buffers (a buffer holds whole chunks, at least one).
+  int shuffle_chunk = 256;
+  double shuffle_buffer_mb = 512;
   bool resume = false;
   bool quiet = false;
   // Whole scenes of the training split held out for model selection (val_mse in the
@@ -77,47 +87,62 @@ struct TrainResult {
   int64_t train_points = 0, test_points = 0, steps = 0;
   double train_loss = 0, test_mse = 0, val_mse = std::nan(""), seconds = 0;
   double step_microseconds = 0;  // training steps only (no data building, no test pass)
+  double build_seconds = 0;      // points of both splits: features, statistics, standardising
+  double epoch_seconds = 0;      // mean wall time of the epochs this process ran (steps + test pass)
   std::string stop_message;      // empty: finished; else why it stopped (non-finite value)
   int exit_code = 0;             // 0 finished, 3 stopped on a non-finite value
 };
 
-// Reads the views of a split and builds their points. One Rng stream per view, so a
-// view's points do not depend on the views before it.
-inline PointSet build_points(const std::vector<std::string>& paths, const TrainOptions& o,
-                             int per_view, uint64_t stream) {
-  PointSet ps;
-  ps.window = o.net.window;
-  ps.features = feature_count(o.net.window);
-  ps.reserve(int64_t(paths.size()) * per_view);
+// Reads the views of a split one at a time and appends their points to a file in the
+// output folder; `sums` (if any) accumulates the standardiser's statistics on the way.
+// One Rng stream per view, so a view's points do not depend on the views before it.
+inline PointFile build_points(const std::vector<std::string>& paths, const TrainOptions& o, int per_view,
+                              uint64_t stream, const std::string& name, StandardizerSums* sums) {
+  PointFile pf;
+  pf.window = o.net.window;
+  pf.features = feature_count(o.net.window);
+  pf.rows = runs::RowFile(o.out_dir, name, point_row_bytes(pf.features));
   Rng base(o.seed ^ (0x9E37ull * stream));
+  std::vector<char> rows;
   for (size_t i = 0; i < paths.size(); ++i) {
     data::View v = data::read_view(paths[i]);
     Rng rng = base.fork(i);
-    add_view_points(ps, v, per_view, o.radius, rng);
+    const int64_t n = view_points(v, o.net.window, per_view, o.radius, rng, rows);
+    if (sums) sums->add(rows.data(), n);
+    pf.rows.append(rows.data(), n);
   }
-  return ps;
+  return pf;
 }
 
-// Mean squared error in AO units over a standardised point set (eval mode, no graph).
-inline double evaluate_mse(NnaoNet<float>& net, const PointSet& ps, float target_std) {
-  if (ps.count == 0) return std::nan("");
+// Mean squared error in AO units over a standardised point file (eval mode, no graph),
+// read in order a block at a time.
+inline double evaluate_mse(NnaoNet<float>& net, const PointFile& pf, float target_std) {
+  if (pf.count() == 0) return std::nan("");
   NoGradGuard ng;
   const bool was_training = net.is_training();
   net.eval();
-  const int64_t F = ps.features, chunk = 1024;
+  const int64_t F = pf.features, R = point_row_bytes(F), chunk = 1024;
+  std::vector<char> rows(size_t(std::min(chunk, pf.count()) * R));
   double se = 0;
-  for (int64_t b = 0; b < ps.count; b += chunk) {
-    const int64_t n = std::min(chunk, ps.count - b);
+  for (int64_t b = 0; b < pf.count(); b += chunk) {
+    const int64_t n = std::min(chunk, pf.count() - b);
+    pf.rows.read_rows(b, n, rows.data());
     Tensor<float> x({n, F});
-    to_float(ps.x.data() + b * F, x.data(), n * F);
+    for (int64_t i = 0; i < n; ++i) to_float(row_features(rows.data() + i * R), x.data() + i * F, F);
     Var<float> out = net.forward(Var<float>(x));
     for (int64_t i = 0; i < n; ++i) {
-      double d = double(out.value()[i]) - ps.y[size_t(b + i)];
+      double d = double(out.value()[i]) - row_target(rows.data() + i * R, F);
       se += d * d;
     }
   }
   net.train(was_training);
-  return se / double(ps.count) * double(target_std) * target_std;
+  return se / double(pf.count()) * double(target_std) * target_std;
+}
+
+// Rows per shuffle buffer: --shuffle-buffer-mb of rows, at least one.
+inline int64_t shuffle_buffer_rows(const TrainOptions& o) {
+  const double rows = o.shuffle_buffer_mb * 1048576.0 / double(point_row_bytes(feature_count(o.net.window)));
+  return std::max<int64_t>(1, int64_t(std::min(rows, 1e15)));
 }
 
 inline void copy_standardizer(NnaoNet<float>& net, const Standardizer& s) {
@@ -150,6 +175,9 @@ inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing&
   spec.resume = o.resume;
   for (auto& [k, v] : blob_config(o)) spec.config.emplace_back(k, v);
   spec.config.emplace_back("test_points_per_view", std::to_string(o.test_points_per_view));
+  // They set the order of every epoch, so a resume with others would not replay it.
+  spec.config.emplace_back("shuffle_chunk", std::to_string(o.shuffle_chunk));
+  spec.config.emplace_back("shuffle_buffer_rows", std::to_string(shuffle_buffer_rows(o)));
   spec.config.emplace_back("data", std::filesystem::weakly_canonical(o.data_dir).string());
   spec.config.emplace_back("train_views", std::to_string(d.train.views.size()));
   spec.config.emplace_back("test_views", std::to_string(d.test.views.size()));
@@ -175,8 +203,9 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   namespace fs = std::filesystem;
   auto t_start = std::chrono::steady_clock::now();
   if (o.batch < 1 || o.epochs < 0 || o.net.window < 1 || o.net.hidden < 1 || o.net.hidden > 64 ||
-      o.points_per_view < 1 || !(o.net.dropout >= 0 && o.net.dropout < 1))
-    throw std::invalid_argument("train-nnao: batch, epochs, window, hidden (1..64), points per view or dropout out of range");
+      o.points_per_view < 1 || !(o.net.dropout >= 0 && o.net.dropout < 1) || o.shuffle_chunk < 1 ||
+      !(o.shuffle_buffer_mb > 0))
+    throw std::invalid_argument("train-nnao: batch, epochs, window, hidden (1..64), points per view, dropout or shuffle sizes out of range");
   data::require_valid_dataset(o.data_dir, data::Purpose::nnao);
   data::DatasetListing d = data::list_dataset(o.data_dir);
   if (d.flat) d = data::split_flat_by_scene(d, 0.2);
@@ -190,20 +219,8 @@ inline TrainResult train_nnao(const TrainOptions& o) {
     if (!o.quiet) std::fprintf(stderr, "%s\n", s.c_str());
   };
 
-  say("building training points: " + std::to_string(d.train.views.size()) + " views x " +
-      std::to_string(o.points_per_view) + " pixels, " + std::to_string(feature_count(o.net.window)) +
-      " features each");
-  PointSet train = build_points(d.train.views, o, o.points_per_view, 1);
-  PointSet test = build_points(d.test.views, o, o.test_points_per_view, 2);
-  PointSet valid = build_points(val.views, o, o.test_points_per_view, 3);
-  Standardizer st = fit_standardizer(train);
-  apply_standardizer(train, st);
-  apply_standardizer(test, st);
-  apply_standardizer(valid, st);
-
   Rng init_rng(o.seed);
   NnaoNet<float> net(init_rng, o.net);
-  copy_standardizer(net, st);
   AdamOptions ao;
   ao.lr = o.lr;
   Adam<float> opt(net.parameters(), ao);
@@ -215,20 +232,38 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   int64_t epoch = run.epochs_done();
   if (o.resume) say("resuming from " + run.path("checkpoint.blob") + " at epoch " + std::to_string(epoch));
 
+  // The points come after the run layer has made the folder (they are written into it)
+  // and has accepted or refused a --resume (a refusal costs no feature building). They
+  // are rebuilt from the seed on every start, so a resume sees the same rows.
+  say("building training points: " + std::to_string(d.train.views.size()) + " views x " +
+      std::to_string(o.points_per_view) + " pixels, " + std::to_string(feature_count(o.net.window)) +
+      " features each, in files in " + o.out_dir);
+  const auto t_build = std::chrono::steady_clock::now();
+  StandardizerSums sums(feature_count(o.net.window));
+  PointFile train = build_points(d.train.views, o, o.points_per_view, 1, "train-points", &sums);
+  PointFile test = build_points(d.test.views, o, o.test_points_per_view, 2, "test-points", nullptr);
+  PointFile valid = build_points(val.views, o, o.test_points_per_view, 3, "val-points", nullptr);
+  const Standardizer st = sums.finish();
+  standardize_file(train, st);
+  standardize_file(test, st);
+  standardize_file(valid, st);
+  copy_standardizer(net, st);
+
   TrainResult res;
-  res.train_points = train.count;
-  res.test_points = test.count;
+  res.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
+  res.train_points = train.count();
+  res.test_points = test.count();
   const int64_t F = train.features, B = o.batch;
-  const int64_t steps_per_epoch = train.count / B;  // full batches only
+  const int64_t steps_per_epoch = train.count() / B;  // full batches only
   if (steps_per_epoch == 0) throw std::runtime_error("fewer training points than one batch");
-  std::vector<int64_t> perm(size_t(train.count));
+  runs::ShuffledRows order(train.rows, o.shuffle_chunk, shuffle_buffer_rows(o));
   auto params = net.parameters();
   NnaoFastStep fast(net, o.batch);
   std::vector<float> xb(static_cast<size_t>(B * F)), yb(static_cast<size_t>(B));
   Progress bar("train-nnao", (o.epochs - epoch) * steps_per_epoch);
   int64_t done = 0;
-  double step_seconds = 0;
-  int64_t timed_steps = 0;
+  double step_seconds = 0, epoch_seconds = 0;
+  int64_t timed_steps = 0, epochs_run = 0;
   net.train();
   const int threads = num_threads();
   const std::string blob_path = run.path("nnao.blob");
@@ -236,9 +271,8 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   std::string stop;
   try {
     for (; epoch < o.epochs;) {
-      for (int64_t i = 0; i < train.count; ++i) perm[size_t(i)] = i;
-      for (int64_t i = train.count - 1; i > 0; --i)
-        std::swap(perm[size_t(i)], perm[size_t(data_rng.below(uint64_t(i + 1)))]);
+      const auto t_epoch = std::chrono::steady_clock::now();
+      order.start_epoch(data_rng);
       double loss_sum = 0;
       // The step is ~20 us of work: waking a second core for it costs more than it saves
       // (the results are the same either way), so the steps run on one thread.
@@ -246,9 +280,9 @@ inline TrainResult train_nnao(const TrainOptions& o) {
       auto t0 = std::chrono::steady_clock::now();
       for (int64_t s = 0; s < steps_per_epoch; ++s) {
         for (int64_t b = 0; b < B; ++b) {
-          const int64_t p = perm[size_t(s * B + b)];
-          to_float(train.x.data() + p * F, xb.data() + b * F, F);
-          yb[size_t(b)] = train.y[size_t(p)];
+          const char* row = order.next(data_rng);
+          to_float(row_features(row), xb.data() + b * F, F);
+          yb[size_t(b)] = row_target(row, F);
         }
         for (auto& prm : params) prm.grad_buffer().zero();
         const float loss = fast.forward_backward(xb.data(), yb.data(), float(o.gamma));
@@ -274,10 +308,12 @@ inline TrainResult train_nnao(const TrainOptions& o) {
       res.test_mse = evaluate_mse(net, test, st.target_std);
       runs::check_finite(res.test_mse, step, "test MSE");
       runs::MetricsRecord rec{step, epoch, {{"train_loss", res.train_loss}, {"test_mse", res.test_mse}}};
-      if (valid.count) rec.values.emplace_back("val_mse", res.val_mse = evaluate_mse(net, valid, st.target_std));
+      if (valid.count()) rec.values.emplace_back("val_mse", res.val_mse = evaluate_mse(net, valid, st.target_std));
       run.log(rec);
       write_loss_chart(run);
       run.end_epoch(epoch, save_model);
+      epoch_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_epoch).count();
+      ++epochs_run;
     }
     // Also after a resume that found every epoch done: the model always matches the
     // checkpoint, even if a run was killed between the two writes.
@@ -291,12 +327,15 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   if (!run.metrics().records().empty()) res.test_mse = run.metrics().records().back().get("test_mse");
   res.steps = step;
   res.step_microseconds = timed_steps ? 1e6 * step_seconds / double(timed_steps) : 0;
+  res.epoch_seconds = epochs_run ? epoch_seconds / double(epochs_run) : 0;
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   res.stop_message = stop;
   res.exit_code = run.finish(stop, {{"train_points", double(res.train_points)},
                                     {"test_points", double(res.test_points)},
                                     {"test_mse", res.test_mse},
                                     {"step_microseconds", res.step_microseconds},
+                                    {"build_seconds", res.build_seconds},
+                                    {"epoch_seconds", res.epoch_seconds},
                                     {"seconds", res.seconds}});
   return res;
 }
