@@ -34,13 +34,7 @@ inline void alchemy_ao_reference_with(const GBuffer& g, int samples, float* out,
   const float r = g.radius * p.radius_scale, r2 = r * r;
   const float sigma = p.sigma, beta = p.beta * r, eps = p.eps * r2;
   const float turns = 7.0f;
-  for_each_pixel(g, [&](int x, int y, int64_t i) {
-    if (g.sky(i)) {
-      raw[size_t(i)] = 1;
-      return;
-    }
-    const Vec3 P = g.position(x, y);
-    const Vec3 N = normalize(g.normal(i));
+  for_each_surface_pixel(g, raw.data(), [&](int x, int y, int64_t i, const Vec3& P, const Vec3& N) -> float {
     const float r_px = r * 0.5f * float(g.width) / (g.sx * -P.z);
     const float rot = noise_angle_4x4(x, y);
     float sum = 0;
@@ -58,7 +52,7 @@ inline void alchemy_ao_reference_with(const GBuffer& g, int samples, float* out,
       if (vv >= r2) continue;
       sum += std::max(0.0f, dot(v, N) - beta) / (vv + eps);
     }
-    raw[size_t(i)] = std::max(0.0f, 1.0f - 2.0f * sigma * r / float(samples) * sum);
+    return std::max(0.0f, 1.0f - 2.0f * sigma * r / float(samples) * sum);
   });
   alchemy_contrast(raw.data(), g.pixels(), p.kappa);
   box_blur_4x4_reference(g, raw.data(), out);

@@ -85,18 +85,11 @@ inline void gtao_reference_with(const GBuffer& g, int samples, float* out, const
   gtao_layout(samples, slices, steps);
   std::vector<float> raw(size_t(g.pixels()));
   const float R = g.radius * p.radius_scale, slope = falloff_slope(p, R), zscale = 1.0f + p.thickness;
-  for_each_pixel(g, [&](int x, int y, int64_t i) {
-    if (g.sky(i)) {
-      raw[size_t(i)] = 1;
-      return;
-    }
-    const Vec3 P = g.position(x, y);
-    const Vec3 N = normalize(g.normal(i));
+  for_each_surface_pixel(g, raw.data(), [&](int x, int y, int64_t i, const Vec3& P, const Vec3& N) -> float {
     const Vec3 V = normalize(-1.0f * P);
     const float R_px = R * 0.5f * float(g.width) / (g.sx * -P.z);
     if (R_px < 1.0f) {  // the radius covers less than a pixel: nothing to march
-      raw[size_t(i)] = 1;
-      return;
+      return 1;
     }
     const float noise = noise_angle_4x4(x, y);
     const float jitter = hash_unit(pixel_hash(uint32_t(x & 3), uint32_t(y & 3), 13));
@@ -147,7 +140,7 @@ inline void gtao_reference_with(const GBuffer& g, int samples, float* out, const
     // No clamp here: with few slices a pixel's mean over-estimates or under-estimates
     // the outer integral (it is 1 only on average over phi on an open surface); the
     // blur averages 16 rotations first.
-    raw[size_t(i)] = sum / float(slices);
+    return sum / float(slices);
   });
   box_blur_4x4_reference(g, raw.data(), out);
   for (int64_t i = 0; i < g.pixels(); ++i) out[i] = std::min(out[i], 1.0f);
@@ -243,15 +236,8 @@ inline void gtao_with(const GBuffer& g, int samples, float* out, const GtaoParam
           for (int s = 0; s < steps && alive; ++s) {
             const VF t = one + load(frac.data() + size_t(((y & 3) * steps + s) * kLanes)) * R_px;
             const VF qx = b.X + sx * t, qy = b.Y + sy * t;
-            alive &= on_screen(g, qx, qy);
-            VI ix, iy;
-            clamped_pixel(g, qx, qy, ix, iy);
-            const VF zj = gather(g.z, pixel_index(g, ix, iy), alive, INFINITY);
-            Mask m = alive & ~sky(zj);
-            VF dx, dy;
-            position(g, to_float(ix), to_float(iy), zj, dx, dy);
-            dx = dx - b.px, dy = dy - b.py;
-            const VF dz = b.z - zj;  // (-zj) - (-z)
+            VF dx, dy, dz;
+            Mask m = b.sample(g, qx, qy, alive, dx, dy, dz);
             const VF d2 = dx * dx + dy * dy + dz * dz;
             m &= gt(d2, zero);
             const VF dzs = dz * splat(zscale);

@@ -36,17 +36,10 @@ inline void hbao_reference_with(const GBuffer& g, int samples, float* out, const
   std::vector<float> raw(size_t(g.pixels()));
   const float r = g.radius * p.radius_scale, r2 = r * r;
   const float angle_bias = p.angle_bias;
-  for_each_pixel(g, [&](int x, int y, int64_t i) {
-    if (g.sky(i)) {
-      raw[size_t(i)] = 1;
-      return;
-    }
-    const Vec3 P = g.position(x, y);
-    const Vec3 N = normalize(g.normal(i));
+  for_each_surface_pixel(g, raw.data(), [&](int x, int y, int64_t i, const Vec3& P, const Vec3& N) -> float {
     const float r_px = r * 0.5f * float(g.width) / (g.sx * -P.z);
     if (r_px < 1.0f) {
-      raw[size_t(i)] = 1;
-      return;
+      return 1;
     }
     const float rot = noise_angle_4x4(x, y);
     const float jitter = hash_unit(pixel_hash(uint32_t(x & 3), uint32_t(y & 3), 7));
@@ -75,7 +68,7 @@ inline void hbao_reference_with(const GBuffer& g, int samples, float* out, const
       }
       sum += ao;
     }
-    raw[size_t(i)] = saturate(1.0f - sum / float(dirs));
+    return saturate(1.0f - sum / float(dirs));
   });
   box_blur_4x4_reference(g, raw.data(), out);
 }
@@ -121,15 +114,8 @@ inline void hbao_with(const GBuffer& g, int samples, float* out, const HbaoParam
         for (int s = 0; s < steps && alive; ++s) {
           const VF t = (splat(float(s)) + jit) * step_px + one;
           const VF qx = b.X + dx * t, qy = b.Y + dy * t;
-          alive &= on_screen(g, qx, qy);
-          VI ix, iy;
-          clamped_pixel(g, qx, qy, ix, iy);
-          const VF zj = gather(g.z, pixel_index(g, ix, iy), alive, INFINITY);
-          Mask m = alive & ~sky(zj);
-          VF vx, vy;
-          position(g, to_float(ix), to_float(iy), zj, vx, vy);
-          vx = vx - b.px, vy = vy - b.py;
-          const VF vz = b.z - zj;
+          VF vx, vy, vz;
+          Mask m = b.sample(g, qx, qy, alive, vx, vy, vz);
           const VF d2 = vx * vx + vy * vy + vz * vz;
           m &= ~gt(d2, splat(r2)) & ~le(d2, zero);
           const VF sin_h = (nx * vx + ny * vy + nz * vz) / sqrt(d2);

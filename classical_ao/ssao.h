@@ -29,12 +29,7 @@ inline void ssao_reference_with(const GBuffer& g, int samples, float* out, const
   const std::vector<Vec3> kernel = sphere_kernel(samples, 0x55A0 + uint64_t(samples));
   std::vector<float> raw(size_t(g.pixels()));
   const float r = g.radius * p.radius_scale, range = p.range * r;
-  for_each_pixel(g, [&](int x, int y, int64_t i) {
-    if (g.sky(i)) {
-      raw[size_t(i)] = 1;
-      return;
-    }
-    const Vec3 P = g.position(x, y);
+  for_each_surface_pixel(g, raw.data(), [&](int x, int y, int64_t i, const Vec3& P, const Vec3& N) -> float {
     const float a = noise_angle_4x4(x, y), c = std::cos(a), s = std::sin(a);
     int occluded = 0;
     for (const Vec3& k0 : kernel) {
@@ -46,7 +41,7 @@ inline void ssao_reference_with(const GBuffer& g, int samples, float* out, const
       const float behind = -S.z - zb;
       occluded += (behind > 0.0f && behind < range);
     }
-    raw[size_t(i)] = saturate(p.gain * (1.0f - float(occluded) / float(samples)));
+    return saturate(p.gain * (1.0f - float(occluded) / float(samples)));
   });
   box_blur_4x4_reference(g, raw.data(), out);
 }

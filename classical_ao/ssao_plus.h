@@ -41,13 +41,7 @@ inline void ssao_plus_reference_with(const GBuffer& g, int samples, float* out, 
   const std::vector<Vec3> kernel = hemisphere_kernel(samples, 0x5A0B + uint64_t(samples));
   std::vector<float> raw(size_t(g.pixels()));
   const float r = g.radius * p.radius_scale, bias = p.bias * r;
-  for_each_pixel(g, [&](int x, int y, int64_t i) {
-    if (g.sky(i)) {
-      raw[size_t(i)] = 1;
-      return;
-    }
-    const Vec3 P = g.position(x, y);
-    const Vec3 N = normalize(g.normal(i));
+  for_each_surface_pixel(g, raw.data(), [&](int x, int y, int64_t i, const Vec3& P, const Vec3& N) -> float {
     const float a = noise_angle_4x4(x, y);
     // Gram-Schmidt of the noise vector against the normal gives the tangent frame.
     Vec3 rv{std::cos(a), std::sin(a), 0};
@@ -67,7 +61,7 @@ inline void ssao_plus_reference_with(const GBuffer& g, int samples, float* out, 
         occlusion += dz > 0 ? smoothstep01(r / dz) : 1.0f;
       }
     }
-    raw[size_t(i)] = 1.0f - occlusion / float(samples);
+    return 1.0f - occlusion / float(samples);
   });
   box_blur_4x4_reference(g, raw.data(), out);
 }

@@ -23,6 +23,21 @@ void for_each_pixel(const GBuffer& g, F&& f) {
   }, 4);
 }
 
+// The scalar references' loop over surface pixels: a sky pixel is unoccluded (1); every
+// other gets f(x, y, i, P, N), with its view-space position and unit normal.
+template <class F>
+void for_each_surface_pixel(const GBuffer& g, float* raw, F&& f) {
+  for_each_pixel(g, [&](int x, int y, int64_t i) {
+    if (g.sky(i)) {
+      raw[size_t(i)] = 1;
+      return;
+    }
+    const Vec3 P = g.position(x, y);
+    const Vec3 N = normalize(g.normal(i));
+    raw[size_t(i)] = f(x, y, i, P, N);
+  });
+}
+
 // Angle of the 4x4 noise tile at a pixel: 16 evenly spaced rotations in a fixed
 // scrambled order, so that every 4x4 block holds all of them (what the blur averages).
 inline float noise_angle_4x4(int px, int py) {

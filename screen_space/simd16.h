@@ -198,6 +198,20 @@ struct Block {
     Y = splat(float(y));
     position(g, X, Y, z, px, py);
   }
+
+  // One step of a screen-space march from these pixels to (qx, qy): lanes that left the
+  // screen drop out of `alive` (the vector form of `break`); returns the lanes that see
+  // geometry there, with the sample's view-space offset (vx, vy, vz) from the pixels.
+  Mask sample(const GBuffer& g, VF qx, VF qy, Mask& alive, VF& vx, VF& vy, VF& vz) const {
+    alive &= on_screen(g, qx, qy);
+    VI ix, iy;
+    clamped_pixel(g, qx, qy, ix, iy);
+    const VF zj = gather(g.z, pixel_index(g, ix, iy), alive, INFINITY);
+    position(g, to_float(ix), to_float(iy), zj, vx, vy);
+    vx = vx - px, vy = vy - py;
+    vz = z - zj;  // (-zj) - (-z)
+    return alive & ~sky(zj);
+  }
 };
 
 }  // namespace nns::ao::simd
