@@ -71,7 +71,7 @@ class Adam : public Optimizer<T> {
     }
   }
   void load_state(const Blob& b, const std::string& prefix) override {
-    this->set_lr(b.get_f64(prefix + "lr"));
+    this->load_lr(b, prefix + "lr");
     b.read(prefix + "steps", Shape{int64_t(steps_.size())}, steps_.data());
     for (size_t i = 0; i < m_.size(); ++i) {
       b.read(this->key(prefix, i, "m"), m_[i].shape(), m_[i].data());

@@ -6,6 +6,7 @@
 // State tensors are named by the parameter's position in the list ("<prefix>3.m"), so
 // a checkpoint restores into an optimizer built over the same model the same way.
 #include <cstdint>
+#include <cmath>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -41,6 +42,17 @@ class Optimizer {
     lr_ = lr;
   }
   const std::vector<Var<T>>& params() const { return params_; }
+
+  // The learning rate of a saved state: a checkpoint is outside bytes, so a value that is
+  // no learning rate is an error naming the file (fuzz_checkpoint found a negative one
+  // escaping as set_lr's invalid_argument, which names nothing).
+  void load_lr(const Blob& b, const std::string& key) {
+    const double lr = b.get_f64(key);
+    if (!(std::isfinite(lr) && lr >= 0))
+      throw std::runtime_error("blob '" + b.source() + "': " + key + " is " + std::to_string(lr) +
+                               ", not a learning rate");
+    lr_ = lr;
+  }
 
   virtual void save_state(Blob& b, const std::string& prefix) const = 0;
   virtual void load_state(const Blob& b, const std::string& prefix) = 0;

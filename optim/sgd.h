@@ -60,7 +60,7 @@ class Sgd : public Optimizer<T> {
     for (size_t i = 0; i < buf_.size(); ++i) b.put(this->key(prefix, i, "momentum"), buf_[i]);
   }
   void load_state(const Blob& b, const std::string& prefix) override {
-    this->set_lr(b.get_f64(prefix + "lr"));
+    this->load_lr(b, prefix + "lr");
     for (size_t i = 0; i < buf_.size(); ++i)
       b.read(this->key(prefix, i, "momentum"), buf_[i].shape(), buf_[i].data());
   }

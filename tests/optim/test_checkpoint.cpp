@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -145,4 +146,43 @@ TEST(Checkpoint, MissingEntryIsNamed) {
     EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
   }
   std::remove(p.c_str());
+}
+
+// fuzz_checkpoint found a checkpoint whose saved learning rate was negative: set_lr's
+// invalid_argument escaped naming no file. A saved lr that is no learning rate is now
+// an error naming the blob, for Adam and SGD alike.
+TEST(Checkpoint, ASavedLearningRateThatIsNoneIsRefusedNamingTheFile) {
+  for (double bad : {-4046.848, std::nan(""), HUGE_VAL}) {
+    Rng init(1);
+    Linear<float> net(init, 3, 2);
+    Adam<float> adam(net.parameters());
+    Sgd<float> sgd(net.parameters(), SgdOptions{});
+    Blob b("checkpoint");
+    adam.save_state(b, "a.");
+    sgd.save_state(b, "s.");
+    Blob tampered("checkpoint");
+    for (auto& [name, t] : b.tensors()) {
+      if (name == "a.lr" || name == "s.lr") tampered.put_f64(name, bad);
+      else {
+        const Shape shape(t.dims.begin(), t.dims.end());
+        const char* d = t.bytes.data();
+        switch (t.dtype) {
+          case DType::F32: tampered.put(name, shape, reinterpret_cast<const float*>(d)); break;
+          case DType::F64: tampered.put(name, shape, reinterpret_cast<const double*>(d)); break;
+          case DType::I64: tampered.put(name, shape, reinterpret_cast<const int64_t*>(d)); break;
+          case DType::U64: tampered.put(name, shape, reinterpret_cast<const uint64_t*>(d)); break;
+        }
+      }
+    }
+    Blob loaded = Blob::parse(tampered.serialize(), "run/checkpoint.blob");
+    for (Optimizer<float>* o : std::initializer_list<Optimizer<float>*>{&adam, &sgd}) {
+      try {
+        o->load_state(loaded, o == &adam ? "a." : "s.");
+        ADD_FAILURE() << "lr " << bad << " accepted";
+      } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("run/checkpoint.blob"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("not a learning rate"), std::string::npos) << e.what();
+      }
+    }
+  }
 }
