@@ -39,7 +39,13 @@ class Checkpoint {
     rngs_.emplace_back(name, &r);
     return *this;
   }
+  // Registering a counter name again replaces the earlier one: a run object that
+  // registers its own counters (runs/training_run.h) may be made anew for the same
+  // checkpoint, and the old registration must not point into the old object
+  // (AddressSanitizer found exactly that: a stack-use-after-scope on restore).
   Checkpoint& add_counter(const std::string& name, int64_t& c) {
+    for (auto& [n, p] : counters_)
+      if (n == name) return p = &c, *this;
     counters_.emplace_back(name, &c);
     return *this;
   }
