@@ -204,6 +204,11 @@ Scene load_mesh_scene(const std::string& path) {
     else throw error(path, "unsupported scene format '" + ext + "' (expected .obj, .gltf or .glb)");
   } catch (const std::out_of_range& e) {
     throw error(path, std::string("malformed file: ") + e.what());
+  } catch (const std::runtime_error& e) {
+    // Every reader error names the file (fuzz_scene found a glTF accessor type that did not).
+    const std::string m = e.what();
+    if (m.rfind(path, 0) == 0) throw;
+    throw error(path, m);
   }
   if (s.triangles.empty()) throw error(path, "no triangles");
   for (size_t i = 0; i < s.positions.size(); ++i) {
