@@ -117,9 +117,32 @@ double read_component(const tinygltf::Model& model, const tinygltf::Accessor& ac
   }
 }
 
+// tinygltf's own reader opens whatever a buffer's "uri" names and sizes it by seeking
+// to the end: a directory (uri "data" beside a dataset folder) reads as 2^63 - 1 bytes
+// and the allocation aborts the process (found by fuzz/fuzz_scene.cpp). Only regular
+// files of a sane size are read; anything else is an error that names the file.
+constexpr uintmax_t kMaxGltfFileBytes = uintmax_t(4) << 30;
+bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& file, void*) {
+  std::error_code ec;
+  auto fail = [&](const std::string& what) {
+    if (err) *err += file + ": " + what + "\n";
+    return false;
+  };
+  if (!std::filesystem::is_regular_file(file, ec)) return fail("not a regular file");
+  const uintmax_t size = std::filesystem::file_size(file, ec);
+  if (ec) return fail("cannot read its size");
+  if (size > kMaxGltfFileBytes) return fail("larger than 4 GiB");
+  std::ifstream in(file, std::ios::binary);
+  out->resize(size_t(size));
+  if (!in || !in.read(reinterpret_cast<char*>(out->data()), std::streamsize(size))) return fail("cannot be read");
+  return true;
+}
+
 void load_gltf(const std::string& path, Scene& s) {
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_regular_file,
+                         &tinygltf::WriteWholeFile, nullptr});
   std::string err, warn;
   bool binary = std::filesystem::path(path).extension() == ".glb";
   bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)

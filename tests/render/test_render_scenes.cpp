@@ -338,3 +338,33 @@ TEST(MeshLoader, GltfNodeHierarchyMustBeAForest) {
   write(ok, R"([{"mesh":0,"children":[1]},{"mesh":0}])");
   EXPECT_EQ(load_mesh_scene(ok).triangles.size(), 2u);
 }
+
+// Found by fuzz/fuzz_scene.cpp: a buffer whose uri names a directory was sized by
+// tinygltf as 2^63 - 1 bytes and the allocation aborted the process. It is an error
+// naming the file now; a buffer in a regular file next to the glTF still loads.
+TEST(MeshLoader, GltfBufferUriMustBeARegularFile) {
+  const std::string dir = temp_path("gltf-uri");
+  std::filesystem::create_directories(dir + "/folder");
+  auto write = [&](const std::string& path, const std::string& uri) {
+    std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}])"
+                        << R"(,"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+                        << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
+                        << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+                        << R"("buffers":[{"byteLength":36,"uri":")" << uri << R"("}]})";
+  };
+  const std::string bad = dir + "/dir-uri.gltf";
+  write(bad, "folder");
+  try {
+    load_mesh_scene(bad);
+    ADD_FAILURE() << "accepted a buffer uri naming a directory";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(bad + ": "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+  }
+  // The same 36 bytes in a file beside the glTF.
+  const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 0, 1};
+  std::ofstream(dir + "/tri.bin", std::ios::binary).write(reinterpret_cast<const char*>(tri), sizeof tri);
+  const std::string ok = dir + "/file-uri.gltf";
+  write(ok, "tri.bin");
+  EXPECT_EQ(load_mesh_scene(ok).triangles.size(), 1u);
+}
