@@ -17,6 +17,7 @@
 #include <functional>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,17 @@ class Args {
     add_usage(name, "S", def, help);
     auto v = last(name);
     return v ? *v : def;
+  }
+  // A comma-separated list of names ("cave,pipes,round"); empty items are dropped, and
+  // a value that names nothing (",") is an error.
+  std::vector<std::string> get_names(const std::string& name, const std::string& def, const std::string& help) {
+    std::vector<std::string> out;
+    const std::string text = get_string(name, def, help + " (comma-separated)");
+    std::stringstream ss(text);
+    for (std::string item; std::getline(ss, item, ',');)
+      if (!item.empty()) out.push_back(item);
+    if (!text.empty() && out.empty()) error(name + ": no name in '" + text + "'");
+    return out;
   }
   // Every occurrence of a repeatable flag (e.g. --scene a.obj --scene b.obj).
   std::vector<std::string> get_list(const std::string& name, const std::string& help) {

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     auto m = nnao::NnaoWeights::load(model);
-    nnao::check_sample_count(samples, m.window);
+    nnao::check_sample_count(samples, m.input);
     nnao::write_filter_images(m, out);
     const std::string frag = (std::filesystem::path(out) / "nnao.frag").string();
     write_file_atomic(frag, nnao::glsl_shader(m, samples));

@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     }
     set_num_threads(threads);
     auto m = nnao::NnaoWeights::load(model);
-    if (samples > 0) nnao::check_sample_count(samples, m.window);
+    if (samples > 0) nnao::check_sample_count(samples, m.input);
     data::View v = data::read_view(in);
     float r = float(radius);
     if (r <= 0 && !v.ao_radius && m.radius > 0) r = m.radius;

@@ -32,7 +32,7 @@ bool parse_size(const std::string& s, int& w, int& h) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string families_help = "procedural scene families, comma-separated (default: nnao-v2 all, other presets the first eight: ";
+  std::string families_help = "procedural scene families (default: nnao-v2 all, other presets the first eight: ";
   for (auto& f : data::scene_families()) families_help += f.name + (&f == &data::scene_families().back() ? ")" : ", ");
   cli::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
   data::DatasetJob job;
@@ -49,9 +49,8 @@ int main(int argc, char** argv) {
   job.settings.seed = uint64_t(args.get_int("--seed", 1, "seed: scenes, cameras and noise", 0, INT_MAX));
   int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
   job.scene_files = args.get_list("--scene", "an OBJ or glTF scene file instead of the procedural families");
-  std::string fams = args.get_string("--families", "", families_help);
-  std::string holdout = args.get_string("--holdout-families", "",
-                                        "families rendered only into holdout/ (leave-families-out), comma-separated");
+  job.families = args.get_names("--families", "", families_help);
+  job.holdout_families = args.get_names("--holdout-families", "", "families rendered only into holdout/ (leave-families-out)");
   job.holdout_fraction = args.get_double("--holdout-fraction", 0.2, "share of views in holdout/ (with --holdout-families)", 0.01, 0.9);
   job.path_frames = args.get_int("--path-frames", 1, "> 1: views come as smooth camera paths of this many frames", 1, 10000);
   job.views_per_scene = args.get_int("--views-per-scene", 4, "views rendered in one scene before the next", 1, 1000000);
@@ -64,13 +63,6 @@ int main(int argc, char** argv) {
   int h = job.preset == "gi" ? 144 : job.preset == "surround" ? 64 : 180;
   if (!size.empty() && !parse_size(size, w, h)) args.error("--size: expected WxH, got '" + size + "'");
   if (job.preset == "surround" && w != h) args.error("--size: surround faces are square, got " + size);
-  std::stringstream ss(fams);
-  for (std::string f; std::getline(ss, f, ',');)
-    if (!f.empty()) job.families.push_back(f);
-  std::stringstream hs(holdout);
-  for (std::string f; std::getline(hs, f, ',');)
-    if (!f.empty()) job.holdout_families.push_back(f);
-  if (!holdout.empty() && job.holdout_families.empty()) args.error("--holdout-families: no family named in '" + holdout + "'");
   args.done();
   job.width = w, job.height = h;
 

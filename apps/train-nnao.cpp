@@ -1,14 +1,14 @@
 // train-nnao: train Neural Network Ambient Occlusion on an EXR G-buffer dataset.
-//   train-nnao [--data DIR] [--out DIR] [--epochs N] [--batch 16] [--lr 1e-3] [--window 31]
-//              [--hidden 4] [--radius R] [--dropout 0.5] [--gamma 0.01]
+//   train-nnao [--data DIR] [--out DIR] [--preset default|grid|paper] [--features grid|horizon]
+//              [--epochs N] [--batch 16] [--lr 1e-3] [--window 31] [--directions 32] [--steps 8]
+//              [--bands 4] [--hidden 16] [--radius R] [--dropout 0] [--gamma 1e-4]
 //              [--points-per-view 1024] [--threads 2] [--seed S] [--resume] [--sweep]
 //              [--shuffle-chunk 256] [--shuffle-buffer-mb 512]
-// The points go to unnamed files in --out (7.7 KB each at w 31): memory stays at the two
-// shuffle buffers whatever the data size, the disk holds the points.
+// The points go to unnamed files in --out (7.7 KB each for a w-31 grid, 0.3 KB for the
+// default horizons): memory stays at the two shuffle buffers whatever the data size.
 // Without --data it renders (once, cached) and uses the built-in default dataset.
-// --sweep trains the ladder w in {7,15,23,31} x hidden in {4,8,16} instead (with the
-// given --gamma, which its report states; --resume continues an interrupted sweep):
-// see runs/ao/nnao_sweep.h.
+// --sweep trains a size ladder instead (runs/ao/nnao_sweep.h; --resume continues an
+// interrupted sweep).
 #include <chrono>
 #include <cstdio>
 #include <thread>
@@ -27,19 +27,25 @@ int main(int argc, char** argv) {
     nnao::TrainOptions o;
     o.data_dir = args.get_string("--data", "", "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
     o.out_dir = args.get_string("--out", "nnao-out", "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");
-    o.epochs = args.get_int("--epochs", 12, "training epochs (the paper: 100)", 0, 100000);
+    // The presets are what the project's measurements chose (runs/ao/train_nnao.h,
+    // docs/nnao.md); every flag below overrides its part of the preset.
+    const std::string preset = args.get_choice("--preset", "default", {"default", "grid", "paper"},
+                                               "default: horizon features 32x8 in 4 bands, hidden 16 (chosen on validation families); "
+                                               "grid: the paper's w 31 grid, hidden 4, gamma 1e-4; paper: Holden et al.'s w 31, hidden 4, gamma 0.01");
+    const nnao::Preset p = nnao::preset(preset);
+    o.net.features = args.get_choice("--features", p.features, {"grid", "horizon"},
+                                      "grid: the paper's w x w grid of normal/depth differences; horizon: horizon profiles (models/nnao/horizon_features.h)");
+    o.epochs = args.get_int("--epochs", p.epochs, "training epochs (the paper: 100)", 0, 100000);
     o.batch = args.get_int("--batch", 16, "mini-batch size", 1, 65536);
     o.lr = args.get_double("--lr", 1e-3, "Adam learning rate", 1e-12, 1e9);
-    o.net.window = args.get_int("--window", 31, "grid size w (w x w samples)", 1, 63);
-    // --preset paper: Holden et al.'s settings (hidden 4, gamma 0.01); the default preset
-    // is what this project's sweep chose on validation scenes (docs/nnao.md).
-    const std::string preset = args.get_choice("--preset", "default", {"default", "paper"},
-                                               "default: hidden 4, gamma 1e-4 (chosen on validation scenes); paper: hidden 4, gamma 0.01");
-    const nnao::Preset p = nnao::preset(preset);
-    o.net.hidden = args.get_int("--hidden", p.hidden, "hidden units per layer (overrides the preset)", 1, 64);
+    o.net.window = args.get_int("--window", p.window, "grid features: grid size w (w x w samples)", 1, 63);
+    o.net.horizon.directions = args.get_int("--directions", p.horizon.directions, "horizon features: screen directions", 1, 64);
+    o.net.horizon.steps = args.get_int("--steps", p.horizon.steps, "horizon features: samples per direction", 1, 64);
+    o.net.horizon.bands = args.get_int("--bands", p.horizon.bands, "horizon features: distance bands (must divide --steps)", 1, 64);
+    o.net.hidden = args.get_int("--hidden", p.hidden, "hidden units per layer", 1, 64);
     o.radius = float(args.get_double("--radius", 0, "AO radius (0 = each view's aoRadius)", 0, HUGE_VAL));
-    o.net.dropout = args.get_double("--dropout", 0.5, "dropout on the input", 0, 0.99);
-    o.gamma = args.get_double("--gamma", p.gamma, "L1 weight penalty gamma (overrides the preset)", 0, HUGE_VAL);
+    o.net.dropout = args.get_double("--dropout", p.dropout, "dropout on the input", 0, 0.99);
+    o.gamma = args.get_double("--gamma", p.gamma, "L1 weight penalty gamma", 0, HUGE_VAL);
     o.points_per_view = args.get_int("--points-per-view", 1024, "training pixels per view", 1, 1 << 20);
     o.test_points_per_view = args.get_int("--test-points-per-view", 1024, "test pixels per view (test loss)", 1, 1 << 20);
     o.shuffle_chunk = args.get_int("--shuffle-chunk", 256, "points per chunk of the chunked shuffle (read from disk in one piece)", 1, 1 << 24);
@@ -47,15 +53,18 @@ int main(int argc, char** argv) {
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     o.seed = uint64_t(args.get_int("--seed", 1, "random seed", 0, INT_MAX));
     o.validation_fraction = args.get_double("--validation-fraction", 0, "share of the training split's scenes held out as validation (val_mse); --sweep uses 0.2 when 0", 0, 0.9);
+    o.validation_families = args.get_names("--validation-families", "", "scene families of the training split held out as validation (val_mse), e.g. vaults,foliage,terrain");
     o.resume = args.get_flag("--resume", "continue from OUT/checkpoint.blob (refused if any other flag changed)");
-    bool sweep = args.get_flag("--sweep", "train the size ladder (w 7/15/23/31 x hidden 4/8/16) and chart error vs ms/frame");
-    int sweep_epochs = args.get_int("--sweep-epochs", 40, "epochs per model in --sweep (40: converged on the default data, ~11 min of one core for the ladder; the sweep trains with the preset's or --gamma's gamma)", 1, 100000);
+    bool sweep = args.get_flag("--sweep", "train the size ladder (grid: w 7/15/23/31 x hidden 4/8/16; horizon: directions 8/16/32 x hidden 8/16/32) and chart error vs ms/frame");
+    int sweep_epochs = args.get_int("--sweep-epochs", o.net.features == "horizon" ? 8 : 40,
+                                    "epochs per model in --sweep (grid 40: converged on the default data; horizon 8, as the preset; the sweep trains with the preset's or --gamma's gamma)", 1, 100000);
     args.done();
     set_num_threads(threads);
     if (o.data_dir.empty()) o.data_dir = data::ensure_default_dataset("nnao", threads);
     if (sweep) {
       o.epochs = sweep_epochs;
-      if (o.validation_fraction == 0) o.validation_fraction = 0.2;  // choose on validation, never test
+      // Choose on validation, never test.
+      if (o.validation_fraction == 0 && o.validation_families.empty()) o.validation_fraction = 0.2;
       nnao::run_sweep(o);
       return 0;
     }

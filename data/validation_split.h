@@ -2,10 +2,14 @@
 // A validation split carved from the training split: whole scenes (as the test split
 // is made), so model selection — the size sweep, every default — never looks at the
 // test split and never at another pixel of a scene it trains on.
+#include <algorithm>
+#include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "data/dataset.h"
+#include "data/validate.h"
 
 namespace nns::data {
 
@@ -20,6 +24,25 @@ inline std::pair<SplitListing, SplitListing> hold_out_validation(const SplitList
   DatasetListing s = split_flat_by_scene(flat, fraction);
   s.test.dir = train.dir + " (validation scenes)";
   return {s.train, s.test};
+}
+
+// {training, validation}: every view of the named scene families (header `scene`,
+// family = the name without its trailing "-<number>") moved to validation — the
+// held-out-families judgement of the test data, made inside the training split so
+// that model selection can aim at geometry it did not train on. Throws naming a family
+// that has no view.
+inline std::pair<SplitListing, SplitListing> hold_out_validation_families(const SplitListing& train,
+                                                                          const std::vector<std::string>& families) {
+  SplitListing kept{train.dir, {}, {}}, val{train.dir + " (validation families)", {}, {}};
+  std::vector<int> seen(families.size(), 0);
+  for (auto& v : train.views) {
+    const auto it = std::find(families.begin(), families.end(), scene_family_of(scene_of(v)));
+    if (it == families.end()) kept.views.push_back(v);
+    else val.views.push_back(v), seen[size_t(it - families.begin())] = 1;
+  }
+  for (size_t i = 0; i < families.size(); ++i)
+    if (!seen[i]) throw std::runtime_error(train.dir + ": no training view of family '" + families[i] + "' to validate on");
+  return {kept, val};
 }
 
 }  // namespace nns::data

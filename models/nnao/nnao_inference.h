@@ -20,6 +20,9 @@
 
 #include "screen_space/ao_common.h"
 #include "screen_space/simd16.h"
+#include "models/nnao/horizon_simd.h"
+#include "models/nnao/nnao_exact_per_pixel.h"
+#include "models/nnao/nnao_head_simd.h"
 #include "models/nnao/nnao_features.h"
 #include "models/nnao/nnao_weights.h"
 
@@ -36,8 +39,13 @@ inline void sample_grid(int samples, int window, int& mx, int& my) {
 }
 
 // A sample count the model can honour: the grid has at most window x window cells, so
-// a larger count would silently run fewer samples than asked for.
-inline void check_sample_count(int samples, int window) {
+// a larger count would silently run fewer samples than asked for. A horizon model has
+// no shader-style form: its only form is the exact one.
+inline void check_sample_count(int samples, const InputSpec& input) {
+  if (input.is_horizon())
+    throw std::invalid_argument("--samples " + std::to_string(samples) + ": a horizon-feature model runs exact only (" +
+                                std::to_string(input.samples()) + " depth samples per pixel)");
+  const int window = input.window;
   if (samples < 1 || samples > window * window)
     throw std::invalid_argument("--samples " + std::to_string(samples) + ": a window-" + std::to_string(window) +
                                 " model takes 1 to " + std::to_string(window * window) + " filter samples");
@@ -130,32 +138,6 @@ struct CentreBlock {
   }
 };
 
-// Layers 1..3 and the de-standardisation (NnaoWeights::head, same order of operations)
-// on the 16 lanes at once, from the layer-0 sums h[k]: h[k] * scale + b0[k]. Sky and
-// tail lanes get 1.
-inline void finish_block(const NnaoWeights& m, const Block& b, const VF* h, float scale, bool scaled, float* out) {
-  const int H = m.hidden;
-  auto prelu = [](VF x, float alpha, float beta) {
-    return select(gt(x, splat(0.0f)), splat(beta) * x, splat(alpha) * x);
-  };
-  VF a[64], c[64];
-  for (int k = 0; k < H; ++k)
-    a[k] = prelu((scaled ? h[k] * splat(scale) : h[k]) + splat(m.b0[size_t(k)]), m.alpha[0][size_t(k)], m.beta[0][size_t(k)]);
-  int n = H;
-  for (int l = 0; l < 3; ++l) {
-    const int outs = l == 2 ? 1 : H;
-    for (int o = 0; o < outs; ++o) {
-      VF s = splat(m.b[l][size_t(o)]);
-      for (int i = 0; i < n; ++i) s = s + splat(m.w[l][size_t(o) * n + i]) * a[i];
-      c[o] = prelu(s, m.alpha[l + 1][size_t(o)], m.beta[l + 1][size_t(o)]);
-    }
-    for (int o = 0; o < outs; ++o) a[o] = c[o];
-    n = outs;
-  }
-  const VF ao = saturate(a[0] * splat(m.target_std) + splat(m.target_mean));
-  store(out + b.i0, select(b.live, ao, splat(1.0f)), b.valid);
-}
-
 // HS > 0: the hidden width known at compile time (the paper's 4 stays in registers).
 template <int HS>
 void exact_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, const float* packed, float* out) {
@@ -184,6 +166,8 @@ void exact_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, con
 
 inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
   using namespace ao::simd;
+  // A horizon model (nnao_inputs.h) marches its directions instead (horizon_simd.h).
+  if (m.input.is_horizon()) return infer_horizon(m, g, out);
   const std::vector<float> packed = detail::pack_normal_depth(g);
   for_each_block(g, [&](int x0, int y, Mask valid) {
     const Block b(g, x0, y, valid);

@@ -14,35 +14,15 @@
 
 #include "core/thread_pool.h"
 #include "screen_space/ao_common.h"
-#include "models/nnao/nnao_features.h"
+#include "models/nnao/nnao_exact_per_pixel.h"
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_weights.h"
 
 namespace nns::nnao {
 
+// The exact form's per-pixel loop (of either input kind) lives in nnao_exact_per_pixel.h.
 inline void infer_exact_reference(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
-  const int64_t F = m.features();
-  const int H = m.hidden;
-  parallel_for(g.height, [&](int64_t y0, int64_t y1) {
-    std::vector<float> f(static_cast<size_t>(F));
-    float h[64];
-    for (int64_t y = y0; y < y1; ++y)
-      for (int x = 0; x < g.width; ++x) {
-        const int64_t i = y * g.width + x;
-        if (g.sky(i)) {
-          out[i] = 1;
-          continue;
-        }
-        compute_features(g, x, int(y), m.window, f.data());
-        for (int k = 0; k < H; ++k) {
-          const float* wk = m.w0.data() + int64_t(k) * F;
-          float s = 0;
-          for (int64_t q = 0; q < F; ++q) s += wk[q] * f[size_t(q)];
-          h[k] = s + m.b0[size_t(k)];
-        }
-        out[i] = m.head(h);
-      }
-  }, 1);
+  infer_exact_per_pixel(m, g, out);
 }
 
 // Depth- and normal-aware blur, separable (a 5-tap horizontal then a 5-tap vertical

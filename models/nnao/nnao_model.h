@@ -1,15 +1,17 @@
 #pragma once
 // The NNAO network (Holden et al. 2016, section 4), as a Module tree:
-//   dropout(p) -> fc0 (w*w*4 -> H) -> PReLU-beta -> fc1 (H -> H) -> PReLU-beta
+//   dropout(p) -> fc0 (F -> H) -> PReLU-beta -> fc1 (H -> H) -> PReLU-beta
 //              -> fc2 (H -> H) -> PReLU-beta -> fc3 (H -> 1) -> PReLU-beta
 // PReLU-beta(x) = beta max(x, 0) + alpha min(x, 0) on every layer (eq. 1); the paper's
-// H is 4. Input: standardised features (nnao_features.h); output: the standardised AO
-// of the centre pixel. The standardisation statistics are buffers, so they travel
+// H is 4. Input: standardised features (F of them, nnao_inputs.h: the paper's grid or
+// horizon profiles); output: the standardised AO of the centre pixel (minus the
+// horizon kind's base). The standardisation statistics are buffers, so they travel
 // with the weights in the blob (names in nnao_weights.h).
 #include <memory>
 #include <string>
 
 #include "core/rng.h"
+#include "models/nnao/nnao_inputs.h"
 #include "nn/dropout.h"
 #include "nn/linear.h"
 #include "nn/module.h"
@@ -21,13 +23,19 @@ struct NnaoNetConfig {
   int window = 31;
   int hidden = 4;
   double dropout = 0.5;
+  // "grid": the paper's w x w grid of normal and depth differences (nnao_features.h,
+  // `window`); "horizon": horizon profiles (horizon_features.h, `horizon`).
+  std::string features = "grid";
+  HorizonLayout horizon;
+  InputSpec input() const { return {features, window, horizon}; }
+  int64_t inputs() const { return input().count(); }
 };
 
 template <class T = float>
 class NnaoNet : public Module<T> {
  public:
   NnaoNet(Rng& rng, const NnaoNetConfig& c) : config(c) {
-    const int64_t F = int64_t(c.window) * c.window * 4, H = c.hidden;
+    const int64_t F = c.inputs(), H = c.hidden;
     drop = this->register_module("drop", std::make_shared<Dropout<T>>(c.dropout, rng.next_u64()));
     const int64_t in[4] = {F, H, H, H}, out[4] = {H, H, H, 1};
     for (int l = 0; l < 4; ++l) {

@@ -4,10 +4,12 @@
 //
 // Blob layout (kind "nnao"; written by the trainer through the module tree):
 //   config: window, hidden, radius (training radius; 0 = each view's aoRadius),
-//           dropout, gamma, target ("ao": 1 = unoccluded)
-//   fc0.weight (H, w*w*4)  fc0.bias (H)  act0.alpha (H)  act0.beta (H)
+//           dropout, gamma, target ("ao": 1 = unoccluded; "ao-minus-horizon-visibility":
+//           the output is added to the horizons' visibility, nnao_inputs.h),
+//           features ("grid" when absent, or "horizon" with directions, steps, bands)
+//   fc0.weight (H, F)  fc0.bias (H)  act0.alpha (H)  act0.beta (H)   (F: nnao_inputs.h)
 //   fc1.weight (H, H) ...  fc2 ...       fc3.weight (1, H) fc3.bias (1) act3.alpha/beta (1)
-//   feature_mean (w*w*4)  feature_std (w*w*4)  target_stats (2: mean, std)
+//   feature_mean (F)  feature_std (F)  target_stats (2: mean, std)
 // The network maps standardised features to the standardised AO of the centre pixel.
 //
 // The feature standardisation is folded into layer 0 (W0' = W0 / std, b0' = b0 -
@@ -20,11 +22,13 @@
 #include <vector>
 
 #include "core/blob.h"
+#include "models/nnao/nnao_inputs.h"
 
 namespace nns::nnao {
 
 struct NnaoWeights {
   int window = 31, hidden = 4;
+  InputSpec input;  // what layer 0 reads (input.window == window)
   float radius = 0;  // 0: each view's own aoRadius
   std::vector<float> w0;              // (hidden, F) with the standardisation folded in
   std::vector<float> b0;              // (hidden)
@@ -32,12 +36,13 @@ struct NnaoWeights {
   std::vector<float> alpha[4], beta[4];
   float target_mean = 0, target_std = 1;
 
-  int64_t features() const { return int64_t(window) * window * 4; }
+  int64_t features() const { return input.count(); }
 
   static float prelu(float x, float a, float bt) { return x > 0 ? bt * x : a * x; }
 
-  // Layers 1..3 and the de-standardisation, from layer 0's pre-activations h0 (hidden).
-  float head(const float* h0) const {
+  // Layers 1..3 and the de-standardisation, from layer 0's pre-activations h0 (hidden);
+  // `base` is the inputs' base (InputSpec::base), added before the clamp to [0, 1].
+  float head(const float* h0, float base = 0) const {
     float a[64], c[64];
     for (int k = 0; k < hidden; ++k) a[k] = prelu(h0[k], alpha[0][size_t(k)], beta[0][size_t(k)]);
     int n = hidden;
@@ -51,7 +56,7 @@ struct NnaoWeights {
       std::copy(c, c + out, a);
       n = out;
     }
-    float ao = a[0] * target_std + target_mean;
+    float ao = a[0] * target_std + target_mean + base;
     return ao < 0 ? 0 : (ao > 1 ? 1 : ao);
   }
 
@@ -62,9 +67,19 @@ struct NnaoWeights {
     m.window = int(blob.config_int("window"));
     m.hidden = int(blob.config_int("hidden"));
     m.radius = float(blob.config_double("radius"));
-    if (m.window < 1 || m.hidden < 1 || m.hidden > 64)
-      throw blob.error("window " + std::to_string(m.window) + " / hidden " +
-                       std::to_string(m.hidden) + " out of range");
+    if (m.hidden < 1 || m.hidden > 64) throw blob.error("hidden " + std::to_string(m.hidden) + " out of range");
+    m.input.window = m.window;
+    if (blob.has_config("features")) {
+      m.input.kind = blob.config_string("features");
+      auto layout_int = [&](const char* key) {  // range-checked before it becomes an int
+        const int64_t v = blob.config_int(key);
+        if (v < 1 || v > 64) throw blob.error(std::string(key) + " " + std::to_string(v) + " out of range 1..64");
+        return int(v);
+      };
+      if (m.input.is_horizon())
+        m.input.horizon = {layout_int("directions"), layout_int("steps"), layout_int("bands")};
+    }
+    if (const std::string p = m.input.problem(); !p.empty()) throw blob.error(p);
     const int64_t F = m.features(), H = m.hidden;
     auto vec = [&](const std::string& name, Shape s) {
       std::vector<float> v(size_t(s.numel()));

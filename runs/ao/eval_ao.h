@@ -167,14 +167,16 @@ inline void evaluate_ao(const EvalAoOptions& o) {
       throw std::invalid_argument("--methods " + w + " needs --model nnao.blob");
   }
   if (wanted.count("NNAO-exact"))
-    methods.push_back({"NNAO-exact", weights.window * weights.window,
+    methods.push_back({"NNAO-exact", weights.input.samples(),
                        [&, scalar](const ao::GBuffer& g, float* o) {
                          if (scalar) nnao::infer_exact_reference(weights, g, o);
                          else nnao::infer_exact(weights, g, o);
                        }});
-  if (wanted.count("NNAO"))
+  // A horizon model has no shader-style form (nnao_inference.h): its exact form is all
+  // there is, so "NNAO" adds nothing for it.
+  if (wanted.count("NNAO") && !weights.input.is_horizon())
     for (int n : nnao_samples) {
-      nnao::check_sample_count(n, weights.window);
+      nnao::check_sample_count(n, weights.input);
       methods.push_back({"NNAO", n, [&weights, n, scalar](const ao::GBuffer& g, float* o) {
                            if (scalar) nnao::infer_shader_style_reference(weights, g, n, o);
                            else nnao::infer_shader_style(weights, g, n, o);
@@ -360,7 +362,7 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     r << "| " << methods[m].name << " | " << methods[m].samples << " | " << fmt(median(stats[m].ms), 4) << " | "
       << fmt(median(stats[m].cpu_ms), 4) << " | " << fmt(stats[m].all.mse(), 4) << " | " << fmt(stats[m].all.ssim(), 4) << " | " << fmt(data::psnr_from_mse(stats[m].all.mse()), 4) << " |\n";
   r << "\n## The paper's claims on this data\n\n";
-  int ex = find("NNAO-exact", weights.window * weights.window);
+  int ex = find("NNAO-exact", weights.input.samples());
   if (ex >= 0) {
     std::vector<std::string> beaten_by;
     for (size_t m = 0; m < methods.size(); ++m)

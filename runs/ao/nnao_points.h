@@ -1,15 +1,15 @@
 #pragma once
 // NNAO's training points (paper, section 3): from every view, `per_view` random
-// non-sky pixels (distinct, or all of them when fewer); each point is its feature
-// vector (nnao_features.h) and the ground-truth AO of the centre pixel. The target is
-// AO itself (1 = unoccluded), as the dataset stores it.
+// non-sky pixels (distinct, or all of them when fewer); each point is its input row
+// (nnao_inputs.h: grid or horizon features) and the ground-truth AO of the centre
+// pixel minus the inputs' base (0 for the grid kind, so its target is AO itself).
 //
 // The features are computed once, view by view, into rows of a file with no name
 // (runs/ao/point_file.h) in the output folder, so a training step only gathers rows (no
 // feature work, no allocation per step) and the memory does not grow with the number of
 // views. A row is w*w*4 features in IEEE half precision (binary16, 11-bit significand:
 // relative rounding error <= 2^-11, 2 bytes per feature: w = 31 needs 7.7 KB per point
-// instead of 15.4 KB) followed by the float target. Rows are widened to float when a
+// instead of 15.4 KB, the default horizon layout 0.3 KB) followed by the float target. Rows are widened to float when a
 // batch is gathered (to_float); the network, the statistics and every sum run in float
 // or double. See docs/nnao.md for the measured effect of both.
 #include <cmath>
@@ -21,7 +21,7 @@
 #include "core/rng.h"
 #include "core/thread_pool.h"
 #include "data/view.h"
-#include "models/nnao/nnao_features.h"
+#include "models/nnao/nnao_inputs.h"
 #include "runs/ao/point_file.h"
 
 namespace nns::nnao {
@@ -38,8 +38,8 @@ inline void to_float(const Half* in, float* out, int64_t n) {
   for (int64_t i = 0; i < n; ++i) out[i] = float(in[i]);
 }
 
-// Bytes of one point's row: the features in binary16, then the target as a float (w*w*4
-// is a multiple of 4, so the float sits at a 4-byte offset of the row).
+// Bytes of one point's row: the features in binary16, then the target as a float, read
+// and written with memcpy (an odd feature count puts it at a 2-byte offset).
 inline int64_t point_row_bytes(int64_t features) { return features * int64_t(sizeof(Half)) + int64_t(sizeof(float)); }
 inline const Half* row_features(const char* row) { return reinterpret_cast<const Half*>(row); }
 inline Half* row_features(char* row) { return reinterpret_cast<Half*>(row); }
@@ -54,7 +54,7 @@ inline void set_row_target(char* row, int64_t features, float y) {
 
 // A split's points: rows (point_row_bytes) in a file that lives as long as this object.
 struct PointFile {
-  int window = 31;
+  InputSpec input;
   int64_t features = 0;
   runs::RowFile rows;
   int64_t count() const { return rows.rows(); }
@@ -64,7 +64,7 @@ struct PointFile {
 // the view's aoRadius. The pixels are drawn from `rng`; the features are computed in
 // parallel (each row on its own, so the rows are the same for any thread count).
 // Returns the number of points.
-inline int64_t view_points(const data::View& v, int window, int per_view, float radius, Rng& rng,
+inline int64_t view_points(const data::View& v, const InputSpec& input, int per_view, float radius, Rng& rng,
                            std::vector<char>& rows) {
   ao::GBuffer g = ao::gbuffer_from_view(v, radius);
   if (!v.has("AO"))
@@ -75,17 +75,17 @@ inline int64_t view_points(const data::View& v, int window, int per_view, float 
   const int64_t n = std::min<int64_t>(per_view, int64_t(pix.size()));
   // Partial Fisher-Yates: the first n entries become a uniform random subset.
   for (int64_t i = 0; i < n; ++i) std::swap(pix[size_t(i)], pix[size_t(i + int64_t(rng.below(pix.size() - size_t(i))))]);
-  const int64_t F = feature_count(window), R = point_row_bytes(F);
+  const int64_t F = input.count(), R = point_row_bytes(F);
   rows.resize(size_t(n * R));
   parallel_for(n, [&](int64_t b, int64_t e) {
     std::vector<float> row(static_cast<size_t>(F));
     for (int64_t k = b; k < e; ++k) {
       const int64_t p = pix[size_t(k)];
-      compute_features(g, int(p % g.width), int(p / g.width), window, row.data());
+      input.compute(g, int(p % g.width), int(p / g.width), row.data());
       char* dst = rows.data() + k * R;
       Half* x = row_features(dst);
       for (int64_t f = 0; f < F; ++f) x[f] = to_half(row[size_t(f)]);
-      set_row_target(dst, F, ao[size_t(p)]);
+      set_row_target(dst, F, ao[size_t(p)] - input.base(row.data()));
     }
   }, 16);
   return n;

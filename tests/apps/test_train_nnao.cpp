@@ -51,7 +51,7 @@ class TrainNnao : public ::testing::Test {
   }
   static void TearDownTestSuite() { fs::remove_all(root); }
   static std::string common() {
-    return "--data " + (root / "data").string() + " --window 7 --points-per-view 96 --seed 5 ";
+    return "--data " + (root / "data").string() + " --preset grid --window 7 --points-per-view 96 --seed 5 ";
   }
   static fs::path root;
 };
@@ -112,13 +112,25 @@ TEST_F(TrainNnao, SweepTrainsTheLadderAndNamesAModel) {
   for (std::string l; std::getline(csv, l);) ++rows;
   EXPECT_EQ(rows, 1 + 12);  // header + w {7,15,23,31} x hidden {4,8,16}
   std::string md = bytes(root / "sweep" / "sweep" / "sweep.md");
-  EXPECT_NE(md.find("Smallest model within 2%"), std::string::npos) << md;
+  EXPECT_NE(md.find("Cheapest model within 2%"), std::string::npos) << md;
   // chosen on validation scenes carved from train/, the test split only reported
   EXPECT_NE(md.find("Best validation MSE"), std::string::npos) << md;
   std::string header;
   std::getline(std::ifstream(root / "sweep" / "sweep" / "sweep.csv") >> std::ws, header);
-  EXPECT_EQ(header, "window,hidden,parameters,val_mse,test_mse,ms_per_frame");
+  EXPECT_EQ(header, "w,hidden,samples,parameters,val_mse,test_mse,ms_per_frame");
   EXPECT_TRUE(fs::exists(root / "sweep" / "sweep" / "sweep.svg"));
+  // The default (horizon) preset's ladder: directions {8, 16, 32} x hidden {8, 16, 32}.
+  auto h = run("--data " + (root / "data").string() + " --points-per-view 32 --seed 5 --sweep --sweep-epochs 1 --out " +
+               (root / "hsweep").string());
+  ASSERT_EQ(h.code, 0) << h.output;
+  std::ifstream hcsv(root / "hsweep" / "sweep" / "sweep.csv");
+  std::string hheader;
+  std::getline(hcsv, hheader);
+  EXPECT_EQ(hheader, "directions,hidden,samples,parameters,val_mse,test_mse,ms_per_frame");
+  int hrows = 0;
+  for (std::string l; std::getline(hcsv, l);) ++hrows;
+  EXPECT_EQ(hrows, 9);
+  EXPECT_TRUE(fs::exists(root / "hsweep" / "sweep" / "d32_h16" / "nnao.blob"));
 }
 
 // A learning rate that diverges used to end with an all-NaN nnao.blob, "nan" in
@@ -233,4 +245,26 @@ TEST_F(TrainNnao, SmallShuffleBuffersTrainAndAreDeterministic) {
   // No point file is left in the output folder (they never had a name there).
   for (auto& e : fs::directory_iterator(root / "s1"))
     EXPECT_EQ(e.path().filename().string().find("points"), std::string::npos) << e.path();
+}
+
+// The default preset trains a horizon-feature model (runs/ao/train_nnao.h): the blob
+// says so, the same on 1 and 2 threads; whole families of the training split can be
+// held out for validation, and a family with no view is refused by name.
+TEST_F(TrainNnao, DefaultPresetIsAHorizonModelValidatedOnFamilies) {
+  const std::string args = "--data " + (root / "data").string() + " --points-per-view 96 --seed 5 --epochs 2 " +
+                           "--validation-families synthetic2 ";
+  auto a = run(args + "--threads 1 --out " + (root / "h1").string());
+  auto b = run(args + "--threads 2 --out " + (root / "h2").string());
+  ASSERT_EQ(a.code, 0) << a.output;
+  ASSERT_EQ(b.code, 0) << b.output;
+  EXPECT_TRUE(bytes(root / "h1" / "nnao.blob") == bytes(root / "h2" / "nnao.blob"));
+  auto blob = nns::Blob::load((root / "h1" / "nnao.blob").string());
+  EXPECT_EQ(blob.config_string("features"), "horizon");
+  EXPECT_EQ(blob.config_int("directions"), 32);
+  const std::string metrics = bytes(root / "h1" / "metrics.jsonl");
+  EXPECT_NE(metrics.find("\"val_mse\":"), std::string::npos) << metrics;
+  auto bad = run("--data " + (root / "data").string() + " --epochs 1 --validation-families castle --out " +
+                 (root / "h3").string());
+  EXPECT_EQ(bad.code, 1) << bad.output;
+  EXPECT_NE(bad.output.find("no training view of family 'castle'"), std::string::npos) << bad.output;
 }

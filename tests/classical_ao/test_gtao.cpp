@@ -11,92 +11,18 @@
 #include "core/thread_pool.h"
 #include "classical_ao/gtao.h"
 #include "classical_ao/methods.h"
+#include "fixtures/analytic_scenes.h"
 
 using namespace nns;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-struct V3 {
-  double x, y, z;
-};
-V3 sub(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-double dot3(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-V3 cross3(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-V3 unit(V3 a) {
-  double l = std::sqrt(dot3(a, a));
-  return {a.x / l, a.y / l, a.z / l};
-}
-
-// A world-space scene as a ray caster: nearest hit t along o + t d (inf: none), with the
-// world normal and the hit point.
-using Caster = std::function<double(V3 o, V3 d, V3& n)>;
-
-struct Scene {
-  data::View view;
-  std::vector<V3> hit;  // world-space hit point per pixel (unused for sky)
-};
-
-// A camera at `eye` looking at `target` (world y up), rendered in double: planar depth and
-// view-space normals, the G-buffer eval-ao reads.
-Scene render(const Caster& cast, V3 eye, V3 target, int w, int h, float fov_y, float radius) {
-  Scene s;
-  data::View& v = s.view;
-  v.width = w, v.height = h, v.fov_y_deg = fov_y, v.ao_radius = radius, v.scene = "analytic";
-  auto& Z = v.add_channel("Z");
-  auto& NX = v.add_channel("N.X");
-  auto& NY = v.add_channel("N.Y");
-  auto& NZ = v.add_channel("N.Z");
-  s.hit.resize(size_t(w) * h);
-  const V3 f = unit(sub(target, eye)), right = unit(cross3(f, {0, 1, 0})), up = cross3(right, f);
-  const double ty = std::tan(double(fov_y) * kPi / 360), tx = ty * w / h;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      // View-space ray (gbuffer.h's convention) with view z = -1, i.e. one unit along f.
-      const double vx = (2 * (x + 0.5) / w - 1) * tx, vy = (1 - 2 * (y + 0.5) / h) * ty;
-      const V3 d{vx * right.x + vy * up.x + f.x, vx * right.y + vy * up.y + f.y, vx * right.z + vy * up.z + f.z};
-      V3 n{0, 0, 0};
-      const double t = cast(eye, d, n);
-      if (!(t < 1e30)) {
-        Z[i] = INFINITY;
-        continue;
-      }
-      Z[i] = float(t);  // d has unit component along f: t is the planar depth
-      s.hit[i] = {eye.x + t * d.x, eye.y + t * d.y, eye.z + t * d.z};
-      NX[i] = float(dot3(n, right)), NY[i] = float(dot3(n, up)), NZ[i] = float(-dot3(n, f));
-    }
-  return s;
-}
-
-// Floor y = 0 in front of (z >= 0) a wall z = 0 that rises above it (y >= 0), both
-// unbounded: the inside of a right-angle crease along the x axis.
-double cast_crease(V3 o, V3 d, V3& n) {
-  double best = INFINITY;
-  if (d.y < 0) {
-    const double t = -o.y / d.y;
-    if (o.z + t * d.z >= 0 && t < best) best = t, n = {0, 1, 0};
-  }
-  if (d.z < 0) {
-    const double t = -o.z / d.z;
-    if (o.y + t * d.y >= 0 && t < best) best = t, n = {0, 0, 1};
-  }
-  return best;
-}
-
-// Cosine-weighted AO within distance r of a point at distance d from the crease, on
-// either face (the crease is symmetric). On the floor (normal +y), cosine-weighted
-// directions project to points (w_x, w_z) uniform on the unit disc (Malley's method). A
-// ray towards the wall (w_z < 0) always meets it, the wall being unbounded upwards, at
-// distance d / -w_z; it is occluded within r iff -w_z > c = min(1, d / r). The occluded
-// share is the disc segment beyond the chord at c over the disc's area:
-//   AO(d) = 1 - (acos c - c sqrt(1 - c^2)) / pi,
-// 1/2 on the crease line and 1 from d = r on.
-double crease_ao(double d, double r) {
-  const double c = std::min(1.0, d / r);
-  return 1 - (std::acos(c) - c * std::sqrt(1 - c * c)) / kPi;
-}
+using fixtures::cast_crease;
+using fixtures::crease_ao;
+using fixtures::kPi;
+using fixtures::render;
+using fixtures::Scene;
+using fixtures::V3;
 
 // The parameters under which GTAO's model is the quantity the closed forms give: the
 // radius is r and a sample counts fully up to r (a hard cut, as the ray-traced AO does).

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 #include <vector>
 
+#include "core/thread_pool.h"
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_inference_reference.h"
 #include "fixtures/random_nnao_blob.h"
@@ -14,7 +16,7 @@ namespace {
 
 
 // The network in double straight from the blob's raw tensors: standardise, 4 layers.
-double reference_ao(const Blob& b, const std::vector<float>& f, int H) {
+double reference_ao(const Blob& b, const std::vector<float>& f, int H, double base = 0) {
   const int64_t F = int64_t(f.size());
   auto t = [&](const std::string& n, Shape s) { return b.tensor<double>(n, s); };
   auto mean = t("feature_mean", {F}), sd = t("feature_std", {F}), ts = t("target_stats", {2});
@@ -34,7 +36,7 @@ double reference_ao(const Blob& b, const std::vector<float>& f, int H) {
     }
     x = y;
   }
-  return std::clamp(x[0] * ts[1] + ts[0], 0.0, 1.0);
+  return std::clamp(x[0] * ts[1] + ts[0] + base, 0.0, 1.0);
 }
 
 }  // namespace
@@ -178,4 +180,57 @@ TEST(NnaoInference, VectorisedPathsMatchScalarReferences) {
         }
     }
   }
+}
+
+// A horizon-feature model (nnao_inputs.h): the vectorised march + fused layer 0
+// (horizon_simd.h) against the per-pixel loop, that loop against the network in double
+// from the raw tensors plus the visibility base, and both thread counts alike. Layouts
+// with an odd number of directions and 3 bands, hidden 4 and 6, a 2-pixel tail block.
+TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
+  const nns::fixtures::HorizonShape shapes[2] = {{8, 8, 4}, {5, 6, 3}};
+  for (const auto& sh : shapes)
+    for (int H : {4, 6}) {
+      Blob blob = nns::fixtures::random_nnao_blob(0, H, 21 + H, false, sh);
+      auto m = nnao::NnaoWeights::from_blob(blob);
+      ASSERT_TRUE(m.input.is_horizon());
+      for (int variant : {0, 3}) {
+        auto v = nns::fixtures::synthetic_view(50, 30, variant, 1);
+        auto g = ao::gbuffer_from_view(v);
+        const std::string tag = "horizon " + std::to_string(sh.directions) + "x" + std::to_string(sh.steps) + " H" +
+                                std::to_string(H) + " variant " + std::to_string(variant);
+        std::vector<float> a(size_t(g.pixels())), b(a.size()), c(a.size());
+        set_num_threads(1);
+        nnao::infer_exact(m, g, a.data());
+        set_num_threads(2);
+        nnao::infer_exact(m, g, c.data());
+        EXPECT_EQ(a, c) << tag;
+        nnao::infer_exact_reference(m, g, b.data());
+        expect_close_to_reference(a, b, "exact " + tag);
+        std::vector<float> f(size_t(m.features()));
+        double worst = 0;
+        for (int64_t i = 0; i < g.pixels(); ++i) {
+          if (g.sky(i)) {
+            EXPECT_EQ(a[size_t(i)], 1.0f);
+            continue;
+          }
+          m.input.compute(g, int(i % g.width), int(i / g.width), f.data());
+          worst = std::max(worst, std::abs(b[size_t(i)] - reference_ao(blob, f, H, m.input.base(f.data()))));
+        }
+        EXPECT_LT(worst, 1e-4) << tag;
+      }
+      EXPECT_THROW(nnao::check_sample_count(64, m.input), std::invalid_argument);
+    }
+}
+
+TEST(NnaoInference, HorizonBlobWithBadLayoutIsRejected) {
+  for (auto [d, s, b] : {std::tuple{8, 8, 3}, std::tuple{0, 8, 4}, std::tuple{8, 100, 4}}) {
+    Blob blob = nns::fixtures::random_nnao_blob(0, 4, 3, false, {8, 8, 4});
+    blob.set_config("directions", d);
+    blob.set_config("steps", s);
+    blob.set_config("bands", b);
+    EXPECT_THROW(nnao::NnaoWeights::from_blob(blob), std::runtime_error) << d << " " << s << " " << b;
+  }
+  Blob unknown = nns::fixtures::random_nnao_blob(0, 4, 3, false, {8, 8, 4});
+  unknown.set_config("features", std::string("voxels"));
+  EXPECT_THROW(nnao::NnaoWeights::from_blob(unknown), std::runtime_error);
 }
