@@ -21,15 +21,18 @@ DatasetJob default_dataset_job(const std::string& preset) {
   job.settings.seed = 20160501;  // fixed: the default dataset is the same everywhere
   job.test_fraction = 0.2;
   if (preset == "nnao") {
-    // Version 3: every family (nnao-v2: per-view fov, aspect, size, AO radius, pitch)
-    // so the model learns geometry in general, with three whole families held out
-    // (holdout/: never trained on, eval-ao scores them beside test/) and every view a
-    // frame of a 4-frame camera path, so eval-ao measures flicker on the default data.
-    // The held-out families are the ones least like the architecture a user's scene
-    // holds (cave, pipes, round): arcades, vaults, rooms and stairs stay in training.
-    // ~480 views at ~0.8 CPU-s each (docs/renderer.md): about 3-4 minutes on 2 cores.
+    // Every family (nnao-v2: per-view fov, aspect, size, AO radius, pitch) so the model
+    // learns geometry in general, with three whole families held out (holdout/: never
+    // trained on, eval-ao scores them beside test/) and every view a frame of a 4-frame
+    // camera path, so eval-ao measures flicker on the default data. The held-out
+    // families are the ones least like the architecture a user's scene holds (cave,
+    // pipes, round): arcades, vaults, rooms and stairs stay in training.
+    // Version 4: 640 views, so that test/ holds three scenes of every family (192 views
+    // = 48 four-frame paths, one scene each, dealt to the 16 families in turn); train/
+    // 320 views (5 scenes per family), holdout/ 128. ~0.8 CPU-s per view
+    // (docs/renderer.md): about 4-5 minutes on 2 idle cores.
     job.preset = "nnao-v2";
-    job.views = 480;
+    job.views = 640;
     job.views_per_scene = 4;
     job.path_frames = 4;
     job.test_fraction = 0.3;

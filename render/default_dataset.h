@@ -15,9 +15,9 @@
 namespace nns::data {
 
 // Bumped whenever the renderer, the scenes or the sizes below change the pixels; the
-// cache folder is default-<preset>-v<version>. nnao is at 3 (nnao-v2 families, holdout/,
-// camera paths); surround and gi are unchanged at 2.
-inline int default_dataset_version(const std::string& preset) { return preset == "nnao" ? 3 : 2; }
+// cache folder is default-<preset>-v<version>. nnao is at 4 (nnao-v2 families, holdout/,
+// camera paths, three test scenes per family); surround and gi are unchanged at 2.
+inline int default_dataset_version(const std::string& preset) { return preset == "nnao" ? 4 : 2; }
 
 // The job that renders the default dataset of `preset` ("nnao", "surround", "gi"):
 // sizes, views and sample counts live here, in one place (docs/renderer.md explains

@@ -283,7 +283,7 @@ inline void evaluate_ao(const EvalAoOptions& o) {
   std::string csv = "method,samples,ms_per_frame,mse,ssim,psnr\n", by_scene = "method,samples,scene,views,mse,ssim,psnr\n";
   std::string band_csv = "method,samples,band,pixels,mse\n", temporal = "method,samples,flicker,ground_truth_flicker,flicker_relative_to_ground_truth,temporal_error,pairs,coverage\n";
   std::string timing = "method,samples,wall_ms_median,cpu_ms_median,threads\n";
-  std::map<std::string, data::ChartSeries> series;
+  std::map<std::string, data::ChartSeries> series, flicker_series;
   std::vector<std::string> order;
   for (size_t m = 0; m < methods.size(); ++m) {
     const auto& st = stats[m];
@@ -304,6 +304,13 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     series[nm].x.push_back(ms);
     series[nm].y.push_back(mse);
     series[nm].point_labels.push_back(ns);
+    if (st.temporal.pairs && gt_temporal.flicker() > 0) {
+      auto& fs_ = flicker_series[nm];
+      fs_.name = nm;
+      fs_.x.push_back(ms);
+      fs_.y.push_back(st.temporal.flicker() / gt_temporal.flicker());
+      fs_.point_labels.push_back(ns);
+    }
   }
   write_file_atomic((fs::path(out) / "results.csv").string(), csv);
   write_file_atomic((fs::path(out) / "results_by_scene.csv").string(), by_scene);
@@ -347,6 +354,19 @@ inline void evaluate_ao(const EvalAoOptions& o) {
   const std::string chart_path = (fs::path(out) / "speed_vs_accuracy.svg").string();
   std::string note = data::write_chart(chart_path, chart, co);
   if (!note.empty()) std::fprintf(stderr, "eval-ao: note: %s\n", note.c_str());
+  // The second chart: flicker (relative to the ground truth's, 1 = as stable as the
+  // truth) against the same time axis, for the methods measured on camera paths.
+  std::vector<data::ChartSeries> flicker_chart;
+  for (auto& n : order)
+    if (flicker_series.count(n)) flicker_chart.push_back(flicker_series[n]);
+  const std::string flicker_path = (fs::path(out) / "flicker_vs_time.svg").string();
+  if (!flicker_chart.empty()) {
+    data::ChartOptions fo = co;
+    fo.title = "AO: flicker against time (camera paths, reprojected)";
+    fo.y_label = "flicker / ground truth's flicker";
+    const std::string fnote = data::write_chart(flicker_path, flicker_chart, fo);
+    if (!fnote.empty()) std::fprintf(stderr, "eval-ao: note: %s\n", fnote.c_str());
+  }
 
   // report.md: the table, the paper's two claims checked, the bands, the chart.
   auto find = [&](const std::string& n, int s) -> int {
@@ -402,7 +422,8 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     << "temporal error = mean |(m_t - m_t-1) - (g_t - g_t-1)| against the ground truth g. See temporal.csv.\n\n";
   if (gt_temporal.pairs) {
     r << "Ground truth flicker " << fmt(gt_temporal.flicker(), 4) << " over " << gt_temporal.pairs << " frame pairs ("
-      << fmt(100 * gt_temporal.coverage(), 3) << "% of pixels mapped).\n\n| method | samples | flicker | relative to ground truth | temporal error |\n|---|---|---|---|---|\n";
+      << fmt(100 * gt_temporal.coverage(), 3) << "% of pixels mapped).\n\n![flicker vs time](flicker_vs_time.svg)\n\n"
+      << "| method | samples | flicker | relative to ground truth | temporal error |\n|---|---|---|---|---|\n";
     for (size_t m = 0; m < methods.size(); ++m) {
       const auto& t = stats[m].temporal;
       if (!t.pairs) continue;

@@ -66,6 +66,9 @@ TEST(EvalAo, WritesResultsForClassicalMethods) {
   EXPECT_NE(temporal.find("\nHBAO,64,"), std::string::npos) << temporal;
   EXPECT_NE(temporal.find(",2,"), std::string::npos) << temporal;  // frames 0-1 and 1-2
   EXPECT_TRUE(fs::exists(d / "out" / "timing.csv"));
+  // The second chart: flicker against time, shown in report.md.
+  EXPECT_TRUE(fs::exists(d / "out" / "flicker_vs_time.svg"));
+  EXPECT_NE(read(d / "out" / "report.md").find("![flicker vs time](flicker_vs_time.svg)"), std::string::npos);
   const std::string fam = read(d / "out" / "results_by_family.csv");
   EXPECT_NE(fam.find("\npath,HBAO,"), std::string::npos) << fam;  // HBAO at its best setting, family "path"
   EXPECT_NE(read(d / "out" / "report.md").find("## Per family"), std::string::npos);
