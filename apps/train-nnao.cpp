@@ -1,6 +1,6 @@
 // train-nnao: train Neural Network Ambient Occlusion on an EXR G-buffer dataset.
 //   train-nnao [--data DIR] [--out DIR] [--preset default|grid|paper] [--features grid|horizon]
-//              [--epochs N] [--batch 16] [--lr 1e-3] [--window 31] [--directions 32] [--steps 8]
+//              [--epochs N] [--batch 16] [--lr 1e-3] [--window 31] [--directions 16] [--steps 8]
 //              [--bands 4] [--hidden 16] [--radius R] [--dropout 0] [--gamma 1e-4]
 //              [--points-per-view 1024] [--threads 2] [--seed S] [--resume] [--sweep]
 //              [--shuffle-chunk 256] [--shuffle-buffer-mb 512]
@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     // The presets are what the project's measurements chose (runs/ao/train_nnao.h,
     // docs/nnao.md); every flag below overrides its part of the preset.
     const std::string preset = args.get_choice("--preset", "default", {"default", "grid", "paper"},
-                                               "default: horizon features 32x8 in 4 bands, hidden 16 (chosen on validation families); "
+                                               "default: horizon features 16x8 in 4 bands, hidden 16 (chosen on validation families); "
                                                "grid: the paper's w 31 grid, hidden 4, gamma 1e-4; paper: Holden et al.'s w 31, hidden 4, gamma 0.01");
     const nnao::Preset p = nnao::preset(preset);
     o.net.features = args.get_choice("--features", p.features, {"grid", "horizon"},

@@ -40,7 +40,7 @@
 namespace nns::nnao {
 
 struct HorizonLayout {
-  int directions = 32, steps = 8, bands = 4;
+  int directions = 16, steps = 8, bands = 4;  // the default preset's (runs/ao/train_nnao.h)
   int samples() const { return directions * steps; }
   int64_t features() const { return int64_t(directions) * bands + 2 + bands; }
   // What is wrong with the layout, or "" if it is usable.

@@ -50,10 +50,10 @@ namespace nns::nnao {
 //   hidden 4, gamma 0.01 gives validation MSE 0.0163, 0.000625 0.0126, 1e-4 0.0117: the
 //   L1 term at 0.01 switches hidden units off; the size ladder's smallest rung within 2%
 //   of its best is w 31 / hidden 4).
-// `default`: horizon features (horizon_features.h), 32 directions x 8 steps in 4 bands,
-//   hidden 16, no dropout, gamma 1e-4, 8 epochs: chosen on validation *families*
-//   (vaults, foliage, terrain held out of training), where it scores 0.0037 against the
-//   grid's 0.0048-0.0051 and tuned GTAO-64's 0.0041.
+// `default`: horizon features (horizon_features.h), 16 directions x 8 steps in 4 bands,
+//   hidden 16, no dropout, gamma 1e-4, 8 epochs: the size sweep's pick on validation
+//   *families* of the default data v4 (vaults, foliage, terrain held out of training;
+//   mean of 3 seeds): the cheapest rung within 2% of the best (docs/nnao.md).
 struct Preset {
   std::string features;
   int window;
@@ -65,7 +65,7 @@ struct Preset {
 inline Preset preset(const std::string& name) {
   if (name == "paper") return {"grid", 31, {}, 4, 0.5, 0.01, 12};
   if (name == "grid") return {"grid", 31, {}, 4, 0.5, 1e-4, 12};
-  if (name == "default") return {"horizon", 31, {32, 8, 4}, 16, 0.0, 1e-4, 8};
+  if (name == "default") return {"horizon", 31, {16, 8, 4}, 16, 0.0, 1e-4, 8};
   throw std::invalid_argument("unknown NNAO preset '" + name + "' (known: default, grid, paper)");
 }
 

@@ -260,7 +260,7 @@ TEST_F(TrainNnao, DefaultPresetIsAHorizonModelValidatedOnFamilies) {
   EXPECT_TRUE(bytes(root / "h1" / "nnao.blob") == bytes(root / "h2" / "nnao.blob"));
   auto blob = nns::Blob::load((root / "h1" / "nnao.blob").string());
   EXPECT_EQ(blob.config_string("features"), "horizon");
-  EXPECT_EQ(blob.config_int("directions"), 32);
+  EXPECT_EQ(blob.config_int("directions"), 16);
   const std::string metrics = bytes(root / "h1" / "metrics.jsonl");
   EXPECT_NE(metrics.find("\"val_mse\":"), std::string::npos) << metrics;
   auto bad = run("--data " + (root / "data").string() + " --epochs 1 --validation-families castle --out " +

@@ -15,7 +15,7 @@ using fixtures::V3;
 
 namespace {
 
-const nnao::HorizonLayout kLayout{32, 8, 4};
+const nnao::HorizonLayout kLayout{16, 8, 4};
 
 std::vector<float> features_at(const ao::GBuffer& g, int x, int y) {
   std::vector<float> f(size_t(kLayout.features()));
