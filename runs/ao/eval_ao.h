@@ -129,6 +129,10 @@ struct EvalAoOptions {
   std::string params_file;      // tune-classical-ao's output; empty: built-in parameters
   bool scalar = false;          // the scalar reference loops instead of the vectorised ones
   std::string split = "test";   // "test", or "holdout": the families render-dataset held out
+  // > 0: every method also runs with temporal accumulation ("<method>+TA"): on a camera
+  // path, out_t = a * m_t + (1 - a) * out_t-1 reprojected (temporal.h), the raw m_t where
+  // the previous frame does not see the point — the history blend engines run with TAA.
+  double temporal_blend = 0;
 };
 
 inline void evaluate_ao(const EvalAoOptions& o) {
@@ -189,6 +193,18 @@ inline void evaluate_ao(const EvalAoOptions& o) {
         methods.push_back({c.name, n, [&c, &cparams, n, scalar](const ao::GBuffer& g, float* o) {
                              ao::run_classical(c.name, cparams, g, n, o, scalar);
                            }});
+  // The accumulated forms: scored from their method's output, frame by frame (no run of
+  // their own); accumulated[m] is the index of method m's "+TA" row, or -1.
+  if (!(o.temporal_blend >= 0 && o.temporal_blend <= 1))
+    throw std::invalid_argument("--temporal-blend must be in [0, 1] (0: off)");
+  std::vector<int> accumulated(methods.size(), -1);
+  if (o.temporal_blend > 0) {
+    const size_t n = methods.size();
+    for (size_t m = 0; m < n; ++m) {
+      accumulated[m] = int(methods.size());
+      methods.push_back({methods[m].name + "+TA", methods[m].samples, nullptr});
+    }
+  }
 
   fs::create_directories(fs::path(out) / "previews");
   std::vector<MethodStats> stats(methods.size());
@@ -200,7 +216,7 @@ inline void evaluate_ao(const EvalAoOptions& o) {
   std::string prev_path;
   int prev_frame = -2;
   int width = 0, height = 0;
-  Progress bar("eval-ao", int64_t(views.size() * methods.size()));
+  Progress bar("eval-ao", int64_t(views.size() * (o.temporal_blend > 0 ? methods.size() / 2 : methods.size())));
   int64_t done = 0;
   for (size_t v = 0; v < views.size(); ++v) {
     data::View view = data::read_view(views[v]);
@@ -232,8 +248,31 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     const std::string stem = fs::path(views[v]).parent_path().filename().string() + "_" + fs::path(views[v]).stem().string();
     if (preview)
       data::write_png_gray((fs::path(out) / "previews" / (stem + "_ground_truth.png")).string(), gt.data(), g.width, g.height);
-    std::vector<float> result(size_t(g.pixels()));
+    std::vector<float> result(size_t(g.pixels())), history(result.size());
+    const int64_t px = std::count(mask.begin(), mask.end(), uint8_t(1));
+    // One output of a method (or of its accumulated form) on this view: its scores, its
+    // flicker against the previous frame, and the frame kept for the next.
+    auto score = [&](size_t m, const std::vector<float>& res) {
+      MethodStats& st = stats[m];
+      double mse = data::masked_mse(res.data(), gt.data(), mask.data(), g.pixels());
+      double ssim = data::masked_ssim(res.data(), gt.data(), mask.data(), g.width, g.height);
+      if (px > 0) {
+        st.all.add(mse, px, ssim);
+        st.by_scene[view.scene].add(mse, px, ssim);
+        st.by_family[family_of(view.scene)].add(mse, px, ssim);
+      }
+      for (size_t b = 0; b < bands.masks.size(); ++b) {
+        const int64_t bp = std::count(bands.masks[b].begin(), bands.masks[b].end(), uint8_t(1));
+        if (bp) st.bands[b].add(data::masked_mse(res.data(), gt.data(), bands.masks[b].data(), g.pixels()), bp, 0);
+      }
+      if (same_path && !st.previous.empty()) {
+        st.temporal.add_pair(to_prev, res.data(), st.previous.data(), gt.data(), prev_gt);
+        st.temporal_by_family[family_of(view.scene)].add_pair(to_prev, res.data(), st.previous.data(), gt.data(), prev_gt);
+      }
+      if (!path.empty()) st.previous = res;
+    };
     for (size_t m = 0; m < methods.size(); ++m) {
+      if (!methods[m].run) continue;  // an accumulated form: scored with its method below
       // The fastest of `repeat` runs: the one least disturbed by other processes (the
       // output is the same every time).
       double ms = 1e300, cpu = 1e300;
@@ -247,23 +286,21 @@ inline void evaluate_ao(const EvalAoOptions& o) {
       MethodStats& st = stats[m];
       st.ms.push_back(ms);
       st.cpu_ms.push_back(cpu);
-      const int64_t px = std::count(mask.begin(), mask.end(), uint8_t(1));
-      double mse = data::masked_mse(result.data(), gt.data(), mask.data(), g.pixels());
-      double ssim = data::masked_ssim(result.data(), gt.data(), mask.data(), g.width, g.height);
-      if (px > 0) {
-        st.all.add(mse, px, ssim);
-        st.by_scene[view.scene].add(mse, px, ssim);
-        st.by_family[family_of(view.scene)].add(mse, px, ssim);
+      score(m, result);
+      if (accumulated[m] >= 0) {
+        MethodStats& ta = stats[size_t(accumulated[m])];
+        const auto t0 = std::chrono::steady_clock::now();
+        const bool blend = same_path && !ta.previous.empty();
+        const float a = float(o.temporal_blend);
+        for (size_t i = 0; i < result.size(); ++i) {
+          const int64_t j = blend ? to_prev[i] : -1;
+          history[i] = j >= 0 ? a * result[i] + (1 - a) * ta.previous[size_t(j)] : result[i];
+        }
+        const double blend_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        ta.ms.push_back(ms + blend_ms);
+        ta.cpu_ms.push_back(cpu + blend_ms);
+        score(size_t(accumulated[m]), history);
       }
-      for (size_t b = 0; b < bands.masks.size(); ++b) {
-        const int64_t bp = std::count(bands.masks[b].begin(), bands.masks[b].end(), uint8_t(1));
-        if (bp) st.bands[b].add(data::masked_mse(result.data(), gt.data(), bands.masks[b].data(), g.pixels()), bp, 0);
-      }
-      if (same_path && !st.previous.empty()) {
-        st.temporal.add_pair(to_prev, result.data(), st.previous.data(), gt.data(), prev_gt);
-        st.temporal_by_family[family_of(view.scene)].add_pair(to_prev, result.data(), st.previous.data(), gt.data(), prev_gt);
-      }
-      if (!path.empty()) st.previous = result;
       const bool largest = m + 1 == methods.size() || methods[m + 1].name != methods[m].name;
       if (preview && (largest || (methods[m].name == "NNAO" && methods[m].samples == 64))) {
         std::string base = (fs::path(out) / "previews" / (stem + "_" + safe(methods[m].name) + "_" + std::to_string(methods[m].samples))).string();

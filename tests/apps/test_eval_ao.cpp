@@ -140,3 +140,34 @@ TEST(EvalAo, ScoresTheHeldOutFamiliesBesideTheTestSplit) {
   EXPECT_NE(r.output.find("no holdout/ split"), std::string::npos) << r.output;
   fs::remove_all(d);
 }
+
+// --temporal-blend adds every method's accumulated form ("<method>+TA"), scored from its
+// own output: on a still camera path it changes less from frame to frame than the
+// method itself, and its first frame is the method's.
+TEST(EvalAo, TemporalAccumulationIsOfferedToEveryMethod) {
+  fs::path d = temp_dir("ta");
+  fs::create_directories(d / "data");
+  for (int v = 0; v < 4; ++v) {
+    auto view = nns::fixtures::synthetic_view(48, 32, v % 2, 8);  // the geometry alternates
+    view.scene = "path";
+    view.world_to_camera = std::array<float, 16>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    nns::data::write_view((d / "data" / ("path-p00-f00" + std::to_string(v) + ".exr")).string(), view);
+  }
+  CommandResult r = run("--data " + (d / "data").string() + " --out " + (d / "out").string() +
+                        " --methods HBAO,GTAO --threads 2 --previews 0 --temporal-blend 0.25");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string temporal = read(d / "out" / "temporal.csv");
+  for (const char* m : {"HBAO", "GTAO"}) {
+    auto flicker = [&](const std::string& name) {
+      const size_t at = temporal.find("\n" + name + ",64,");
+      EXPECT_NE(at, std::string::npos) << temporal;
+      return std::stod(temporal.substr(temporal.find(',', at + name.size() + 2) + 1));
+    };
+    const double raw = flicker(m), acc = flicker(std::string(m) + "+TA");
+    EXPECT_GT(raw, 0) << m;
+    EXPECT_LT(acc, 0.8 * raw) << m << ": " << temporal;
+  }
+  EXPECT_NE(read(d / "out" / "results.csv").find("\nHBAO+TA,64,"), std::string::npos);
+  EXPECT_EQ(run("--data " + (d / "data").string() + " --out " + (d / "bad").string() + " --temporal-blend 1.5").code, 2);
+  fs::remove_all(d);
+}
