@@ -164,18 +164,6 @@ void exact_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, con
 
 }  // namespace detail
 
-inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
-  using namespace ao::simd;
-  // A horizon model (nnao_inputs.h) marches its directions instead (horizon_simd.h).
-  if (m.input.is_horizon()) return infer_horizon(m, g, out);
-  const std::vector<float> packed = detail::pack_normal_depth(g);
-  for_each_block(g, [&](int x0, int y, Mask valid) {
-    const Block b(g, x0, y, valid);
-    if (m.hidden == 4) detail::exact_block<4>(m, g, b, packed.data(), out);
-    else detail::exact_block<0>(m, g, b, packed.data(), out);
-  });
-}
-
 // Depth- and normal-aware blur, separable (a 5-tap horizontal then a 5-tap vertical
 // pass, the usual SSAO blur): Gaussian in screen space (sigma 1.5 px), times
 // exp(-(dz / (0.1 r))^2) and max(0, n.n')^8, so it does not average across a depth
@@ -222,6 +210,25 @@ inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out) {
   };
   pass(in, tmp.data(), true);
   pass(tmp.data(), out, false);
+}
+
+inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
+  using namespace ao::simd;
+  // A horizon model (nnao_inputs.h) marches its directions instead (horizon_simd.h),
+  // then the bilateral blur: chosen on the validation families of the default data
+  // (3 seeds: MSE -7%, SSIM 0.84-0.86 -> 0.89-0.90, flicker 1.6x -> 1.0-1.07x the
+  // ground truth's; docs/nnao.md), for ~1 ms at 320x180.
+  if (m.input.is_horizon()) {
+    std::vector<float> raw(size_t(g.pixels()));
+    infer_horizon(m, g, raw.data());
+    return bilateral_blur(g, raw.data(), out);
+  }
+  const std::vector<float> packed = detail::pack_normal_depth(g);
+  for_each_block(g, [&](int x0, int y, Mask valid) {
+    const Block b(g, x0, y, valid);
+    if (m.hidden == 4) detail::exact_block<4>(m, g, b, packed.data(), out);
+    else detail::exact_block<0>(m, g, b, packed.data(), out);
+  });
 }
 
 // `blur` false gives the raw stochastic estimate (tests check its mean).

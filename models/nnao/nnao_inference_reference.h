@@ -20,10 +20,6 @@
 
 namespace nns::nnao {
 
-// The exact form's per-pixel loop (of either input kind) lives in nnao_exact_per_pixel.h.
-inline void infer_exact_reference(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
-  infer_exact_per_pixel(m, g, out);
-}
 
 // Depth- and normal-aware blur, separable (a 5-tap horizontal then a 5-tap vertical
 // pass, the usual SSAO blur): Gaussian in screen space (sigma 1.5 px), times
@@ -60,6 +56,15 @@ inline void bilateral_blur_reference(const ao::GBuffer& g, const float* in, floa
   };
   pass(in, tmp.data(), 1, 0);
   pass(tmp.data(), out, 0, 1);
+}
+
+// The exact form: the per-pixel loop (of either input kind, nnao_exact_per_pixel.h),
+// then for a horizon model the blur infer_exact applies.
+inline void infer_exact_reference(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
+  if (!m.input.is_horizon()) return infer_exact_per_pixel(m, g, out);
+  std::vector<float> raw(size_t(g.pixels()));
+  infer_exact_per_pixel(m, g, raw.data());
+  bilateral_blur_reference(g, raw.data(), out);
 }
 
 // `blur` false gives the raw stochastic estimate (tests check its mean).

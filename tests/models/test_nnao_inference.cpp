@@ -182,9 +182,10 @@ TEST(NnaoInference, VectorisedPathsMatchScalarReferences) {
   }
 }
 
-// A horizon-feature model (nnao_inputs.h): the vectorised march + fused layer 0
-// (horizon_simd.h) against the per-pixel loop, that loop against the network in double
-// from the raw tensors plus the visibility base, and both thread counts alike. Layouts
+// A horizon-feature model (nnao_inputs.h): the vectorised march + fused layer 0 + blur
+// (horizon_simd.h, infer_exact) against the per-pixel loop + scalar blur, that loop
+// against the network in double from the raw tensors plus the visibility base, and
+// both thread counts alike. Layouts
 // with an odd number of directions and 3 bands, hidden 4 and 6, a 2-pixel tail block.
 TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
   const nns::fixtures::HorizonShape shapes[2] = {{8, 8, 4}, {5, 6, 3}};
@@ -206,6 +207,8 @@ TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
         EXPECT_EQ(a, c) << tag;
         nnao::infer_exact_reference(m, g, b.data());
         expect_close_to_reference(a, b, "exact " + tag);
+        // Before the blur: the per-pixel loop against the network in double.
+        nnao::infer_exact_per_pixel(m, g, b.data());
         std::vector<float> f(size_t(m.features()));
         double worst = 0;
         for (int64_t i = 0; i < g.pixels(); ++i) {
