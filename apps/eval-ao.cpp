@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
     const std::string split = args.get_choice("--split", "both", {"test", "holdout", "both"},
                                               "both: the test split into OUT and, if the data has one, the held-out families into OUT/holdout");
     o.temporal_blend = args.get_double("--temporal-blend", 0, "> 0: also score every method with temporal accumulation ('<method>+TA': out = a * this frame + (1 - a) * the previous output reprojected, on camera paths); a = this value", 0, 1);
+    o.vary_pattern = args.get_flag("--vary-pattern", "shader-style NNAO: a jitter pattern per camera-path frame (for --temporal-blend to average), instead of one fixed pattern");
     bool scalar = args.get_flag("--scalar", "run the scalar per-pixel reference loops instead of the vectorised ones (to measure the speed-up)");
     args.done();
     set_num_threads(threads);

@@ -133,6 +133,9 @@ struct EvalAoOptions {
   // path, out_t = a * m_t + (1 - a) * out_t-1 reprojected (temporal.h), the raw m_t where
   // the previous frame does not see the point — the history blend engines run with TAA.
   double temporal_blend = 0;
+  // Shader-style NNAO's jitter pattern changes with the frame number of a camera-path
+  // frame (as engines vary their noise per frame under TAA); off: one fixed pattern.
+  bool vary_pattern = false;
 };
 
 inline void evaluate_ao(const EvalAoOptions& o) {
@@ -178,12 +181,13 @@ inline void evaluate_ao(const EvalAoOptions& o) {
                        }});
   // A horizon model has no shader-style form (nnao_inference.h): its exact form is all
   // there is, so "NNAO" adds nothing for it.
+  uint32_t pattern_seed = 0;  // the current view's jitter seed (vary_pattern)
   if (wanted.count("NNAO") && !weights.input.is_horizon())
     for (int n : nnao_samples) {
       nnao::check_sample_count(n, weights.input);
-      methods.push_back({"NNAO", n, [&weights, n, scalar](const ao::GBuffer& g, float* o) {
-                           if (scalar) nnao::infer_shader_style_reference(weights, g, n, o);
-                           else nnao::infer_shader_style(weights, g, n, o);
+      methods.push_back({"NNAO", n, [&weights, &pattern_seed, n, scalar](const ao::GBuffer& g, float* o) {
+                           if (scalar) nnao::infer_shader_style_reference(weights, g, n, o, true, pattern_seed);
+                           else nnao::infer_shader_style(weights, g, n, o, true, pattern_seed);
                          }});
     }
   const ao::ClassicalParams cparams = params_file.empty() ? ao::ClassicalParams{} : ao::read_classical_params(params_file);
@@ -235,6 +239,7 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     std::string path = ao::path_of_frame(fs::path(views[v]).stem().string(), frame);
     if (path.empty()) path = ao::path_of_frame(fs::path(views[v]).parent_path().filename().string(), frame);
     const bool same_path = !path.empty() && path == prev_path && frame == prev_frame + 1;
+    pattern_seed = o.vary_pattern && !path.empty() ? uint32_t(frame) : 0u;
     std::vector<int64_t> to_prev;
     const float* prev_gt = nullptr;
     if (same_path) {

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "data/exr_io.h"
+#include "fixtures/random_nnao_blob.h"
 #include "fixtures/synthetic_gbuffer.h"
 #include "tests/support/run_command.h"
 
@@ -169,5 +170,37 @@ TEST(EvalAo, TemporalAccumulationIsOfferedToEveryMethod) {
   }
   EXPECT_NE(read(d / "out" / "results.csv").find("\nHBAO+TA,64,"), std::string::npos);
   EXPECT_EQ(run("--data " + (d / "data").string() + " --out " + (d / "bad").string() + " --temporal-blend 1.5").code, 2);
+  fs::remove_all(d);
+}
+
+// --vary-pattern: shader-style NNAO's jitter changes with the camera-path frame, so on a
+// still path of identical frames its output changes from frame to frame (and the +TA
+// form averages the patterns), where the fixed pattern gives the same frame every time.
+TEST(EvalAo, VaryPatternChangesShaderStyleJitterPerFrame) {
+  fs::path d = temp_dir("vary");
+  fs::create_directories(d / "data");
+  for (int v = 0; v < 3; ++v) {
+    auto view = nns::fixtures::synthetic_view(48, 32, 0, 8);
+    view.scene = "still";
+    view.world_to_camera = std::array<float, 16>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    nns::data::write_view((d / "data" / ("still-p00-f00" + std::to_string(v) + ".exr")).string(), view);
+  }
+  nns::fixtures::random_nnao_blob(7, 4, 3).save((d / "m.blob").string());
+  auto flicker = [&](const std::string& extra, const std::string& out) {
+    CommandResult r = run("--data " + (d / "data").string() + " --model " + (d / "m.blob").string() + " --out " +
+                          (d / out).string() + " --methods NNAO --nnao-samples 16 --previews 0 --temporal-blend 0.5 " + extra);
+    EXPECT_EQ(r.code, 0) << r.output;
+    const std::string t = read(d / out / "temporal.csv");
+    auto at = [&](const std::string& name) {
+      const size_t k = t.find("\n" + name + ",16,");
+      EXPECT_NE(k, std::string::npos) << t;
+      return std::stod(t.substr(k + name.size() + 5));
+    };
+    return std::pair(at("NNAO"), at("NNAO+TA"));
+  };
+  const auto fixed = flicker("", "fixed"), varied = flicker("--vary-pattern", "varied");
+  EXPECT_EQ(fixed.first, 0.0);
+  EXPECT_GT(varied.first, 0.0);
+  EXPECT_LT(varied.second, varied.first);
   fs::remove_all(d);
 }
