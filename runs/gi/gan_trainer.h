@@ -58,6 +58,8 @@ struct GanTrainConfig {
   int ndf = 32, d_layers = 3;        // discriminator
   GiLoss loss = GiLoss::gan;
   double lambda = 100, lr = 2e-4, beta1 = 0.5, beta2 = 0.999;
+  double lr_d = 0;  // the discriminator's learning rate; <= 0: the same as lr (pix2pix)
+  double d_lr() const { return lr_d > 0 ? lr_d : lr; }
   // gan and l1 losses: reconstruction = L1 + dssim_weight * DSSIM (0: pix2pix's L1 alone).
   // SSIM is the metric L1 trains least for (docs/gan.md).
   double dssim_weight = 0;
@@ -128,20 +130,21 @@ class GanTrainer {
  public:
   explicit GanTrainer(const GanTrainConfig& c)
       : config(c), init_rng_(c.seed), G_(make_generator<float>(c.generator(), init_rng_)), G(*G_),
-        schedule_(LrSchedule::linear(c.lr, c.epochs, c.epochs_decay)) {
+        schedule_(LrSchedule::linear(c.lr, c.epochs, c.epochs_decay)),
+        schedule_d_(LrSchedule::linear(c.d_lr(), c.epochs, c.epochs_decay)) {
     opt_g_ = std::make_unique<Adam<float>>(G.parameters(),
                                            AdamOptions{.lr = c.lr, .beta1 = c.beta1, .beta2 = c.beta2});
     if (c.loss == GiLoss::gan) {
       D = std::make_unique<PatchGan<float>>(c.patchgan(), init_rng_);
       opt_d_ = std::make_unique<Adam<float>>(D->parameters(),
-                                             AdamOptions{.lr = c.lr, .beta1 = c.beta1, .beta2 = c.beta2});
+                                             AdamOptions{.lr = c.d_lr(), .beta1 = c.beta1, .beta2 = c.beta2});
     }
   }
 
   // Sets both learning rates for `epoch` (0-based); call at the start of each epoch.
   void begin_epoch(int epoch) {
     schedule_.apply(*opt_g_, epoch);
-    if (opt_d_) schedule_.apply(*opt_d_, epoch);
+    if (opt_d_) schedule_d_.apply(*opt_d_, epoch);
   }
   double lr() const { return opt_g_->lr(); }
 
@@ -244,6 +247,8 @@ class GanTrainer {
     b.set_config("lambda", config.lambda);
     if (config.dssim_weight > 0) b.set_config("dssim_weight", config.dssim_weight);
     b.set_config("lr", config.lr);
+    // Only when it differs: a blob of a run with one rate stays as it was.
+    if (config.d_lr() != config.lr) b.set_config("lr_d", config.d_lr());
     b.set_config("beta1", config.beta1);
     b.set_config("beta2", config.beta2);
     b.set_config("epochs", config.epochs);
@@ -279,7 +284,7 @@ class GanTrainer {
 
  private:
   std::unique_ptr<Adam<float>> opt_g_, opt_d_;
-  LrSchedule schedule_;
+  LrSchedule schedule_, schedule_d_;  // G's and D's (the same unless lr_d is set)
   int64_t step_ = 0;
   DiscriminatorWatch watch_;
 };

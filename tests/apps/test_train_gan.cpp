@@ -265,3 +265,20 @@ TEST_F(TrainGan, KilledAtRandomMomentsAndResumedEndsBitwiseEqual) {
   EXPECT_EQ(read_all(full + "/checkpoint.blob"), read_all(killed + "/checkpoint.blob"));
   EXPECT_EQ(read_all(full + "/metrics.jsonl"), read_all(killed + "/metrics.jsonl"));
 }
+
+// --lr-d sets the discriminator's own learning rate (two time-scale updates); it is
+// recorded in the run's configuration in the checkpoint (only when it differs from --lr,
+// so a run with one rate records what it did before) and a resume with another one is
+// refused naming it.
+TEST_F(TrainGan, DiscriminatorLearningRateIsRecordedAndChecked) {
+  const std::string out = (root_ / "lrd").string();
+  ASSERT_EQ(run(train_cmd(out, "--lr-d 0.001 --debug-stop-after-epochs 1"), out + ".log"), 0) << read_all(out + ".log");
+  ASSERT_EQ(run(train_cmd(out, "--lr-d 0.001 --resume"), out + ".log1"), 0) << read_all(out + ".log1");
+  EXPECT_DOUBLE_EQ(nns::Blob::load(out + "/checkpoint.blob").config_double("lr_d"), 0.001);
+  int rc = run(train_cmd(out, "--lr-d 0.002 --resume"), out + ".log2");
+  EXPECT_EQ(rc, 1) << read_all(out + ".log2");
+  EXPECT_NE(read_all(out + ".log2").find("lr_d: was 0.001, now 0.002"), std::string::npos) << read_all(out + ".log2");
+  const std::string same = (root_ / "lrd-same").string();
+  ASSERT_EQ(run(train_cmd(same, ""), same + ".log"), 0) << read_all(same + ".log");
+  EXPECT_FALSE(nns::Blob::load(same + "/checkpoint.blob").has_config("lr_d"));
+}
