@@ -126,7 +126,8 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
     << (o.log_y ? " (log scale)" : "") << "</text>\n";
   for (size_t k = 0; k < series.size(); ++k) {
     const auto& se = series[k];
-    const char* c = kColours[k % 10];
+    const char* c = kColours[size_t(se.colour >= 0 ? se.colour : int(k)) % 10];
+    const char* dash = se.dashed ? "\" stroke-dasharray=\"6,4" : "";
     std::string pts;
     for (size_t i = 0; i < se.x.size() && i < se.y.size(); ++i) {
       if (!usable(se.x[i], se.y[i], o)) continue;
@@ -138,11 +139,11 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
         s << "<text x=\"" << num(px + 5) << "\" y=\"" << num(py - 5) << "\" font-size=\"10\" fill=\""
           << c << "\">" << escape(se.point_labels[i]) << "</text>\n";
     }
-    s << "<polyline points=\"" << pts << "\" fill=\"none\" stroke=\"" << c
+    s << "<polyline points=\"" << pts << "\" fill=\"none\" stroke=\"" << c << dash
       << "\" stroke-width=\"2\"/>\n";
     double ly = T + 10 + 20.0 * double(k);
     s << "<line x1=\"" << num(R + 15) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(R + 40)
-      << "\" y2=\"" << num(ly) << "\" stroke=\"" << c << "\" stroke-width=\"2\"/>\n<text x=\""
+      << "\" y2=\"" << num(ly) << "\" stroke=\"" << c << dash << "\" stroke-width=\"2\"/>\n<text x=\""
       << num(R + 46) << "\" y=\"" << num(ly + 4) << "\">" << escape(se.name) << "</text>\n";
   }
   s << "</svg>\n";

@@ -386,6 +386,20 @@ inline void evaluate_ao(const EvalAoOptions& o) {
                 << fmt(sc->second.ssim(), 4) << " | " << (has_t ? fmt(f / gf, 3) : std::string("-")) << " |\n";
     }
   write_file_atomic((fs::path(out) / "results_by_family.csv").string(), by_family);
+  // A method's accumulated form ("+TA") is drawn dashed in the method's own colour.
+  auto pair_styles = [&](std::map<std::string, data::ChartSeries>& m) {
+    for (size_t k = 0; k < order.size(); ++k) {
+      const std::string& n = order[k];
+      const size_t ta = n.size() > 3 ? n.rfind("+TA") : std::string::npos;
+      if (ta == std::string::npos || ta + 3 != n.size() || !m.count(n)) continue;
+      const auto base = std::find(order.begin(), order.end(), n.substr(0, ta));
+      if (base == order.end()) continue;
+      m[n].colour = int(base - order.begin());
+      m[n].dashed = true;
+    }
+  };
+  pair_styles(series);
+  pair_styles(flicker_series);
   std::vector<data::ChartSeries> chart;
   for (auto& n : order) chart.push_back(series[n]);
   data::ChartOptions co;

@@ -59,3 +59,21 @@ TEST(Chart, AQuoteInThePathReachesNoShellAndStillGetsItsPng) {
   EXPECT_FALSE(std::filesystem::exists(marker)) << "the path was run by a shell";
   std::filesystem::remove_all(dir);
 }
+
+// A variant series (a method with temporal accumulation) is drawn dashed, in the colour
+// it is given (its method's), line and legend alike; plain series are solid.
+TEST(Chart, DashedVariantTakesTheGivenColour) {
+  std::vector<ChartSeries> s = {{"GTAO", {1, 2}, {0.02, 0.01}, {}}, {"HBAO", {1, 2}, {0.03, 0.02}, {}},
+                                {"GTAO+TA", {1.1, 2.1}, {0.019, 0.009}, {}}};
+  s[2].colour = 0;
+  s[2].dashed = true;
+  const std::string svg = line_chart_svg(s, ChartOptions{});
+  size_t dashes = 0;
+  for (size_t at = svg.find("stroke-dasharray"); at != std::string::npos; at = svg.find("stroke-dasharray", at + 1)) ++dashes;
+  EXPECT_EQ(dashes, 2u);  // its polyline and its legend line
+  // The first series' colour appears on the variant's dashed polyline.
+  const size_t first = svg.find("<polyline"), third = svg.rfind("<polyline");
+  auto stroke = [&](size_t at) { return svg.substr(svg.find("stroke=\"", at), 16); };
+  EXPECT_EQ(stroke(first), stroke(third));
+  EXPECT_NE(svg.find("stroke-dasharray=\"6,4\"", third), std::string::npos);
+}
