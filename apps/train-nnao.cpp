@@ -10,6 +10,7 @@
 // --sweep trains a size ladder instead (runs/ao/nnao_sweep.h; --resume continues an
 // interrupted sweep).
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <thread>
 
@@ -70,10 +71,12 @@ int main(int argc, char** argv) {
     }
     nnao::TrainResult r = nnao::train_nnao(o);
     if (r.exit_code != 0) return r.exit_code;  // the run layer's non-finite stop, already reported
-    std::printf("trained on %lld points (%lld test), %lld steps, %.1f us/step (%.0f samples/s), test MSE %.5f, "
+    char mse[48] = "not measured (no epoch ran)";
+    if (std::isfinite(r.test_mse)) std::snprintf(mse, sizeof mse, "%.5f", r.test_mse);
+    std::printf("trained on %lld points (%lld test), %lld steps, %.1f us/step (%.0f samples/s), test MSE %s, "
                 "%.1f s (points %.1f s, %.2f s/epoch)\n",
                 (long long)r.train_points, (long long)r.test_points, (long long)r.steps, r.step_microseconds,
-                r.step_microseconds > 0 ? 1e6 * o.batch / r.step_microseconds : 0.0, r.test_mse, r.seconds,
+                r.step_microseconds > 0 ? 1e6 * o.batch / r.step_microseconds : 0.0, mse, r.seconds,
                 r.build_seconds, r.epoch_seconds);
     std::printf("model: %s/nnao.blob  metrics: %s/metrics.jsonl  chart: %s/loss.svg\n", o.out_dir.c_str(),
                 o.out_dir.c_str(), o.out_dir.c_str());

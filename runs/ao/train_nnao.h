@@ -96,7 +96,8 @@ struct TrainOptions {
 
 struct TrainResult {
   int64_t train_points = 0, test_points = 0, steps = 0;
-  double train_loss = 0, test_mse = 0, val_mse = std::nan(""), seconds = 0;
+  // NaN until an epoch has run (--epochs 0 measures nothing; summary.json says null).
+  double train_loss = std::nan(""), test_mse = std::nan(""), val_mse = std::nan(""), seconds = 0;
   double step_microseconds = 0;  // training steps only (no data building, no test pass)
   double build_seconds = 0;      // points of both splits: features, statistics, standardising
   double epoch_seconds = 0;      // mean wall time of the epochs this process ran (steps + test pass)

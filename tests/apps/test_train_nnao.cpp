@@ -268,3 +268,14 @@ TEST_F(TrainNnao, DefaultPresetIsAHorizonModelValidatedOnFamilies) {
   EXPECT_EQ(bad.code, 1) << bad.output;
   EXPECT_NE(bad.output.find("no training view of family 'castle'"), std::string::npos) << bad.output;
 }
+
+// --epochs 0 (points built, nothing trained) used to report "test MSE 0.00000" — a
+// perfect score nothing measured; now it says so, and summary.json has null.
+TEST_F(TrainNnao, ZeroEpochsReportNoTestMse) {
+  auto a = run(common() + "--epochs 0 --out " + (root / "zero").string());
+  ASSERT_EQ(a.code, 0) << a.output;
+  EXPECT_EQ(a.output.find("test MSE 0.0"), std::string::npos) << a.output;
+  EXPECT_NE(a.output.find("test MSE not measured (no epoch ran)"), std::string::npos) << a.output;
+  EXPECT_NE(bytes(root / "zero" / "summary.json").find("\"test_mse\":null"), std::string::npos)
+      << bytes(root / "zero" / "summary.json");
+}
