@@ -141,7 +141,7 @@ struct CentreBlock {
 // HS > 0: the hidden width known at compile time (the paper's 4 stays in registers).
 template <int HS>
 void exact_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, const float* packed, float* out) {
-  const int w = m.window, H = HS > 0 ? HS : m.hidden;
+  const int w = m.input.window, H = HS > 0 ? HS : m.hidden;
   const int64_t F = m.features();
   VF h[HS > 0 ? HS : 64];
   for (int k = 0; k < H; ++k) h[k] = splat(0.0f);
@@ -236,8 +236,8 @@ inline void infer_shader_style(const NnaoWeights& m, const ao::GBuffer& g, int s
                                float* out, bool blur = true, uint32_t seed = 0) {
   using namespace ao::simd;
   int mx, my;
-  sample_grid(samples, m.window, mx, my);
-  const int w = m.window, H = m.hidden;
+  sample_grid(samples, m.input.window, mx, my);
+  const int w = m.input.window, H = m.hidden;
   const int64_t F = m.features();
   const float scale = float(w * w) / float(mx * my);
   // W0 regrouped per grid point (q, k, c), so one gather index q * 4H + k * 4 + c

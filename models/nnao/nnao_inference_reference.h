@@ -71,8 +71,8 @@ inline void infer_exact_reference(const NnaoWeights& m, const ao::GBuffer& g, fl
 inline void infer_shader_style_reference(const NnaoWeights& m, const ao::GBuffer& g, int samples,
                                float* out, bool blur = true, uint32_t seed = 0) {
   int mx, my;
-  sample_grid(samples, m.window, mx, my);
-  const int w = m.window, H = m.hidden;
+  sample_grid(samples, m.input.window, mx, my);
+  const int w = m.input.window, H = m.hidden;
   const int64_t F = m.features();
   const float scale = float(w * w) / float(mx * my);
   std::vector<float> raw(size_t(g.pixels()));

@@ -27,8 +27,8 @@
 namespace nns::nnao {
 
 struct NnaoWeights {
-  int window = 31, hidden = 4;
-  InputSpec input;  // what layer 0 reads (input.window == window)
+  int hidden = 4;
+  InputSpec input;  // what layer 0 reads: the grid (input.window) or horizon profiles
   float radius = 0;  // 0: each view's own aoRadius
   std::vector<float> w0;              // (hidden, F) with the standardisation folded in
   std::vector<float> b0;              // (hidden)
@@ -64,11 +64,10 @@ struct NnaoWeights {
     if (blob.kind() != "nnao")
       throw blob.error("holds a '" + blob.kind() + "' model, expected 'nnao'");
     NnaoWeights m;
-    m.window = int(blob.config_int("window"));
+    m.input.window = int(blob.config_int("window"));
     m.hidden = int(blob.config_int("hidden"));
     m.radius = float(blob.config_double("radius"));
     if (m.hidden < 1 || m.hidden > 64) throw blob.error("hidden " + std::to_string(m.hidden) + " out of range");
-    m.input.window = m.window;
     if (blob.has_config("features")) {
       m.input.kind = blob.config_string("features");
       auto layout_int = [&](const char* key) {  // range-checked before it becomes an int

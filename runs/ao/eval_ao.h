@@ -255,6 +255,8 @@ inline void evaluate_ao(const EvalAoOptions& o) {
       data::write_png_gray((fs::path(out) / "previews" / (stem + "_ground_truth.png")).string(), gt.data(), g.width, g.height);
     std::vector<float> result(size_t(g.pixels())), history(result.size());
     const int64_t px = std::count(mask.begin(), mask.end(), uint8_t(1));
+    std::vector<int64_t> band_pixels;  // per failure band, counted once per view
+    for (auto& bm : bands.masks) band_pixels.push_back(std::count(bm.begin(), bm.end(), uint8_t(1)));
     // One output of a method (or of its accumulated form) on this view: its scores, its
     // flicker against the previous frame, and the frame kept for the next.
     auto score = [&](size_t m, const std::vector<float>& res) {
@@ -266,10 +268,8 @@ inline void evaluate_ao(const EvalAoOptions& o) {
         st.by_scene[view.scene].add(mse, px, ssim);
         st.by_family[family_of(view.scene)].add(mse, px, ssim);
       }
-      for (size_t b = 0; b < bands.masks.size(); ++b) {
-        const int64_t bp = std::count(bands.masks[b].begin(), bands.masks[b].end(), uint8_t(1));
-        if (bp) st.bands[b].add(data::masked_mse(res.data(), gt.data(), bands.masks[b].data(), g.pixels()), bp, 0);
-      }
+      for (size_t b = 0; b < bands.masks.size(); ++b)
+        if (band_pixels[b]) st.bands[b].add(data::masked_mse(res.data(), gt.data(), bands.masks[b].data(), g.pixels()), band_pixels[b], 0);
       if (same_path && !st.previous.empty()) {
         st.temporal.add_pair(to_prev, res.data(), st.previous.data(), gt.data(), prev_gt);
         st.temporal_by_family[family_of(view.scene)].add_pair(to_prev, res.data(), st.previous.data(), gt.data(), prev_gt);
@@ -387,19 +387,13 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     }
   write_file_atomic((fs::path(out) / "results_by_family.csv").string(), by_family);
   // A method's accumulated form ("+TA") is drawn dashed in the method's own colour.
-  auto pair_styles = [&](std::map<std::string, data::ChartSeries>& m) {
-    for (size_t k = 0; k < order.size(); ++k) {
-      const std::string& n = order[k];
-      const size_t ta = n.size() > 3 ? n.rfind("+TA") : std::string::npos;
-      if (ta == std::string::npos || ta + 3 != n.size() || !m.count(n)) continue;
-      const auto base = std::find(order.begin(), order.end(), n.substr(0, ta));
-      if (base == order.end()) continue;
-      m[n].colour = int(base - order.begin());
-      m[n].dashed = true;
-    }
-  };
-  pair_styles(series);
-  pair_styles(flicker_series);
+  for (size_t m = 0; m < accumulated.size(); ++m) {  // the methods that run (the +TA rows follow)
+    if (accumulated[m] < 0) continue;
+    const std::string& ta = methods[size_t(accumulated[m])].name;
+    const int colour = int(std::find(order.begin(), order.end(), methods[m].name) - order.begin());
+    for (auto* s : {&series, &flicker_series})
+      if (s->count(ta)) (*s)[ta].colour = colour, (*s)[ta].dashed = true;
+  }
   std::vector<data::ChartSeries> chart;
   for (auto& n : order) chart.push_back(series[n]);
   data::ChartOptions co;
