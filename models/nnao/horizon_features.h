@@ -45,9 +45,10 @@ struct HorizonLayout {
   int64_t features() const { return int64_t(directions) * bands + 2 + bands; }
   // What is wrong with the layout, or "" if it is usable.
   std::string problem() const {
-    if (directions < 1 || directions > 64) return "directions must be 1..64";
-    if (steps < 1 || steps > 64) return "steps must be 1..64";
-    if (bands < 1 || bands > steps || steps % bands != 0) return "bands must divide steps";
+    const std::string d = std::to_string(directions), st = std::to_string(steps), b = std::to_string(bands);
+    if (directions < 1 || directions > 64) return "directions " + d + " is out of range 1..64";
+    if (steps < 1 || steps > 64) return "steps " + st + " is out of range 1..64";
+    if (bands < 1 || bands > steps || steps % bands != 0) return "bands " + b + " must divide steps " + st;
     return "";
   }
 };
