@@ -4,7 +4,7 @@
 //              [--bands 4] [--hidden 16] [--radius R] [--dropout 0] [--gamma 1e-4]
 //              [--points-per-view 1024] [--threads 2] [--seed S] [--resume] [--sweep]
 //              [--shuffle-chunk 256] [--shuffle-buffer-mb 512]
-// The points go to unnamed files in --out (7.7 KB each for a w-31 grid, 0.3 KB for the
+// The points go to unnamed files in --out (7.7 KB each for a w-31 grid, 0.14 KB for the
 // default horizons): memory stays at the two shuffle buffers whatever the data size.
 // Without --data it renders (once, cached) and uses the built-in default dataset.
 // --sweep trains a size ladder instead (runs/ao/nnao_sweep.h; --resume continues an
