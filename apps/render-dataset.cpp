@@ -37,10 +37,11 @@ int main(int argc, char** argv) {
   cli::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
   data::DatasetJob job;
   job.out = args.get_string("--out", "", "output dataset folder (required)");
-  job.preset = args.get_choice("--preset", "nnao", {"nnao", "nnao-v2", "gi", "surround"},
+  job.preset = args.get_choice("--preset", "nnao", {"nnao", "nnao-v2", "gi", "surround", "surround-v2"},
                                "channels: nnao = Z N albedo AO; nnao-v2 = nnao over all families with per-view fov, "
                                "aspect, size, AO radius and pitch varied; gi = + direct emission env indirect; "
-                               "surround = gi as cube frames");
+                               "surround = gi as cube frames; surround-v2 = surround over all families, albedos, lights, sun "
+                               "and extra lamps varied per scene, pitch widened");
   job.views = args.get_int("--views", 80, "views (surround: frames) over train + test", 1, 1000000);
   std::string size = args.get_string("--size", "", "image size WxH (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
   job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel", 1, 65536);
@@ -59,10 +60,11 @@ int main(int argc, char** argv) {
   args.done();
   if (job.out.empty()) args.error("--out is required"), args.done();
 
-  int w = job.preset == "gi" ? 256 : job.preset == "surround" ? 64 : 320;
-  int h = job.preset == "gi" ? 144 : job.preset == "surround" ? 64 : 180;
+  const bool surround = data::is_surround_preset(job.preset);
+  int w = job.preset == "gi" ? 256 : surround ? 64 : 320;
+  int h = job.preset == "gi" ? 144 : surround ? 64 : 180;
   if (!size.empty() && !parse_size(size, w, h)) args.error("--size: expected WxH, got '" + size + "'");
-  if (job.preset == "surround" && w != h) args.error("--size: surround faces are square, got " + size);
+  if (surround && w != h) args.error("--size: surround faces are square, got " + size);
   args.done();
   job.width = w, job.height = h;
 
@@ -74,9 +76,9 @@ int main(int argc, char** argv) {
     std::string held_scenes = r.holdout_views ? " + " + std::to_string(r.holdout_scenes.size()) : "";
     std::printf("%s: %d train + %d test%s %s (%zu + %zu%s scenes), %.1f s; per %s %.2f s wall, %.2f CPU-s; "
                 "%.2f Mrays/s wall, %.2f Mrays per CPU-s\n",
-                job.out.c_str(), r.train_views, r.test_views, held.c_str(), job.preset == "surround" ? "frames" : "views",
+                job.out.c_str(), r.train_views, r.test_views, held.c_str(), surround ? "frames" : "views",
                 r.train_scenes.size(), r.test_scenes.size(), held_scenes.c_str(), r.total_seconds,
-                job.preset == "surround" ? "frame" : "view", r.render_seconds / n, r.cpu_seconds / n,
+                surround ? "frame" : "view", r.render_seconds / n, r.cpu_seconds / n,
                 r.render_seconds > 0 ? r.rays / r.render_seconds * 1e-6 : 0.0,
                 r.cpu_seconds > 0 ? r.rays / r.cpu_seconds * 1e-6 : 0.0);
     return 0;

@@ -1,5 +1,5 @@
 // sweep-gan: "a model no more than a scene needs". Trains the GI GAN over a grid of
-// face sizes x ngf x levels, scores each on the test split (eval-gi's metrics), charts
+// face sizes x ngf x levels, scores each on the validation split (eval-gi's metrics), charts
 // SSIM against ms per frame and against training time, and names the smallest model
 // (fewest parameters) within 0.01 SSIM of the best. train-gan's defaults
 // (runs/gi/gan_defaults.h) come from its answer; docs/gan.md has the table.
@@ -36,12 +36,13 @@ int main(int argc, char** argv) {
     double tolerance = a.get_double("--ssim-tolerance", 0.01, "how far below the best SSIM still counts", 0, 1);
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
     int seed = a.get_int("--seed", 1, "random seed", 0, INT_MAX);
+    double val_fraction = a.get_double("--validation-fraction", 0.15, "share of train/'s scenes every point is scored on", 0.01, 0.9);
     a.done();
     set_num_threads(threads);
     if (data_dir.empty()) data_dir = data::ensure_default_dataset("surround", threads);
     data::require_valid_dataset(data_dir, data::Purpose::gi);
     run_gan_sweep({data_dir, out, mode, points_s, loss, arch, residual, sizes, ngfs, levels, epochs, max_frames,
-                   threads, seed, tolerance});
+                   threads, seed, tolerance, val_fraction});
     return 0;
   });
 }

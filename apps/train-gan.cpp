@@ -15,6 +15,7 @@
 #include "data/require_valid_dataset.h"
 #include "core/thread_pool.h"
 #include "data/dataset.h"
+#include "data/validation_split.h"
 #include "render/default_dataset.h"
 #include "runs/gi/gan_defaults.h"
 #include "runs/gi/gan_run.h"
@@ -55,6 +56,15 @@ int main(int argc, char** argv) {
     int max_frames = a.get_int("--max-frames", 0, "use at most N train and N test items (0: all)", 0, INT_MAX);
     int sample_every = a.get_int("--sample-every", 250, "write sample PNGs every N steps (0: never)", 0, INT_MAX);
     bool no_eval = a.get_flag("--no-eval", "skip the evaluation on the test split");
+    double subset = a.get_double("--train-subset", 1.0, "train on about this share of the training scenes (whole "
+                                 "scenes, picked by a hash of their names: data-size curves)", 0.001, 1.0);
+    std::string stream = a.get_choice("--stream", "auto", {"auto", "on", "off"},
+                                      "read training frames from disk as they are needed (auto: when they would take "
+                                      "more than --memory-budget); same numbers either way");
+    double budget_gib = a.get_double("--memory-budget", 2.0, "GiB of training frames held in memory before --stream auto streams", 0, 1e6);
+    double val_fraction = a.get_double("--validation-fraction", 0.15,
+                                       "share of train/'s scenes held out as the validation split (model selection: "
+                                       "eval-gi --split validation); 0: none", 0, 0.9);
     std::string test_bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics at test time");
     std::string test_dropout = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time");
     int poison = a.get_int("--debug-poison-step", -1, "testing only: a NaN enters the input at this step", -1, INT_MAX);
@@ -71,6 +81,11 @@ int main(int argc, char** argv) {
     auto listing = data::list_dataset(data_dir);
     if (listing.flat) listing = data::split_flat_by_scene(listing, 0.2);
     if (listing.train.size() == 0) throw std::runtime_error(data_dir + ": no training views or frames");
+    // Whole scenes, before anything is fitted: the normalisation never sees validation.
+    const auto [train_all, val_listing] = data::hold_out_validation(listing.train, val_fraction);
+    // A subset for data-size curves: the scenes hold_out_validation would move, i.e. the
+    // same hash order, so a smaller subset is contained in a larger one.
+    const data::SplitListing train_listing = subset < 1 ? data::hold_out_validation(train_all, subset).second : train_all;
     const size_t max_items = max_frames > 0 ? size_t(max_frames) : size_t(-1);
 
     GanRunOptions o;
@@ -80,11 +95,13 @@ int main(int argc, char** argv) {
     o.poison_step = poison;
     o.stop_after_epochs = stop_after;
     o.data_identity = std::filesystem::weakly_canonical(data_dir).string() + " (" +
-                      std::to_string(listing.train.size()) + " train, " + std::to_string(listing.test.size()) + " test)";
+                      std::to_string(train_listing.size()) + " train, " + std::to_string(val_listing.size()) +
+                      " validation, " + std::to_string(listing.test.size()) + " test)";
     GanTrainConfig& c = o.train;
     c.inputs.mode = parse_mode(mode);
     c.inputs.coordconv = coordconv == "on";
     c.inputs.size = size;
+    c.inputs.validation_fraction = val_listing.size() > 0 ? val_fraction : 0;
     c.ngf = ngf, c.ndf = ndf, c.levels = levels, c.d_layers = d_layers;
     c.loss = parse_loss(loss);
     c.arch = parse_arch(arch);
@@ -95,15 +112,22 @@ int main(int argc, char** argv) {
     c.seed = uint64_t(seed);
 
     GiItemReader rd{c.inputs.mode, size};
-    c.inputs.norm = fit_normalisation(listing.train, rd, max_items);
-    auto train = load_samples(listing.train, rd, c.inputs, max_items, "loading train");
-    if (train.empty()) throw std::runtime_error(data_dir + ": no training samples for --mode " + mode);
-    std::fprintf(stderr, "train-gan: %zu training %s from %s, input %s, depth_max %.3g, hdr_scale %.3g, light_max %.3g\n",
-                 train.size(), c.inputs.mode == GiMode::surround ? "frames" : "views", data_dir.c_str(),
-                 train[0].input.shape().str().c_str(), c.inputs.norm.depth_max, c.inputs.norm.hdr_scale, c.inputs.norm.light_max);
+    c.inputs.norm = fit_normalisation(train_listing, rd, max_items);
+    const size_t n_train = std::min(max_items, split_items(train_listing, rd.mode));
+    if (n_train == 0) throw std::runtime_error(data_dir + ": no training samples for --mode " + mode);
+    const GiSample first = load_sample(train_listing, rd, c.inputs, 0);
+    const double gib = double(sample_bytes(first)) * double(n_train) / double(1 << 30);
+    const bool streamed = stream == "on" || (stream == "auto" && gib > budget_gib);
+    GiTrainData train = streamed ? GiTrainData(train_listing, rd, c.inputs, n_train)
+                                 : GiTrainData(load_samples(train_listing, rd, c.inputs, max_items, "loading train"));
+    std::fprintf(stderr, "train-gan: %zu training %s (%zu more in validation scenes) from %s, input %s, depth_max %.3g, "
+                 "hdr_scale %.3g, light_max %.3g; %.2f GiB of samples, %s\n",
+                 n_train, c.inputs.mode == GiMode::surround ? "frames" : "views", val_listing.size(), data_dir.c_str(),
+                 first.input.shape().str().c_str(), c.inputs.norm.depth_max, c.inputs.norm.hdr_scale,
+                 c.inputs.norm.light_max, gib, streamed ? "streamed from disk" : "held in memory");
 
     GanRunResult r = run_gan_training(o, train);
-    train.clear();
+    train = GiTrainData({});  // the evaluation loads its own frames
     if (r.d_wins_windows > 0)
       std::fprintf(stderr, "train-gan: the discriminator won outright in %lld windows of %d steps (first at step %lld)\n",
                    (long long)r.d_wins_windows, DiscriminatorWatch::kWindow, (long long)r.first_d_wins_step);
@@ -112,6 +136,7 @@ int main(int argc, char** argv) {
                 (long long)r.steps, Progress::format_seconds(r.seconds).c_str(), out.c_str());
     if (no_eval || listing.test.size() == 0) return 0;
 
+    // The test split, and the held-out families when the data has them (eval-ao's layout).
     EvalOptions e;
     e.data = data_dir;
     e.out = out + "/eval";
@@ -121,6 +146,12 @@ int main(int argc, char** argv) {
     e.max_frames = max_items;
     evaluate_gi(e);
     std::printf("train-gan: report %s/report.md (results.csv, previews/ beside it)\n", e.out.c_str());
+    if (listing.has_holdout) {
+      e.split = "holdout";
+      e.out = out + "/eval/holdout";
+      evaluate_gi(e);
+      std::printf("train-gan: held-out families %s/report.md\n", e.out.c_str());
+    }
     return 0;
   });
 }

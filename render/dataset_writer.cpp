@@ -19,6 +19,7 @@
 #include "render/surround.h"
 #include "render/scenes/families.h"
 #include "render/scenes/mesh_loader.h"
+#include "render/scenes/scene_variation.h"
 
 namespace nns::data {
 
@@ -33,8 +34,11 @@ void apply_preset(DatasetJob& job) {
     job.vary_views = true;
   } else if (job.preset == "gi" || job.preset == "surround") {
     s.ao = true, s.lighting = true, s.indirect = true;
+  } else if (job.preset == "surround-v2") {
+    s.ao = true, s.lighting = true, s.indirect = true;
+    job.vary_lighting = true;
   } else {
-    throw std::invalid_argument("unknown preset '" + job.preset + "' (nnao, nnao-v2, gi, surround)");
+    throw std::invalid_argument("unknown preset '" + job.preset + "' (nnao, nnao-v2, gi, surround, surround-v2)");
   }
 }
 
@@ -137,6 +141,7 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
       << "families.train: " << joined(families_in(tasks, "train")) << "\n"
       << "families.test: " << joined(families_in(tasks, "test")) << "\n";
     if (!holdout.empty()) m << "families.holdout: " << joined(holdout) << "\n";
+    if (job.vary_lighting) m << "lighting-variation: albedo, light colour and exposure, sun direction and size, extra lamps per scene (render/scenes/scene_variation.h)\n";
     if (job.vary_views) {
       ViewVariation v;
       char buf[512];
@@ -188,7 +193,8 @@ DatasetReport render_dataset(DatasetJob job) {
   apply_preset(job);
   if (job.views < 1) throw std::invalid_argument("render_dataset: --views must be >= 1");
   if (job.width < 8 || job.height < 8) throw std::invalid_argument("render_dataset: image size below 8x8");
-  const bool surround = job.preset == "surround";
+  const bool surround = is_surround_preset(job.preset);
+  const bool all_families = job.preset == "nnao-v2" || job.preset == "surround-v2";
   const int P = std::max(1, job.path_frames);
   int per_scene = std::max(job.views_per_scene, P);
 
@@ -198,7 +204,7 @@ DatasetReport render_dataset(DatasetJob job) {
     // nnao-v2 takes both generations, interleaved: scenes go to families round-robin,
     // so a split with fewer scenes than families still mixes old and new kinds.
     std::vector<std::string> g1 = scene_family_names(1), g2 = scene_family_names(2);
-    if (job.preset != "nnao-v2") g2.clear();
+    if (!all_families) g2.clear();
     for (size_t i = 0; i < std::max(g1.size(), g2.size()); ++i) {
       if (i < g1.size()) families.push_back(g1[i]);
       if (i < g2.size()) families.push_back(g2[i]);
@@ -249,7 +255,7 @@ DatasetReport render_dataset(DatasetJob job) {
         std::fprintf(stderr, "render-dataset: held-out family '%s' gets no view (%d holdout views for %zu families)\n",
                      f.c_str(), n_holdout_views, job.holdout_families.size());
   }
-  if (holdout || job.vary_views) write_metadata(job, tasks);
+  if (holdout || job.vary_views || job.vary_lighting) write_metadata(job, tasks);
   DatasetReport report;
   Progress bar("render " + job.preset, job.views);
   int done = 0;
@@ -258,7 +264,12 @@ DatasetReport render_dataset(DatasetJob job) {
   for (const SceneTask& task : tasks) {
     Scene scene = task.file.empty() ? make_family_scene(task.family, task.instance, job.settings.seed)
                                     : load_mesh_scene(task.file);
-    if (job.vary_views) {
+    if (job.vary_lighting) {
+      // A stream of its own, like the view shapes below.
+      Rng light_rng = Rng(job.settings.seed ^ 0x11947ull).fork(hash_name(scene.name));
+      vary_materials_and_lights(scene, light_rng);
+    }
+    if (job.vary_views || job.vary_lighting) {
       ViewVariation var;
       scene.cameras.pitch_min_deg = std::max(-80.0f, scene.cameras.pitch_min_deg - var.pitch_widen);
       scene.cameras.pitch_max_deg = std::min(70.0f, scene.cameras.pitch_max_deg + var.pitch_widen);

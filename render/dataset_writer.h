@@ -15,7 +15,9 @@ namespace nns::data {
 struct DatasetJob {
   std::string out;                     // dataset folder (created)
   std::string preset = "nnao";         // nnao: Z N albedo AO; nnao-v2: nnao with varied views
-                                       // and all families; gi: + lighting; surround: cube frames
+                                       // and all families; gi: + lighting; surround: cube frames;
+                                       // surround-v2: surround over all families, materials and
+                                       // lights varied per scene (render/scenes/scene_variation.h)
   int views = 80;                      // views (frames for surround) over train + test
   double test_fraction = 0.2;          // share of views rendered from held-out scenes
   int views_per_scene = 4;             // views taken in one scene before the next
@@ -32,6 +34,8 @@ struct DatasetJob {
   // Per-view randomisation of what real scenes vary (set by the nnao-v2 preset; see
   // ViewVariation): fov, aspect, resolution, AO radius, a wider pitch range.
   bool vary_views = false;
+  // Per-scene albedos, light colours, exposure, sun and extra lamps (set by surround-v2).
+  bool vary_lighting = false;
   RenderSettings settings;             // spp, bounces, seed; ao/lighting set by preset
   bool progress = true;                // progress bar on stderr
 };
@@ -56,6 +60,9 @@ struct DatasetReport {
 
 // Applies a preset's channel choice to job.settings (called by render_dataset).
 void apply_preset(DatasetJob& job);
+
+// Whether a preset writes cube frames (surround, surround-v2) rather than single views.
+inline bool is_surround_preset(const std::string& preset) { return preset == "surround" || preset == "surround-v2"; }
 
 // The metadata file of a dataset (DIR/metadata.txt, docs/dataset-format.md): written
 // when a job holds families out or varies its views, so the older presets' folders

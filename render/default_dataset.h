@@ -16,8 +16,11 @@ namespace nns::data {
 
 // Bumped whenever the renderer, the scenes or the sizes below change the pixels; the
 // cache folder is default-<preset>-v<version>. nnao is at 4 (nnao-v2 families, holdout/,
-// camera paths, three test scenes per family); surround and gi are unchanged at 2.
-inline int default_dataset_version(const std::string& preset) { return preset == "nnao" ? 4 : 2; }
+// camera paths, three test scenes per family); surround is at 3 (surround-v2: every
+// family, materials and lights varied, holdout/); gi is unchanged at 2.
+inline int default_dataset_version(const std::string& preset) {
+  return preset == "nnao" ? 4 : preset == "surround" ? 3 : 2;
+}
 
 // The job that renders the default dataset of `preset` ("nnao", "surround", "gi"):
 // sizes, views and sample counts live here, in one place (docs/renderer.md explains

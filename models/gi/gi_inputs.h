@@ -51,6 +51,9 @@ struct GiInputConfig {
   bool coordconv = true;
   int size = 0;  // face size the views are reduced to (0: as stored), gi_data.h
   GiNormalisation norm;
+  // Share of train/'s scenes carved out as the validation split (data/validation_split.h)
+  // before anything was fitted; stored in G.blob so eval-gi carves the same scenes.
+  double validation_fraction = 0;
   int channels() const { return coordconv ? 12 : 10; }
 };
 
@@ -67,7 +70,20 @@ struct GiSample {
   // Share of the frame's direct light on the front face (gi_data.h); NaN for a single
   // view, where the surroundings are unknown.
   float front_direct_share = NAN;
+  // The front view's Z and N.X/Y/Z with its fovY and worldToCamera (no lighting): what
+  // reprojects one frame of a camera path onto the previous one for eval-gi's flicker.
+  data::View front_geometry;
 };
+
+// The geometry part of a view (see GiSample::front_geometry).
+inline data::View geometry_of(const data::View& v) {
+  data::View g;
+  g.source = v.source, g.scene = v.scene, g.width = v.width, g.height = v.height;
+  g.fov_y_deg = v.fov_y_deg, g.world_to_camera = v.world_to_camera;
+  for (const char* c : {"Z", "N.X", "N.Y", "N.Z"})
+    if (v.has(c)) g.add_channel(c) = v.channel(c);
+  return g;
+}
 
 // Rejects NaN/Inf in a light or material channel with a message naming file and channel.
 inline const std::vector<float>& finite_channel(const data::View& v, const std::string& name) {

@@ -30,6 +30,7 @@ inline void put_generator_config(Blob& b, const GiInputConfig& in, const Generat
   b.set_config("depth_max", double(in.norm.depth_max));
   b.set_config("hdr_scale", double(in.norm.hdr_scale));
   if (std::isfinite(in.norm.light_max)) b.set_config("light_max", double(in.norm.light_max));
+  if (in.validation_fraction > 0) b.set_config("validation_fraction", in.validation_fraction);
   b.set_config("in_channels", u.in_channels);
   b.set_config("out_channels", u.out_channels);
   b.set_config("ngf", u.ngf);
@@ -74,6 +75,12 @@ inline LoadedGenerator load_generator(const std::string& path) {
       throw std::runtime_error(path + ": light_max " + std::to_string(light_max) +
                                " is not a positive finite number");
     g.inputs.norm.light_max = float(light_max);
+  }
+  if (b.has_config("validation_fraction")) {
+    const double f = b.config_double("validation_fraction");
+    if (!(f >= 0 && f < 1))
+      throw std::runtime_error(path + ": validation_fraction " + std::to_string(f) + " is not in [0, 1)");
+    g.inputs.validation_fraction = f;
   }
   UnetConfig& u = g.config.unet;
   try {

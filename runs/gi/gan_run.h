@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@
 #include "core/progress.h"
 #include "runs/gi/gan_trainer.h"
 #include "runs/gi/gi_previews.h"
+#include "runs/gi/gi_train_data.h"
 
 namespace nns::gi {
 
@@ -46,7 +48,7 @@ struct GanRunResult {
   int64_t first_d_wins_step = -1;
 };
 
-inline GanRunResult run_gan_training(const GanRunOptions& o, std::vector<GiSample>& train) {
+inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train) {
   if (train.empty()) throw std::runtime_error("train-gan: no training samples");
   GanTrainer t(o.train);
   Checkpoint<float> ck;
@@ -89,7 +91,8 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, std::vector<GiSampl
       for (int64_t i = 0; i < n; ++i) order[size_t(i)] = i;
       for (int64_t i = n - 1; i > 0; --i) std::swap(order[size_t(i)], order[order_rng.below(uint64_t(i + 1))]);
       for (int64_t j = 0; j < n; ++j) {
-        GiSample& s = train[size_t(order[size_t(j)])];
+        const GiSample& s = train.get(size_t(order[size_t(j)]),
+                                      j + 1 < n ? std::optional<size_t>(size_t(order[size_t(j + 1)])) : std::nullopt);
         GiSample poisoned;
         const GiSample* use = &s;
         if (t.step() + 1 == o.poison_step) {

@@ -1,13 +1,15 @@
 #pragma once
 // The GI GAN size sweep behind sweep-gan: "a model no more than a scene needs". Trains
 // over a grid of face sizes x ngf x levels (or an explicit list of points), scores each
-// on the test split (eval-gi's metrics), charts SSIM against ms per frame and against
+// on the validation split (scenes carved from train/, never the test split: the sweep
+// chooses defaults; eval-gi's metrics), charts SSIM against ms per frame and against
 // training time, and names the smallest model (fewest parameters) within `tolerance`
 // SSIM of the best. A point finished by an earlier sweep into the same folder is reused.
 #include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,6 +28,7 @@ struct GanSweepOptions {
   std::vector<int> sizes, ngfs, levels;
   int epochs = 6, max_frames = 0, threads = 2, seed = 1;
   double tolerance = 0.01;
+  double validation_fraction = 0.15;  // share of train/'s scenes every point is scored on
 };
 
 struct SweepPoint {
@@ -43,6 +46,9 @@ inline void run_gan_sweep(const GanSweepOptions& so) {
   auto listing = data::list_dataset(data_dir);
   if (listing.flat) listing = data::split_flat_by_scene(listing, 0.2);
   const size_t max_items = max_frames > 0 ? size_t(max_frames) : size_t(-1);
+  const auto [train_listing, val_listing] = data::hold_out_validation(listing.train, so.validation_fraction);
+  if (val_listing.size() == 0)
+    throw std::invalid_argument("sweep-gan: " + data_dir + " has too few training scenes for a validation split");
   std::filesystem::create_directories(out);
 
   // The grid, or the explicit --points list (e.g. 64:16:5 where a full grid at the
@@ -71,9 +77,10 @@ inline void run_gan_sweep(const GanSweepOptions& so) {
     GiInputConfig in;
     in.mode = parse_mode(mode);
     in.size = size;
+    in.validation_fraction = so.validation_fraction;
     GiItemReader rd{in.mode, size};
-    in.norm = fit_normalisation(listing.train, rd, max_items);
-    std::vector<GiSample> train;  // loaded when a point of this size needs training
+    in.norm = fit_normalisation(train_listing, rd, max_items);
+    std::optional<GiTrainData> train;  // loaded when a point of this size needs training
     for (auto& t : todo) {
       if (t[0] != size) continue;
       const int ngf = t[1], lv = t[2];
@@ -104,10 +111,10 @@ inline void run_gan_sweep(const GanSweepOptions& so) {
           continue;
         }
       }
-      if (train.empty())
-        train = load_samples(listing.train, rd, in, max_items, "sweep: loading size " + std::to_string(size));
-      if (train.empty()) throw std::runtime_error(data_dir + ": no training samples for --mode " + mode);
-      const int64_t H = train[0].input.size(2);
+      if (!train)
+        train.emplace(load_samples(train_listing, rd, in, max_items, "sweep: loading size " + std::to_string(size)));
+      if (train->empty()) throw std::runtime_error(data_dir + ": no training samples for --mode " + mode);
+      const int64_t H = train->get(0).input.size(2);
       if (H % (int64_t(1) << lv)) {
         std::fprintf(stderr, "sweep-gan: skipping size %d levels %d (height %lld not divisible by 2^%d)\n",
                      size, lv, (long long)H, lv);
@@ -116,7 +123,7 @@ inline void run_gan_sweep(const GanSweepOptions& so) {
       std::fprintf(stderr, "sweep-gan: size %d ngf %d levels %d\n", size, ngf, lv);
       GanRunResult r;
       try {
-        r = run_gan_training(o, train);
+        r = run_gan_training(o, *train);
       } catch (const std::exception& ex) {  // one impossible point must not end the sweep
         std::fprintf(stderr, "sweep-gan: size %d ngf %d levels %d failed: %s\n", size, ngf, lv, ex.what());
         continue;
@@ -126,7 +133,7 @@ inline void run_gan_sweep(const GanSweepOptions& so) {
         continue;
       }
       EvalOptions e;
-      e.data = data_dir, e.out = o.out + "/eval", e.models = {o.out + "/G.blob"};
+      e.data = data_dir, e.out = o.out + "/eval", e.models = {o.out + "/G.blob"}, e.split = "validation";
       e.max_frames = max_items, e.previews = 1, e.quiet = true;
       auto rows = evaluate_gi(e);
       const EvalRow& m = rows.back();

@@ -1,5 +1,6 @@
 #pragma once
-// Loading a split of a G-buffer dataset into GiSamples (gi_inputs.h), in memory.
+// Loading a split of a G-buffer dataset into GiSamples (gi_inputs.h): all of it, or one
+// item at a time (gi_train_data.h streams training frames that do not fit in memory).
 //
 //  * --mode front takes single views, or the `front` face of surround frames;
 //  * --mode surround takes surround frames and merges their six faces into the global
@@ -101,6 +102,7 @@ inline GiSample assemble_front(const data::View& v, const GiInputConfig& cfg, bo
     append_coords(s.input, xy.x, xy.y, 10);
   }
   s.front = {0, 0, v.width, v.height};
+  s.front_geometry = geometry_of(v);
   if (targets) fill_front_targets(s, v, cfg.norm);
   else fill_front_shading(s, v);
   return s;
@@ -144,6 +146,7 @@ inline GiSample assemble_surround(const std::array<data::View, 6>& faces, const 
   }
   auto r = layout.front_rect();
   s.front = {r.x0, r.y0, r.w, r.h};
+  s.front_geometry = geometry_of(faces[0]);
   if (targets) fill_front_targets(s, faces[0], cfg.norm);
   else fill_front_shading(s, faces[0]);
   s.front_direct_share = front_direct_share(faces);
@@ -170,14 +173,15 @@ inline size_t split_items(const data::SplitListing& s, GiMode mode) {
   return mode == GiMode::surround || s.views.empty() ? s.frames.size() : s.views.size();
 }
 
-// Calls fn(item index, front view, faces or nullptr) for every item of the split.
+// Calls fn(item index, front view, faces or nullptr, name) for the items first .. max_items-1
+// of the split.
 template <class Fn>
-void for_each_item(const data::SplitListing& s, const GiItemReader& rd, size_t max_items, Fn&& fn) {
+void for_each_item(const data::SplitListing& s, const GiItemReader& rd, size_t max_items, Fn&& fn, size_t first = 0) {
   const bool frames = rd.mode == GiMode::surround || s.views.empty();
   if (rd.mode == GiMode::surround && s.frames.empty())
     throw std::runtime_error(s.dir + ": --mode surround needs surround frames (folders of six faces)");
   size_t n = std::min(max_items, split_items(s, rd.mode));
-  for (size_t i = 0; i < n; ++i) {
+  for (size_t i = first; i < n; ++i) {
     if (frames) {
       auto faces = rd.frame(s.frames[i]);
       fn(i, faces[0], &faces, s.frames[i].dir);
@@ -231,23 +235,44 @@ inline GiNormalisation fit_normalisation(const data::SplitListing& train, const 
   return n;
 }
 
+// Item i of a split as a sample, assembled as for training (and as eval-gi does).
+inline GiSample load_sample(const data::SplitListing& split, const GiItemReader& rd, const GiInputConfig& cfg,
+                            size_t i) {
+  if (i >= split_items(split, rd.mode)) throw std::out_of_range(split.dir + ": no item " + std::to_string(i));
+  GiSample out;
+  for_each_item(split, rd, i + 1, [&](size_t, const data::View& front, std::array<data::View, 6>* faces,
+                                      const std::string& name) {
+    if (rd.mode == GiMode::surround) {
+      out = assemble_surround(*faces, cfg, name);
+    } else {
+      out = assemble_front(front, cfg);
+      out.name = name;
+      if (faces) out.front_direct_share = front_direct_share(*faces);
+    }
+  }, i);
+  return out;
+}
+
 inline std::vector<GiSample> load_samples(const data::SplitListing& split, const GiItemReader& rd,
                                           const GiInputConfig& cfg, size_t max_items,
                                           const std::string& label, bool quiet = false) {
   std::vector<GiSample> out(std::min(max_items, split_items(split, rd.mode)));
   Progress bar(label, int64_t(out.size()));
-  for_each_item(split, rd, max_items, [&](size_t i, const data::View& front,
-                                          std::array<data::View, 6>* faces, const std::string& name) {
-    if (rd.mode == GiMode::surround) {
-      out[i] = assemble_surround(*faces, cfg, name);
-    } else {
-      out[i] = assemble_front(front, cfg);
-      out[i].name = name;
-      if (faces) out[i].front_direct_share = front_direct_share(*faces);
-    }
+  for (size_t i = 0; i < out.size(); ++i) {
+    out[i] = load_sample(split, rd, cfg, i);
     if (!quiet) bar.update(int64_t(i + 1));
-  });
+  }
   return out;
+}
+
+// The bytes one sample holds (its tensors and masks): what decides whether a split fits
+// in memory.
+inline size_t sample_bytes(const GiSample& s) {
+  size_t b = 0;
+  for (const Tensor<float>* t : {&s.input, &s.target, &s.albedo, &s.emission, &s.direct_env, &s.target_linear})
+    if (t->defined()) b += size_t(t->numel()) * sizeof(float);
+  for (auto& [name, plane] : s.front_geometry.channels) b += plane.size() * sizeof(float);
+  return b + s.geometry.size();
 }
 
 }  // namespace nns::gi

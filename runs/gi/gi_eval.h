@@ -11,11 +11,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
+#include <string>
 #include <vector>
 
 #include "core/tensor.h"
 #include "report/image_metrics.h"
+#include "classical_ao/temporal.h"
 #include "models/gi/hdr_mapping.h"
+#include "screen_space/gbuffer.h"
 
 namespace nns::gi {
 
@@ -70,26 +74,44 @@ struct MetricsMean {
   }
 };
 
-// Temporal flicker along a camera path: the mean absolute difference between the
-// predicted and the true frame-to-frame change, in mapped space, over geometry present
-// in both frames. 0 when the prediction changes exactly as the ground truth does.
-inline double temporal_flicker(const Tensor<float>& pred_prev, const Tensor<float>& pred,
-                               const Tensor<float>& gt_prev, const Tensor<float>& gt,
-                               const std::vector<uint8_t>& geo_prev,
-                               const std::vector<uint8_t>& geo, const HdrMapping& hdr) {
-  const int64_t n = int64_t(geo.size());
-  double s = 0;
-  int64_t count = 0;
-  for (int c = 0; c < 3; ++c)
-    for (int64_t i = 0; i < n; ++i) {
-      if (!geo[size_t(i)] || !geo_prev[size_t(i)]) continue;
-      int64_t k = c * n + i;
-      double dp = hdr.to_unit(pred[k]) - hdr.to_unit(pred_prev[k]);
-      double dg = hdr.to_unit(gt[k]) - hdr.to_unit(gt_prev[k]);
-      s += std::abs(dp - dg);
-      ++count;
-    }
-  return count ? s / double(count) : NAN;
+// Temporal stability on camera paths, measured as eval-ao measures it
+// (classical_ao/temporal.h): each front pixel of frame t reprojected onto frame t-1 with
+// the views' worldToCamera and depth (disocclusions skipped), and over the mapped pixels
+// of the three channels, in mapped space (Reinhard x/(x+k)):
+//   flicker        mean |m_t(i) - m_t-1(j)|   (the ground truth's own for g)
+//   temporal error mean |(m_t(i) - m_t-1(j)) - (g_t(i) - g_t-1(j))|
+// Without reprojection a moving camera's true change would count as flicker.
+
+// Whether `cur` is the frame after `prev` on one camera path ("<scene>-pNN-fNNN").
+inline bool next_on_path(const GiSample& prev, const GiSample& cur) {
+  namespace fs = std::filesystem;
+  int fp = -1, fc = -1;
+  const std::string pp = ao::path_of_frame(fs::path(prev.name).stem().string(), fp);
+  const std::string pc = ao::path_of_frame(fs::path(cur.name).stem().string(), fc);
+  return !pc.empty() && pc == pp && fc == fp + 1 && prev.scene == cur.scene;
+}
+
+inline std::vector<int64_t> reproject_front(const GiSample& cur, const GiSample& prev) {
+  // The AO radius is unused by reprojection; 1 stands in for the attribute GI views lack.
+  const ao::GBuffer c = ao::gbuffer_from_view(cur.front_geometry, 1.0f);
+  const ao::GBuffer p = ao::gbuffer_from_view(prev.front_geometry, 1.0f);
+  return ao::reproject_to_previous(c, cur.front_geometry.world_to_camera, p, prev.front_geometry.world_to_camera);
+}
+
+// A (3, h, w) linear-light frame in mapped space.
+inline std::vector<float> mapped(const Tensor<float>& t, const HdrMapping& hdr) {
+  std::vector<float> out(size_t(t.numel()));
+  for (int64_t i = 0; i < t.numel(); ++i) out[size_t(i)] = hdr.to_unit(t[i]);
+  return out;
+}
+
+// Adds one frame pair of a method (m) against the ground truth (g), every channel.
+inline void add_flicker_pair(ao::TemporalStats& st, const std::vector<int64_t>& map, const std::vector<float>& m,
+                             const std::vector<float>& m_prev, const std::vector<float>& g,
+                             const std::vector<float>& g_prev) {
+  const size_t n = map.size();
+  for (size_t c = 0; c < 3; ++c)
+    st.add_pair(map, m.data() + c * n, m_prev.data() + c * n, g.data() + c * n, g_prev.data() + c * n);
 }
 
 }  // namespace nns::gi

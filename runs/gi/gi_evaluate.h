@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "data/validation_split.h"
 #include "runs/gi/gi_data.h"
 #include "runs/gi/gi_eval.h"
 #include "models/gi/gi_model_io.h"
@@ -28,6 +29,9 @@ namespace nns::gi {
 struct EvalOptions {
   std::string data, out;
   std::vector<std::string> models;  // G.blob files
+  // "test"; "validation": the train/ scenes the first model's train-gan held out (its
+  // G.blob records the share); "holdout": the families render-dataset held out.
+  std::string split = "test";
   bool bn_batch_stats = true;       // test-time BatchNorm statistics (docs/gan.md)
   bool dropout_on = false;          // test-time dropout
   size_t max_frames = size_t(-1);
@@ -43,7 +47,11 @@ struct EvalRow {
   double ms_per_frame = 0;
   LightMetrics all, offscreen;
   int64_t frames = 0, offscreen_frames = 0;
-  double flicker = NAN;
+  std::map<std::string, MetricsMean> by_family;  // scene family -> its frames' metrics
+  // Reprojected along camera paths (gi_eval.h): the row's flicker, the ground truth's on
+  // the same pairs, and the temporal error; NaN without camera paths.
+  double flicker = NAN, flicker_truth = NAN, temporal_error = NAN;
+  int64_t flicker_pairs = 0;
 };
 
 namespace detail {
@@ -77,9 +85,9 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<GiS
   EvalRow row;
   row.model = model, row.mode = mode;
   MetricsMean all, off;
-  double ms = 0, flicker_sum = 0;
-  int64_t flicker_n = 0;
-  Tensor<float> prev_pred;
+  double ms = 0;
+  ao::TemporalStats temporal, truth_temporal;
+  std::vector<float> prev_pred, prev_truth;
   const GiSample* prev = nullptr;
   int previews = 0;
   for (auto& s : samples) {
@@ -88,14 +96,16 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<GiS
     ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     LightMetrics m = light_metrics(p, s.target_linear, s.geometry, hdr);
     all.add(m);
+    row.by_family[data::scene_family_of(s.scene)].add(m);
     const bool is_off = s.front_direct_share < o.offscreen_share;  // NaN: unknown, not off
     if (is_off) off.add(m);
-    if (prev && prev->scene == s.scene) {
-      double f = temporal_flicker(prev_pred, p, prev->target_linear, s.target_linear, prev->geometry,
-                                  s.geometry, hdr);
-      if (std::isfinite(f)) flicker_sum += f, ++flicker_n;
+    std::vector<float> pred = mapped(p, hdr), truth = mapped(s.target_linear, hdr);
+    if (prev && next_on_path(*prev, s)) {
+      const std::vector<int64_t> map = reproject_front(s, *prev);
+      add_flicker_pair(temporal, map, pred, prev_pred, truth, prev_truth);
+      add_flicker_pair(truth_temporal, map, truth, prev_truth, truth, prev_truth);
     }
-    prev = &s, prev_pred = p;
+    prev = &s, prev_pred = std::move(pred), prev_truth = std::move(truth);
     frames_csv += model + "," + mode + "," + s.name + "," + s.scene + "," +
                   detail::fmt(s.front_direct_share) + "," + (is_off ? "1" : "0") + "," +
                   detail::fmt(m.mse) + "," + detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," +
@@ -111,7 +121,8 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<GiS
   row.frames = all.frames, row.offscreen_frames = off.frames;
   row.all = all.mean(), row.offscreen = off.mean();
   row.ms_per_frame = samples.empty() ? 0 : ms / double(samples.size());
-  row.flicker = flicker_n ? flicker_sum / double(flicker_n) : NAN;
+  row.flicker = temporal.flicker(), row.flicker_truth = truth_temporal.flicker();
+  row.temporal_error = temporal.error(), row.flicker_pairs = temporal.pairs / 3;
   return row;
 }
 
@@ -133,27 +144,60 @@ inline std::array<float, 3> fit_ambient(const std::vector<GiSample>& train) {
 }
 
 inline std::string results_csv(const std::vector<EvalRow>& rows, bool offscreen) {
-  std::string s = "model,mode,ms_per_frame,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear,frames,flicker\n";
+  std::string s = "model,mode,ms_per_frame,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear,frames,flicker,"
+                  "flicker_truth,flicker_ratio,temporal_error,path_pairs\n";
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
     s += r.model + "," + r.mode + "," + detail::fmt(r.ms_per_frame, "%.3f") + "," + detail::fmt(m.mse) + "," +
          detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," + detail::fmt(m.mse_linear) + "," +
          detail::fmt(m.psnr_linear) + "," + detail::fmt(m.ssim_linear) + "," +
-         std::to_string(offscreen ? r.offscreen_frames : r.frames) + "," + detail::fmt(r.flicker) + "\n";
+         std::to_string(offscreen ? r.offscreen_frames : r.frames) + "," + detail::fmt(r.flicker) + "," +
+         detail::fmt(r.flicker_truth) + "," + detail::fmt(r.flicker / r.flicker_truth) + "," +
+         detail::fmt(r.temporal_error) + "," + std::to_string(r.flicker_pairs) + "\n";
   }
   return s;
 }
 
 inline std::string markdown_table(const std::vector<EvalRow>& rows, bool offscreen) {
-  std::string s = "| model | mode | ms/frame | MSE | PSNR | SSIM | MSE (linear) | frames | flicker |\n"
-                  "|---|---|---|---|---|---|---|---|---|\n";
+  std::string s = "| model | mode | ms/frame | MSE | PSNR | SSIM | MSE (linear) | frames | flicker (x truth) | temporal error |\n"
+                  "|---|---|---|---|---|---|---|---|---|---|\n";
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
     s += "| " + r.model + " | " + r.mode + " | " + detail::fmt(r.ms_per_frame, "%.2f") + " | " +
          detail::fmt(m.mse, "%.5f") + " | " + detail::fmt(m.psnr, "%.2f") + " | " +
          detail::fmt(m.ssim, "%.4f") + " | " + detail::fmt(m.mse_linear, "%.4g") + " | " +
          std::to_string(offscreen ? r.offscreen_frames : r.frames) + " | " +
-         detail::fmt(r.flicker, "%.4f") + " |\n";
+         detail::fmt(r.flicker / r.flicker_truth, "%.3f") + " | " + detail::fmt(r.temporal_error, "%.4f") + " |\n";
+  }
+  return s;
+}
+
+// Per scene family, each row's SSIM and linear MSE: where a model wins and where the
+// constant ambient term already explains the light.
+inline std::string family_csv(const std::vector<EvalRow>& rows) {
+  std::string s = "model,family,frames,mse,psnr,ssim,mse_linear\n";
+  for (auto& r : rows)
+    for (auto& [family, mm] : r.by_family) {
+      const LightMetrics m = mm.mean();
+      s += r.model + "," + family + "," + std::to_string(mm.frames) + "," + detail::fmt(m.mse) + "," +
+           detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," + detail::fmt(m.mse_linear) + "\n";
+    }
+  return s;
+}
+
+inline std::string family_markdown(const std::vector<EvalRow>& rows) {
+  if (rows.empty()) return "";
+  std::string s = "| family | frames |", rule = "|---|---|";
+  for (auto& r : rows) s += " " + r.model + " SSIM / MSE lin |", rule += "---|";
+  s += "\n" + rule + "\n";
+  for (auto& [family, mm0] : rows.front().by_family) {
+    s += "| " + family + " | " + std::to_string(mm0.frames) + " |";
+    for (auto& r : rows) {
+      auto it = r.by_family.find(family);
+      const LightMetrics m = it == r.by_family.end() ? LightMetrics{} : it->second.mean();
+      s += " " + detail::fmt(m.ssim, "%.3f") + " / " + detail::fmt(m.mse_linear, "%.4f") + " |";
+    }
+    s += "\n";
   }
   return s;
 }
@@ -164,7 +208,24 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   fs::create_directories(o.out + "/previews");
   auto listing = data::list_dataset(o.data);
   if (listing.flat) listing = data::split_flat_by_scene(listing, 0.2);
-  if (listing.test.size() == 0) throw std::runtime_error(o.data + ": no test views or frames");
+  // The ambient term is fitted on the scenes the models trained on: train/ without the
+  // validation scenes the first model's run carved out (the models of one table are
+  // trained on the same data, so they share them).
+  const double val_fraction = load_generator(o.models.front()).inputs.validation_fraction;
+  auto [fit_split, validation] = data::hold_out_validation(listing.train, val_fraction);
+  const data::SplitListing* scored = &listing.test;
+  if (o.split == "validation") {
+    if (validation.size() == 0)
+      throw std::runtime_error(o.models.front() + ": trained without a validation split (train-gan --validation-fraction)");
+    scored = &validation;
+  } else if (o.split == "holdout") {
+    if (!listing.has_holdout)
+      throw std::runtime_error(o.data + ": no holdout/ split (render-dataset --holdout-families makes one)");
+    scored = &listing.holdout;
+  } else if (o.split != "test") {
+    throw std::invalid_argument("eval-gi: unknown split '" + o.split + "' (test, validation, holdout)");
+  }
+  if (scored->size() == 0) throw std::runtime_error(o.data + ": no " + o.split + " views or frames");
 
   std::vector<EvalRow> rows;
   std::string frames_csv =
@@ -177,12 +238,12 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
     LoadedGenerator g = load_generator(path);
     const GiInputConfig& cfg = g.inputs;
     GiItemReader rd{cfg.mode, cfg.size};
-    auto test = load_samples(listing.test, rd, cfg, o.max_frames, "eval-gi " + detail::label_of(path), o.quiet);
+    auto test = load_samples(*scored, rd, cfg, o.max_frames, "eval-gi " + detail::label_of(path), o.quiet);
     if (!metric_hdr) metric_hdr = HdrMapping(cfg.norm.hdr_scale);
     const HdrMapping& hdr = *metric_hdr;
     if (!references_done) {
       // The references use the first model's data (same test frames and size).
-      auto train = load_samples(listing.train, rd, cfg, o.max_frames, "eval-gi ambient fit", o.quiet);
+      auto train = load_samples(fit_split, rd, cfg, o.max_frames, "eval-gi ambient fit", o.quiet);
       auto ambient = fit_ambient(train);
       train.clear();
       rows.push_back(score("direct+env", "-", test, hdr, o,
@@ -204,15 +265,19 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   write_file_atomic(o.out + "/results.csv", results_csv(rows, false));
   write_file_atomic(o.out + "/results_offscreen.csv", results_csv(rows, true));
   write_file_atomic(o.out + "/frames.csv", frames_csv);
-  std::string md = "# eval-gi\n\nData: `" + o.data + "`, test-time BatchNorm: " +
+  write_file_atomic(o.out + "/results_by_family.csv", family_csv(rows));
+  std::string md = "# eval-gi\n\nData: `" + o.data + "`, split " + o.split + " (" + std::to_string(scored->size()) +
+                   " frames), test-time BatchNorm: " +
                    (o.bn_batch_stats ? "batch statistics" : "running statistics") +
                    ", dropout: " + (o.dropout_on ? "on" : "off") +
                    ". Metrics in mapped space (Reinhard x/(x+k), [0,1]) over geometry pixels of the "
-                   "front view; MSE (linear) in HDR units. Flicker: mean |predicted - true| "
-                   "frame-to-frame change along camera paths.\n\n## All test frames\n\n" +
+                   "front view; MSE (linear) in HDR units. Flicker: on camera paths, each frame reprojected onto the one before "
+                   "(disocclusions skipped), the mean frame-to-frame change in mapped space, relative to the ground truth's "
+                   "on the same pixels (1 = as stable as the truth); temporal error: mean |predicted - true| change.\n\n## All " + o.split + " frames\n\n" +
                    markdown_table(rows, false) +
                    "\n## Off-screen-lit frames (front face holds < " + detail::fmt(100 * o.offscreen_share, "%.1f") +
-                   "% of the frame's direct light)\n\n" + markdown_table(rows, true);
+                   "% of the frame's direct light)\n\n" + markdown_table(rows, true) +
+        "\n## Per scene family (SSIM mapped / MSE linear)\n\n" + family_markdown(rows);
   write_file_atomic(o.out + "/report.md", md);
   return rows;
 }

@@ -13,6 +13,7 @@
 #include "render/scenes/builder.h"
 #include "render/scenes/families.h"
 #include "render/scenes/mesh_loader.h"
+#include "render/scenes/scene_variation.h"
 
 using namespace nns;
 using namespace nns::data;
@@ -367,4 +368,48 @@ TEST(MeshLoader, GltfBufferUriMustBeARegularFile) {
   const std::string ok = dir + "/file-uri.gltf";
   write(ok, "tri.bin");
   EXPECT_EQ(load_mesh_scene(ok).triangles.size(), 1u);
+}
+
+// surround-v2's per-scene variation: the same seed gives the same scene; albedos stay
+// physical (< 0.9) and change; emissive materials keep their albedo; suns stay in the
+// elevation range; extra lamps stand inside the camera region.
+TEST(SceneVariation, DeterministicPhysicalAndInsideTheCameraRegion) {
+  using namespace nns::data;
+  LightingVariation v;
+  int lamps_seen = 0, coloured = 0;
+  for (const char* family : {"room", "window-room", "lounge", "street"}) {
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+      const Scene base = make_family_scene(family, 0, 7);
+      Scene a = base, b = base;
+      nns::Rng ra(seed), rb(seed);
+      vary_materials_and_lights(a, ra, v);
+      vary_materials_and_lights(b, rb, v);
+      ASSERT_EQ(a.materials.size(), b.materials.size());
+      for (size_t i = 0; i < a.materials.size(); ++i) {
+        EXPECT_EQ(a.materials[i].albedo.x, b.materials[i].albedo.x);
+        const Vec3 al = a.materials[i].albedo, em = base.materials[i].emission;
+        if (em.x > 0 || em.y > 0 || em.z > 0) {
+          EXPECT_EQ(al.x, base.materials[i].albedo.x) << family << ": an emissive material's albedo moved";
+          continue;
+        }
+        for (float c : {al.x, al.y, al.z}) EXPECT_TRUE(c >= 0 && c < 0.9f) << family << " albedo " << c;
+        if (std::max({al.x, al.y, al.z}) > 1.5f * std::min({al.x, al.y, al.z}) + 0.02f) ++coloured;
+      }
+      ASSERT_EQ(a.suns.size(), base.suns.size());
+      for (const Sun& s : a.suns) {
+        const float el = std::asin(s.direction.y) * 180 / float(M_PI);
+        EXPECT_GE(el, v.sun_elevation_min - 1e-3f);
+        EXPECT_LE(el, v.sun_elevation_max + 1e-3f);
+        EXPECT_GE(s.angular_radius, v.sun_radius_min * 0.999f);
+      }
+      for (size_t k = base.points.size(); k < a.points.size(); ++k, ++lamps_seen) {
+        const Vec3 p = a.points[k].position;
+        EXPECT_TRUE(p.x >= a.cameras.min.x && p.x <= a.cameras.max.x && p.y >= a.cameras.min.y &&
+                    p.y <= a.cameras.max.y && p.z >= a.cameras.min.z && p.z <= a.cameras.max.z)
+            << family << ": lamp outside the camera region";
+      }
+    }
+  }
+  EXPECT_GT(lamps_seen, 4);  // lamp_share 0.6 over 24 scenes
+  EXPECT_GT(coloured, 10);   // colour_share 0.4 over every material
 }
