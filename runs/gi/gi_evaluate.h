@@ -1,12 +1,14 @@
 #pragma once
 // eval-gi: scores trained generators and the two references that need no learning on
-// the test split of a dataset (the thesis's Table 5.3 metrics, gi_eval.h):
+// one split of a dataset — test, validation or holdout (the thesis's Table 5.3 metrics,
+// gi_eval.h):
 //   direct+env          the light a rasterizer has: no indirect light at all
 //   direct+env+ambient  plus a constant per-channel ambient term, the mean indirect
-//                       light of the training split (least squares in linear HDR)
+//                       light of the scenes trained on (least squares in linear HDR)
 // Files in OUT: results.csv (all test frames), results_offscreen.csv (the frames whose
 // directly lit surfaces are off the front view), frames.csv (every frame of every
-// model), report.md, previews/<model>_<frame>_{prediction,truth,error}.png.
+// model), results_by_family.csv, report.md, speed_vs_ssim.svg/.png and
+// speed_vs_mse_linear.svg/.png, previews/<model>_<frame>_{prediction,truth,error}.png.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -18,6 +20,7 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "report/chart.h"
 #include "data/validation_split.h"
 #include "runs/gi/gi_data.h"
 #include "runs/gi/gi_eval.h"
@@ -211,6 +214,32 @@ inline std::string family_markdown(const std::vector<EvalRow>& rows) {
   return s;
 }
 
+// Speed against accuracy, one point per row: ms per frame (log axis) against mapped SSIM
+// and against linear MSE. Returns the chart files' names for report.md.
+inline std::string write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptions& o) {
+  std::string md;
+  for (int k = 0; k < 2; ++k) {
+    std::vector<data::ChartSeries> series;
+    for (auto& r : rows) {
+      data::ChartSeries c;
+      c.name = r.model;
+      c.x = {std::max(r.ms_per_frame, 1e-3)};
+      c.y = {k == 0 ? r.all.ssim : r.all.mse_linear};
+      series.push_back(c);
+    }
+    data::ChartOptions co;
+    co.title = std::string("GI, ") + o.split + " split: " + (k == 0 ? "SSIM (mapped)" : "MSE (linear)") +
+               " against time";
+    co.x_label = "ms per frame (generator forward; references ~0)";
+    co.y_label = k == 0 ? "SSIM, mapped (higher is better)" : "MSE, linear HDR (lower is better)";
+    co.log_x = true;
+    const std::string name = k == 0 ? "speed_vs_ssim" : "speed_vs_mse_linear";
+    const std::string note = data::write_chart(o.out + "/" + name + ".svg", series, co);
+    md += "![" + co.title + "](" + name + ".svg)\n" + (note.empty() ? "" : "(" + note + ")\n");
+  }
+  return md;
+}
+
 inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   namespace fs = std::filesystem;
   if (o.models.empty()) throw std::invalid_argument("eval-gi: no --model given");
@@ -298,7 +327,8 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
                    markdown_table(rows, false) +
                    "\n## Off-screen-lit frames (front face holds < " + detail::fmt(100 * o.offscreen_share, "%.1f") +
                    "% of the frame's direct light)\n\n" + markdown_table(rows, true) +
-        "\n## Per scene family (SSIM mapped / MSE linear)\n\n" + family_markdown(rows);
+        "\n## Per scene family (SSIM mapped / MSE linear)\n\n" + family_markdown(rows) +
+        "\n## Speed against accuracy\n\n" + write_speed_charts(rows, o);
   write_file_atomic(o.out + "/report.md", md);
   return rows;
 }

@@ -309,9 +309,11 @@ TEST_F(TrainGan, ValidationScenesAreCarvedRecordedAndScored) {
   const std::string out = (root_ / "val_out").string();
   ASSERT_EQ(run(kBin + "eval-gi --split validation --data " + data + " --model " + run_dir + "/G.blob --out " + out,
                 out + ".log"), 0) << read_all(out + ".log");
-  EXPECT_NE(read_all(out + "/report.md").find("split validation (4 frames)"), std::string::npos)
+  EXPECT_NE(read_all(out + "/report.md").find("split validation (4 frames,"), std::string::npos)
       << read_all(out + "/report.md");
   EXPECT_TRUE(fs::exists(out + "/results_by_family.csv"));
+  EXPECT_TRUE(fs::exists(out + "/speed_vs_ssim.svg"));
+  EXPECT_TRUE(fs::exists(out + "/speed_vs_mse_linear.png"));
 
   int rc = run(kBin + "eval-gi --split holdout --data " + data + " --model " + run_dir + "/G.blob --out " + out + "_h",
                out + "_h.log");
