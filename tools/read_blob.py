@@ -10,7 +10,9 @@ import struct
 import sys
 import zlib
 
-import numpy as np
+from tool_deps import require
+
+np = require("numpy", "python3-numpy")
 
 MAGIC = b"NNSBLOB\0"
 VERSION = 1
