@@ -204,7 +204,7 @@ class Generator(nn.Module):
     def to_linear(self, y):
         """Tanh range -> linear light, capped at light_max (predict_linear in gi_model_io.h)."""
         u = (0.5 * (y + 1)).clamp(0, MAX_UNIT)
-        return (self.k * u / (1 - u)).clamp(max=self.light_max)
+        return (self.k * u / (1 - u)).clamp(0, self.light_max)  # both bounds: ONNX Clip wants two
 
 
 class PatchGan(nn.Module):
