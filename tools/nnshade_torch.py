@@ -24,7 +24,7 @@ np = require("numpy", "python3-numpy")
 torch = require("torch", "python3-torch")
 nn, F = torch.nn, torch.nn.functional
 
-from read_blob import BlobError, load as read_blob  # noqa: E402
+from read_blob import BlobError, for_each_file, load as read_blob  # noqa: E402
 
 BN_EPS = 1e-5          # nn/batchnorm.h, PyTorch's default
 MAX_UNIT = 1 - 2**-20  # models/gi/hdr_mapping.h: the inverse mapping's clamp
@@ -314,29 +314,19 @@ def describe(module):
     if isinstance(module, NnaoNet):
         kind = "horizon" if module.horizon_base is not None else "grid"
         what = (f"NnaoNet ({kind} features): features (N, {module.fc0.in_features}) float32, raw "
-                "(docs/nnao.md) -> AO (N) in [0, 1]")
+                "(docs/weights-format.md) -> AO (N) in [0, 1]")
     elif isinstance(module, Generator):
         m, cin = module.net.size_multiple, (module.net.model.down if isinstance(module.net, Pix2PixUnet)
                                             else module.net.down0).in_channels
         what = (f"Generator ({type(module.net).__name__}, residual {module.residual}, k = {module.k:g}): "
-                f"x (1, {cin}, H, W), H and W multiples of {m} (docs/gan.md) -> light (1, 3, H, W), Tanh range")
+                f"x (1, {cin}, H, W), H and W multiples of {m} (docs/weights-format.md) -> light (1, 3, H, W), Tanh range")
     else:
         what = f"PatchGan: (1, {module.conv0.in_channels}, H, W) -> logits (1, 1, H', W')"
     return f"{what}; {params} parameters"
 
 
 def main(argv):
-    if len(argv) < 2 or argv[1] in ("-h", "--help"):
-        print(__doc__)
-        return 0 if len(argv) >= 2 else 2
-    status = 0
-    for path in argv[1:]:
-        try:
-            print(f"{path}: {describe(load(path))}")
-        except BlobError as e:
-            print(f"nnshade_torch.py: error: {e}", file=sys.stderr)
-            status = 1
-    return status
+    return for_each_file(argv, __doc__, lambda path: f"{path}: {describe(load(path))}")
 
 
 if __name__ == "__main__":

@@ -7,6 +7,8 @@ from are checked against the C++ by test_nnshade_torch.py.
 
 usage: test_export_onnx.py PATH_TO_torch_parity_cases
 """
+import contextlib
+import io
 import os
 import subprocess
 import sys
@@ -22,6 +24,7 @@ import numpy as np  # noqa: E402
 import onnx  # noqa: E402
 from onnx import numpy_helper  # noqa: E402
 
+import export_onnx  # noqa: E402
 import read_blob  # noqa: E402
 
 WRITER = None
@@ -43,7 +46,11 @@ def dims(value_info):
 
 
 def export(*args):
-    return subprocess.run([sys.executable, TOOL, *args], capture_output=True, text=True)
+    """The tool in this process (importing torch once), as its command line runs it."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = export_onnx.main(["export_onnx.py", *args])
+    return subprocess.CompletedProcess(args, code, out.getvalue(), err.getvalue())
 
 
 class ExportOnnxTest(unittest.TestCase):
@@ -106,6 +113,15 @@ class ExportOnnxTest(unittest.TestCase):
                 self.assertIn(args[0], r.stderr)
                 self.assertFalse(os.path.exists(out))
         self.assertEqual([f for f in os.listdir(self.dir) if f.endswith(".tmp")], [])
+
+    def test_command_line(self):
+        out = os.path.join(self.dir, "cli.onnx")
+        r = subprocess.run([sys.executable, TOOL, self.blob("nnao-grid"), out], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        onnx.checker.check_model(onnx.load(out))
+        r = subprocess.run([sys.executable, TOOL, self.blob("none"), out], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn(f"export_onnx.py: error: cannot open '{self.blob('none')}'", r.stderr)
 
 
 if __name__ == "__main__":
