@@ -21,6 +21,7 @@ sys.path.insert(0, os.path.join(ROOT, "tools"))
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
+import nnao_features_torch as ft  # noqa: E402
 import nnshade_torch as nt  # noqa: E402
 import read_blob  # noqa: E402
 
@@ -120,6 +121,55 @@ class ParityTest(unittest.TestCase):
             self.assertGreater(difference(t, c)[1], RTOL)
 
 
+class NnaoImageTest(unittest.TestCase):
+    """tools/nnao_features_torch.py: the inputs, the AO image and the blur from a G-buffer."""
+
+    def gbuffer(self, c, config):
+        return ft.GBuffer(torch.from_numpy(c["depth"]), torch.from_numpy(c["normal"]),
+                          float(config["fov_y_deg"]), float(config["radius"]))
+
+    def edge_pixels(self, g, window, pixels):
+        """Pixels with a grid sample within 1e-4 px of a pixel edge, where float rounding
+        (the C++ may contract a multiply-add) can pick either neighbour."""
+        edge = torch.zeros(g.h * g.w, dtype=torch.bool)
+        for qx, qy in ft.grid_coords(g, window):
+            for q in (qx, qy):
+                frac = torch.frac(q + 0.5).reshape(-1)
+                edge |= (frac < 1e-4) | (frac > 1 - 1e-4)
+        return edge[torch.from_numpy(pixels)].numpy()
+
+    def test_inputs_and_image_match_except_on_pixel_edges(self):
+        for name in ("nnao-grid", "nnao-horizon"):
+            with self.subTest(name):
+                config = read_blob.load(Cases.path(name))[1]
+                _, cc, c = read_blob.load(Cases.path(name, "cases.blob"))
+                g = self.gbuffer(c, cc)
+                f = ft.features(config, g).reshape(-1, c["features"].shape[1])[torch.from_numpy(c["pixels"])]
+                per_pixel = np.abs(f.numpy() - c["features"]).max(1) / (1 + np.abs(c["features"]).max(1))
+                ao = ft.infer_image(nt.load(Cases.path(name)), config, g.z, g.n, float(cc["fov_y_deg"]),
+                                    float(cc["radius"]), blur=False)
+                edge = (self.edge_pixels(g, int(config["window"]), c["pixels"]) if name == "nnao-grid"
+                        else np.zeros(len(per_pixel), bool))
+                off = per_pixel > RTOL
+                MEASURED.append((f"{name} inputs from the G-buffer", len(per_pixel), per_pixel[~edge].max(),
+                                 f"{off.sum()} px off, {edge.sum()} on edges"))
+                self.assertFalse((off & ~edge).any(), f"{(off & ~edge).sum()} pixels differ away from pixel edges")
+                self.assertLessEqual(off.sum(), 0.05 * len(off))
+                ao = ao.reshape(-1)[torch.from_numpy(c["pixels"])].numpy()
+                abs_d, ratio = difference(ao[~off], c["ao"][~off])
+                MEASURED.append((f"{name} AO image (pixels not off)", int((~off).sum()), abs_d, ratio))
+                self.assertLessEqual(ratio, RTOL)
+
+    def test_blur(self):
+        _, cc, c = read_blob.load(Cases.path("nnao-horizon", "cases.blob"))
+        g = self.gbuffer(c, cc)
+        blurred = ft.bilateral_blur(g, torch.from_numpy(c["ao_image"]))
+        abs_d, ratio = difference(blurred, c["ao_blurred"])
+        MEASURED.append(("bilateral blur", blurred.numel(), abs_d, ratio))
+        self.assertLessEqual(ratio, RTOL)
+        self.assertGreater(difference(blurred, c["ao_image"])[1], 1e-3)  # it does blur
+
+
 class ErrorTest(unittest.TestCase):
     def expect_error(self, what, fn, *args, **kw):
         with self.assertRaises(read_blob.BlobError) as cm:
@@ -177,7 +227,8 @@ class ErrorTest(unittest.TestCase):
 def report():
     print(f"\n{'case':36s} {'n':>6s} {'max |torch - C++|':>18s} {'max rel':>10s}", file=sys.stderr)
     for case, n, abs_d, rel in MEASURED:
-        print(f"{case:36s} {n:6d} {abs_d:18.3g} {rel:10.3g}", file=sys.stderr)
+        rel = rel if isinstance(rel, str) else f"{rel:10.3g}"
+        print(f"{case:36s} {n:6d} {abs_d:18.3g} {rel:>10s}", file=sys.stderr)
 
 
 if __name__ == "__main__":

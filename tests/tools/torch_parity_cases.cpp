@@ -20,6 +20,7 @@
 #include "fixtures/synthetic_gbuffer.h"
 #include "models/gi/gi_model_io.h"
 #include "models/nnao/nnao_exact_per_pixel.h"
+#include "models/nnao/nnao_inference_reference.h"
 #include "screen_space/gbuffer.h"
 
 using namespace nns;
@@ -65,12 +66,15 @@ Blob spread(const Blob& b, float gain0, float target_mean) {
   return out;
 }
 
-// NNAO: the raw inputs of every non-sky pixel of a synthetic view and the exact
-// per-pixel inference there (nnao_exact_per_pixel.h, the pass before a horizon model's blur).
+// NNAO: the raw inputs of every non-sky pixel of a synthetic view, the exact per-pixel
+// inference there (nnao_exact_per_pixel.h) and the bilateral blur of its image; the
+// view's depth and normals for the torch feature extraction.
 void nnao_case(const std::string& name, Blob model) {
   model.save(path(name + ".blob"));
   const nnao::NnaoWeights m = nnao::NnaoWeights::load(path(name + ".blob"));
-  const data::View v = fixtures::synthetic_view(40, 24, 1, /*spp=*/1);
+  // radius 0.7, not 1: with 1, the floor one unit below the camera puts grid samples
+  // exactly on pixel edges (r kx is then a half-integer on every floor row).
+  const data::View v = fixtures::synthetic_view(40, 24, 1, /*spp=*/1, /*radius=*/0.7f);
   const ao::GBuffer g = ao::gbuffer_from_view(v);
   std::vector<float> ao_image(size_t(g.pixels()));
   nnao::infer_exact_per_pixel(m, g, ao_image.data());
@@ -99,6 +103,9 @@ void nnao_case(const std::string& name, Blob model) {
   for (const float* plane : {g.nx, g.ny, g.nz}) normal.insert(normal.end(), plane, plane + g.pixels());
   c.put("normal", Shape{3, g.height, g.width}, normal.data());
   c.put("ao_image", Shape{g.height, g.width}, ao_image.data());
+  std::vector<float> blurred(ao_image.size());  // what a horizon model's exact inference ends with
+  nnao::bilateral_blur_reference(g, ao_image.data(), blurred.data());
+  c.put("ao_blurred", Shape{g.height, g.width}, blurred.data());
   c.save(path(name + ".cases.blob"));
 }
 
