@@ -26,6 +26,7 @@ from onnx import numpy_helper  # noqa: E402
 
 import export_onnx  # noqa: E402
 import read_blob  # noqa: E402
+from writer_arg import pop_writer  # noqa: E402
 
 WRITER = None
 
@@ -125,8 +126,5 @@ class ExportOnnxTest(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 2:
-        print(__doc__, file=sys.stderr)
-        sys.exit(2)
-    WRITER = sys.argv.pop(1)
+    WRITER = pop_writer(__doc__)
     unittest.main()

@@ -24,6 +24,7 @@ import torch  # noqa: E402
 import nnao_features_torch as ft  # noqa: E402
 import nnshade_torch as nt  # noqa: E402
 import read_blob  # noqa: E402
+from writer_arg import pop_writer  # noqa: E402
 
 WRITER = None
 RTOL = 1e-5
@@ -232,10 +233,7 @@ def report():
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 2:
-        print(__doc__, file=sys.stderr)
-        sys.exit(2)
-    WRITER = sys.argv.pop(1)
+    WRITER = pop_writer(__doc__)
     Cases.write()
     result = unittest.main(exit=False).result
     report()
