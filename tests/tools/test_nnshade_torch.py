@@ -226,10 +226,10 @@ class ErrorTest(unittest.TestCase):
 
 
 def report():
-    print(f"\n{'case':36s} {'n':>6s} {'max |torch - C++|':>18s} {'max rel':>10s}", file=sys.stderr)
+    print(f"\n{'case':40s} {'n':>6s} {'max |torch - C++|':>18s} {'max rel':>10s}", file=sys.stderr)
     for case, n, abs_d, rel in MEASURED:
         rel = rel if isinstance(rel, str) else f"{rel:10.3g}"
-        print(f"{case:36s} {n:6d} {abs_d:18.3g} {rel:>10s}", file=sys.stderr)
+        print(f"{case:40s} {n:6d} {abs_d:18.3g} {rel:>10s}", file=sys.stderr)
 
 
 if __name__ == "__main__":
