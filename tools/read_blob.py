@@ -6,11 +6,14 @@
     from read_blob import load
     kind, config, tensors = load("model.blob")   # tensors: name -> numpy array
 """
+import os
 import struct
 import sys
 import zlib
 
-import numpy as np
+from tool_deps import require
+
+np = require("numpy", "python3-numpy")
 
 MAGIC = b"NNSBLOB\0"
 VERSION = 1
@@ -124,18 +127,24 @@ def summary(path):
     return "\n".join(lines)
 
 
-def main(argv):
+def for_each_file(argv, usage, summarise):
+    """The tools' command line: prints summarise(path) for every FILE argument; a bad
+    file is reported (naming it) and the others still run; exit status 1 if any failed."""
     if len(argv) < 2 or argv[1] in ("-h", "--help"):
-        print("usage: read_blob.py FILE...  (prints each blob's kind, config and tensors)")
+        print(usage)
         return 0 if len(argv) >= 2 else 2
     status = 0
     for path in argv[1:]:
         try:
-            print(summary(path))
+            print(summarise(path))
         except BlobError as e:
-            print(f"read_blob.py: error: {e}", file=sys.stderr)
+            print(f"{os.path.basename(argv[0])}: error: {e}", file=sys.stderr)
             status = 1
     return status
+
+
+def main(argv):
+    return for_each_file(argv, "usage: read_blob.py FILE...  (prints each blob's kind, config and tensors)", summary)
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@
 #include "core/blob.h"
 #include "models/gi/gi_inputs.h"
 #include "models/gi/generator.h"
+#include "models/gi/patchgan.h"
 #include "nn/serialize.h"
 
 namespace nns::gi {
@@ -104,6 +105,32 @@ inline LoadedGenerator load_generator(const std::string& path) {
   g.G = make_generator<float>(g.config, rng);
   get_module(b, *g.G, "G.");
   return g;
+}
+
+// The discriminator blob (D.blob, written beside G.blob by train-gan with the GAN loss):
+// kind "patchgan", the PatchGanConfig and D's weights and BatchNorm statistics. Nothing
+// in the project reads D back (the checkpoint resumes training); it is there so the
+// whole pix2pix pair leaves the project (tools/nnshade_torch.py).
+inline constexpr const char* kDiscriminatorKind = "patchgan";
+
+inline void save_discriminator_blob(const std::string& path, PatchGan<float>& d) {
+  Blob b(kDiscriminatorKind);
+  b.set_config("in_channels", d.config().in_channels);
+  b.set_config("ndf", d.config().ndf);
+  b.set_config("layers", d.config().layers);
+  put_module(b, d, "D.");
+  b.save(path);
+}
+
+inline std::unique_ptr<PatchGan<float>> load_discriminator(const std::string& path) {
+  Blob b = Blob::load(path);
+  if (b.kind() != kDiscriminatorKind)
+    throw b.error("holds a '" + b.kind() + "' model, expected '" + kDiscriminatorKind + "'");
+  const PatchGanConfig c{int(b.config_int("in_channels")), int(b.config_int("ndf")), int(b.config_int("layers"))};
+  Rng rng(0);
+  auto d = std::make_unique<PatchGan<float>>(c, rng);
+  get_module(b, *d, "D.");
+  return d;
 }
 
 // The generator's linear-light prediction of the front view, (3, h, w).

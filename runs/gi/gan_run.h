@@ -7,6 +7,7 @@
 // Files in `out`:
 //   checkpoint.blob   everything to resume (written after every epoch, after G.blob)
 //   G.blob            the generator alone, for eval-gi (written before each checkpoint)
+//   D.blob            the discriminator alone (--loss gan), with G.blob: tools/nnshade_torch.py
 //   metrics.jsonl     one line per `log_every` steps: step, epoch, lr, losses, seconds
 //   loss.svg/.png     D and G losses over steps
 //   samples/          step<N>_{input,prediction,truth,shaded}.png every `sample_every` steps
@@ -81,7 +82,7 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
     acc = {};
     acc_n = 0;
   };
-  const std::string g_blob = run.path("G.blob");
+  const std::string g_blob = run.path("G.blob"), d_blob = run.path("D.blob");
   try {
     for (int epoch = start_epoch; epoch < total; ++epoch) {
       t.begin_epoch(epoch);
@@ -127,13 +128,13 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
       // The epoch's last partial window: a resumed run starts afresh at this step.
       if (acc_n > 0) flush_log(epoch);
       write_loss_chart(run.metrics(), run.path("loss.svg"));
-      run.end_epoch(epoch + 1, [&] { t.save_generator(g_blob); });
+      run.end_epoch(epoch + 1, [&] { t.save_models(g_blob, d_blob); });
       r.epochs_done = epoch + 1;
       if (epoch + 1 == o.stop_after_epochs) break;
     }
     // Also after a resume that found every epoch done: G.blob always matches the
     // checkpoint, even if a run was killed between writing the two.
-    t.save_generator(g_blob);
+    t.save_models(g_blob, d_blob);
     r.finished = true;
   } catch (const NonFiniteError& e) {
     r.stop_message = run.stop_message(e);

@@ -236,6 +236,11 @@ class GanTrainer {
   void save_generator(const std::string& path) {
     save_generator_blob(path, G, config.inputs, config.generator(), loss_name(config.loss));
   }
+  // G.blob, and D.blob when there is a discriminator (--loss gan).
+  void save_models(const std::string& g_path, const std::string& d_path) {
+    save_generator(g_path);
+    if (D) save_discriminator_blob(d_path, *D);
+  }
 
   GanTrainConfig config;
 

@@ -71,6 +71,8 @@ TEST_F(TrainGan, ResumeIsBitwiseEqualToAnUninterruptedRun) {
   ASSERT_EQ(run(train_cmd(b, "--threads 2 --resume"), b + ".log2"), 0) << read_all(b + ".log2");
   EXPECT_NE(read_all(b + ".log2").find("resuming"), std::string::npos);
   EXPECT_EQ(read_all(a + "/G.blob"), read_all(b + "/G.blob"));
+  EXPECT_EQ(read_all(a + "/D.blob").substr(0, 7), "NNSBLOB");  // the GAN loss writes D.blob too
+  EXPECT_EQ(read_all(a + "/D.blob"), read_all(b + "/D.blob"));
   EXPECT_EQ(read_all(a + "/checkpoint.blob"), read_all(b + "/checkpoint.blob"));
   EXPECT_EQ(read_all(a + "/metrics.jsonl"), read_all(b + "/metrics.jsonl"));
   EXPECT_TRUE(fs::exists(a + "/samples/step4_prediction.png"));
@@ -130,6 +132,7 @@ TEST_F(TrainGan, DeepShadingDssimBaselineRoundTripsThroughEvalGi) {
             0)
       << read_all(run_dir + ".log");
   std::string blob = read_all(run_dir + "/G.blob");
+  EXPECT_FALSE(fs::exists(run_dir + "/D.blob"));  // no discriminator without the GAN loss
   EXPECT_NE(blob.find("deepshading"), std::string::npos);
   EXPECT_NE(blob.find("light_max"), std::string::npos);
   const std::string out = (root_ / "ds_out").string();

@@ -19,6 +19,7 @@ sys.path.insert(0, os.path.join(ROOT, "tools"))
 import numpy as np  # noqa: E402
 
 import read_blob  # noqa: E402
+from writer_arg import pop_writer  # noqa: E402
 
 WRITER = None
 
@@ -129,8 +130,5 @@ class ReadBlobTest(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 2:
-        print(__doc__, file=sys.stderr)
-        sys.exit(2)
-    WRITER = sys.argv.pop(1)
+    WRITER = pop_writer(__doc__)
     unittest.main()
