@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "core/thread_pool.h"
 #include "data/dataset.h"
@@ -137,11 +138,47 @@ TEST(DefaultDataset, CacheRootAndSizes) {
   for (std::string p : {"nnao", "surround", "gi"}) {
     DatasetJob j = default_dataset_job(p);
     EXPECT_GE(j.views, 100) << p;
-    EXPECT_EQ(j.preset, p == "nnao" ? std::string("nnao-v2") : p);  // nnao v3: every family
+    // nnao v3+ and surround v3: every family (and, for surround, lighting varied)
+    EXPECT_EQ(j.preset, p == "nnao" ? std::string("nnao-v2") : p == "surround" ? std::string("surround-v2") : p);
   }
+  EXPECT_FALSE(default_dataset_job("surround").holdout_families.empty());
   EXPECT_FALSE(default_dataset_job("nnao").holdout_families.empty());
   EXPECT_GT(default_dataset_job("nnao").path_frames, 1);  // flicker on the default data
   EXPECT_THROW(default_dataset_job("nope"), std::invalid_argument);
+}
+
+// surround-v2: cube frames over both generations of families with materials and lights
+// varied per scene, recorded in metadata.txt; the same job renders the same bytes.
+TEST(RenderDataset, SurroundV2VariesLightingAndRecordsIt) {
+  std::string a = temp_dir("sv2a"), b = temp_dir("sv2b");
+  for (auto* out : {&a, &b}) {
+    DatasetJob job = tiny("surround-v2", *out);
+    job.families = {"room", "lounge"};
+    job.width = job.height = 8;
+    job.views = 4;
+    job.views_per_scene = 1;
+    render_dataset(job);
+  }
+  std::ifstream m(a + "/metadata.txt");
+  std::stringstream meta;
+  meta << m.rdbuf();
+  EXPECT_NE(meta.str().find("preset: surround-v2"), std::string::npos) << meta.str();
+  EXPECT_NE(meta.str().find("lighting-variation:"), std::string::npos) << meta.str();
+  DatasetListing l = list_dataset(a);
+  ASSERT_FALSE(l.train.frames.empty());
+  View va = read_view(l.train.frames[0].faces[0]);
+  View vb = read_view(list_dataset(b).train.frames[0].faces[0]);
+  EXPECT_EQ(va.channel("albedo.R"), vb.channel("albedo.R"));
+  EXPECT_EQ(va.channel("indirect.G"), vb.channel("indirect.G"));
+  // The plain surround preset writes no metadata: its folders stay what they were.
+  std::string c = temp_dir("sv2c");
+  DatasetJob plain = tiny("surround", c);
+  plain.families = {"room", "lounge"};
+  plain.width = plain.height = 8;
+  plain.views = 4;
+  plain.views_per_scene = 1;
+  render_dataset(plain);
+  EXPECT_FALSE(fs::exists(c + "/metadata.txt"));
 }
 
 // Leave-families-out: the held-out families render only into holdout/, with instances
