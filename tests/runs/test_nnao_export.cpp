@@ -39,7 +39,7 @@ TEST(NnaoExport, GlslShaderCompilesWithGlslangValidator) {
   for (int hidden : {4, 8})
     for (int samples : {64, 256}) {
       auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(31, hidden, 12));
-      std::string src = nnao::glsl_shader(m, samples);
+      std::string src = nnao::glsl_grid_pass(m, samples);
       EXPECT_NE(src.find("const int W = 31;"), std::string::npos);
       fs::path f = d / ("nnao_" + std::to_string(hidden) + "_" + std::to_string(samples) + ".frag");
       std::ofstream(f) << src;
