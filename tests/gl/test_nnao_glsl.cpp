@@ -29,9 +29,12 @@ using namespace nns;
 
 namespace {
 
-// What the float tolerances were set from (llvmpipe, LLVM 15, AVX-512 CPU path): see
-// the printed maxima; a few ulps of AO after a network whose sums differ in order.
-constexpr float kTolerance = 2e-5f;
+// Built without FMA contraction (tests/CMakeLists.txt), the CPU path rounds as the
+// shader does but for its order of addition (the H = 4 grid path keeps per-channel
+// partial sums): the largest difference measured was 1.8e-6 (these random weights,
+// layer 0 scaled up) and 5.4e-7 (trained models on dataset views; llvmpipe, LLVM 15;
+// docs/nnao.md).
+constexpr float kTolerance = 1e-5f;
 
 std::unique_ptr<gl::HeadlessGl> g_context;
 std::string g_context_error;
@@ -103,16 +106,17 @@ Diff compare(const std::vector<float>& gpu, const std::vector<float>& cpu, const
   return d;
 }
 void report(const char* what, const Diff& d, size_t pixels) {
-  std::printf("%-44s max |GPU - CPU| %.2e off edges; %lld of %zu pixels differ > %.0e, all on the %lld marked "
-              "(samples within %.0e px of a pixel edge); %lld unclamped\n",
-              what, d.max_elsewhere, (long long)d.off, pixels, double(kTolerance), (long long)d.edge, test::kEdgePx,
-              (long long)d.unclamped);
+  std::printf("%-52s max |GPU - CPU| %.1e off the marked pixels; %lld of %zu differ by > %.0e (%lld unmarked); "
+              "%lld marked; %lld unclamped\n",
+              what, d.max_elsewhere, (long long)d.off, pixels, double(kTolerance), (long long)d.off_not_edge,
+              (long long)d.edge, (long long)d.unclamped);
 }
 
 // The NNAO pass, the blur alone on the CPU's pass, then both passes as an engine runs
 // them; returns the pass's comparison.
-Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, int samples, uint32_t frame, const char* name) {
-  const ao::GBuffer g = ao::gbuffer_from_view(rendered_view());
+Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, const data::View& view, int samples, uint32_t frame,
+                  const char* name) {
+  const ao::GBuffer g = ao::gbuffer_from_view(view);
   gl::NnaoGlPasses passes(dir.string());
   passes.set_gbuffer(g);
   std::vector<float> raw(size_t(g.pixels())), cpu(size_t(g.pixels())), cpu_blur(size_t(g.pixels()));
@@ -127,7 +131,7 @@ Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, int samples, 
   nnao::bilateral_blur(g, raw.data(), cpu.data());
   const gl::NnaoGlPasses::Frame f{samples, frame};
   const Diff pass = compare(passes.ao_pass(f), raw, edge);
-  report((std::string(name) + ", NNAO pass").c_str(), pass, raw.size());
+  report((std::string(name) + ", NNAO pass (marked: a sample near an edge)").c_str(), pass, raw.size());
   EXPECT_EQ(pass.off_not_edge, 0) << name << ": pixels differ away from pixel edges";
   EXPECT_GT(pass.unclamped, int64_t(raw.size() * 4 / 10)) << name << ": the outputs are mostly clamped, hiding differences";
 
@@ -157,10 +161,10 @@ Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, int samples, 
 TEST_F(NnaoGlsl, GridModelMatchesTheCpuShaderStylePath) {
   using fixtures::random_nnao_blob, fixtures::spread_nnao_outputs;
   const auto m4 = export_model(spread_nnao_outputs(random_nnao_blob(31, 4, 21), 40, 0.5f), dir_ / "h4", 64);
-  check_passes(m4, dir_ / "h4", 64, 0, "grid w31 h4, 64 samples, frame 0");
-  check_passes(m4, dir_ / "h4", 128, 7, "grid w31 h4, 128 samples, frame 7");
+  check_passes(m4, dir_ / "h4", rendered_view(), 64, 0, "grid w31 h4, 64 samples, frame 0");
+  check_passes(m4, dir_ / "h4", rendered_view(), 128, 7, "grid w31 h4, 128 samples, frame 7");
   const auto m8 = export_model(spread_nnao_outputs(random_nnao_blob(15, 8, 22), 40, 0.5f), dir_ / "h8", 64);
-  check_passes(m8, dir_ / "h8", 32, 3, "grid w15 h8, 32 samples, frame 3");
+  check_passes(m8, dir_ / "h8", rendered_view(), 32, 3, "grid w15 h8, 32 samples, frame 3");
 }
 
 // The default model's shape: 16 directions x 8 steps in 4 bands, hidden 16.
@@ -168,7 +172,7 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
   const fixtures::HorizonShape shape{16, 8, 4};
   const Blob blob = fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(0, 16, 23, false, shape), 20, -0.3f);
   const auto m = export_model(blob, dir_, 64);
-  check_passes(m, dir_, 0, 0, "horizon d16 s8 b4 h16");
+  check_passes(m, dir_, rendered_view(), 0, 0, "horizon d16 s8 b4 h16");
 }
 
 // The comparison catches what an engine could get wrong: a filter atlas transposed, a
