@@ -173,15 +173,19 @@ class NnaoGlPasses {
     const char* text = source.c_str();
     glShaderSource(s, 1, &text, nullptr);
     glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      char log[4096] = {};
-      glGetShaderInfoLog(s, sizeof log, nullptr, log);
-      glDeleteShader(s);
-      throw std::runtime_error(name + ": does not compile: " + log);
-    }
+    check(s, false, name + ": does not compile: ");
     return s;
+  }
+  // Throws with the driver's log when a shader did not compile or a program did not link.
+  static void check(GLuint id, bool is_program, const std::string& what) {
+    GLint ok = 0;
+    char log[4096] = {};
+    if (is_program) glGetProgramiv(id, GL_LINK_STATUS, &ok);
+    else glGetShaderiv(id, GL_COMPILE_STATUS, &ok);
+    if (ok) return;
+    if (is_program) glGetProgramInfoLog(id, sizeof log, nullptr, log), glDeleteProgram(id);
+    else glGetShaderInfoLog(id, sizeof log, nullptr, log), glDeleteShader(id);
+    throw std::runtime_error(what + log);
   }
   // A full-screen triangle: the vertex stage every pass shares.
   static GLuint program(const std::string& frag_file) {
@@ -201,14 +205,7 @@ class NnaoGlPasses {
     glLinkProgram(p);
     glDeleteShader(vs);
     glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-      char log[4096] = {};
-      glGetProgramInfoLog(p, sizeof log, nullptr, log);
-      glDeleteProgram(p);
-      throw std::runtime_error(frag_file + ": does not link: " + log);
-    }
+    check(p, true, frag_file + ": does not link: ");
     return p;
   }
 

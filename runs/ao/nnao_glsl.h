@@ -58,6 +58,14 @@ ivec2 fragmentPixel() { return texel(ivec2(gl_FragCoord.xy)); }
 float depthAt(ivec2 p) { return texelFetch(uDepth, texel(p), 0).r; }
 vec3 normalAt(ivec2 p) { return texelFetch(uNormal, texel(p), 0).rgb; }
 bool isSky(float z) { return !(z < 1e30) || z <= 0.0; }
+// Every pass starts here: false (and AO 1 written) for a sky pixel, as on the CPU.
+bool surfacePixel(out ivec2 p, out float z) {
+  gSize = textureSize(uDepth, 0);
+  p = fragmentPixel();
+  z = depthAt(p);
+  fragColor = vec4(1.0);
+  return !isSky(z);
+}
 // View-space (x, y) of pixel pix at depth z (z_view = -z): GBuffer::position.
 vec2 viewXY(vec2 pix, float z) {
   return vec2(((pix.x + 0.5) * (2.0 / float(gSize.x)) - 1.0) * uTanHalfFov.x * z,

@@ -23,10 +23,9 @@ inline std::string glsl_blur_pass() {
     << glsl_array("SPATIAL", spatial);
   s << R"GLSL(
 void main() {
-  gSize = textureSize(uDepth, 0);
-  ivec2 p = fragmentPixel();
-  float z = depthAt(p);
-  if (isSky(z)) { fragColor = vec4(1.0); return; }
+  ivec2 p;
+  float z;
+  if (!surfacePixel(p, z)) return;
   vec3 n = normalAt(p);
   float invDz = 1.0 / (0.1 * uRadius);
   float s = 0.0, ws = 0.0;

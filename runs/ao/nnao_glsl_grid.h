@@ -31,10 +31,9 @@ uint pixelHash(uint x, uint y, uint salt) {
 float hashUnit(uint h) { return float(h >> 8) * (1.0 / 16777216.0); }
 
 void main() {
-  gSize = textureSize(uDepth, 0);
-  ivec2 p = fragmentPixel();
-  float z = depthAt(p);
-  if (isSky(z)) { fragColor = vec4(1.0); return; }
+  ivec2 p;
+  float z;
+  if (!surfacePixel(p, z)) return;
   vec3 N = normalAt(p);
   vec2 P = viewXY(vec2(p), z);
   float r = uRadius, invR = 1.0 / r;

@@ -43,10 +43,9 @@ float h[H];  // layer 0's sums
 void addFeature(int q, float v) { for (int k = 0; k < H; ++k) h[k] += W0[k * F + q] * v; }
 
 void main() {
-  gSize = textureSize(uDepth, 0);
-  ivec2 p = fragmentPixel();
-  float z = depthAt(p);
-  if (isSky(z)) { fragColor = vec4(1.0); return; }
+  ivec2 p;
+  float z;
+  if (!surfacePixel(p, z)) return;
   vec3 n = normalAt(p);
   float len = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
   vec3 N = len > 0.0 ? vec3((1.0 / len) * n.x, (1.0 / len) * n.y, (1.0 / len) * n.z) : vec3(0.0, 0.0, 1.0);
