@@ -10,6 +10,7 @@
 
 namespace fs = std::filesystem;
 using namespace nns;
+namespace fixtures = nns::fixtures;
 
 TEST(NnaoExport, FilterImagesHoldTheFoldedWeights) {
   auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(9, 4, 11));
@@ -31,26 +32,50 @@ TEST(NnaoExport, FilterImagesHoldTheFoldedWeights) {
   fs::remove_all(d);
 }
 
-TEST(NnaoExport, GlslShaderCompilesWithGlslangValidator) {
+// Both passes of both model kinds; tests/gl runs them and compares with the CPU.
+TEST(NnaoExport, GlslShadersCompileWithGlslangValidator) {
   if (std::system("command -v glslangValidator > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "glslangValidator not installed (Debian glslang-tools)";
   fs::path d = fs::temp_directory_path() / ("nnao_glsl_" + std::to_string(::getpid()));
   fs::create_directories(d);
+  auto compiles = [&](const std::string& name, const std::string& src) {
+    fs::path f = d / (name + ".frag");
+    std::ofstream(f) << src;
+    std::string cmd = "glslangValidator " + f.string() + " > " + (d / "log.txt").string() + " 2>&1";
+    int rc = std::system(cmd.c_str());
+    std::ifstream log(d / "log.txt");
+    std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(rc, 0) << name << ": " << text;
+  };
   for (int hidden : {4, 8})
     for (int samples : {64, 256}) {
       auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(31, hidden, 12));
-      std::string src = nnao::glsl_shader(m, samples);
+      std::string src = nnao::glsl_grid_pass(m, samples);
       EXPECT_NE(src.find("const int W = 31;"), std::string::npos);
-      fs::path f = d / ("nnao_" + std::to_string(hidden) + "_" + std::to_string(samples) + ".frag");
-      std::ofstream(f) << src;
-      std::string cmd = "glslangValidator " + f.string() + " > " + (d / "log.txt").string() + " 2>&1";
-      int rc = std::system(cmd.c_str());
-      std::ifstream log(d / "log.txt");
-      std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
-      EXPECT_EQ(rc, 0) << text;
+      EXPECT_NE(src.find("uniform int uSamples = " + std::to_string(samples) + ";"), std::string::npos);
+      compiles("grid_" + std::to_string(hidden) + "_" + std::to_string(samples), src);
     }
+  const fixtures::HorizonShape shape{16, 8, 4};
+  compiles("horizon", nnao::glsl_horizon_pass(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 16, 3, false, shape))));
+  compiles("blur", nnao::glsl_blur_pass());
   // And a broken shader must fail, so the check above can fail.
   std::ofstream(d / "bad.frag") << "#version 330 core\nvoid main() { undefined_call(); }\n";
   EXPECT_NE(std::system(("glslangValidator " + (d / "bad.frag").string() + " > /dev/null 2>&1").c_str()), 0);
+  fs::remove_all(d);
+}
+
+// export-nnao's folder: both passes for either kind; the filter images only for a grid.
+TEST(NnaoExport, WritesBothPassesForEitherKind) {
+  fs::path d = fs::temp_directory_path() / ("nnao_export_kinds_" + std::to_string(::getpid()));
+  nnao::write_export(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(9, 4, 1)), (d / "grid").string(), 64);
+  const fixtures::HorizonShape shape{8, 4, 2};
+  nnao::write_export(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 8, 2, false, shape)), (d / "horizon").string(), 64);
+  for (const char* f : {"nnao.frag", "nnao_blur.frag", "nnao_filters.exr", "filter3.exr"})
+    EXPECT_TRUE(fs::exists(d / "grid" / f)) << f;
+  for (const char* f : {"nnao.frag", "nnao_blur.frag"}) EXPECT_TRUE(fs::exists(d / "horizon" / f)) << f;
+  EXPECT_FALSE(fs::exists(d / "horizon" / "nnao_filters.exr"));
+  std::ifstream in(d / "horizon" / "nnao.frag");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("const int DIRS = 8, STEPS = 4, BANDS = 2, F = 20;"), std::string::npos);
   fs::remove_all(d);
 }

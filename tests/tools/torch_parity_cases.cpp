@@ -50,22 +50,6 @@ Tensor<float> random_input(Rng& rng, int channels, int h, int w) {
   return x;
 }
 
-// The fixture's weights give this view a nearly constant AO (grid) or one clamped to 1
-// everywhere (horizon): layer 0 is scaled up and the target statistics set so the
-// outputs spread over [0, 1] and depend on every layer.
-Blob spread(const Blob& b, float gain0, float target_mean) {
-  Blob out(b.kind());
-  for (auto& [k, v] : b.config()) out.set_config(k, v);
-  for (auto& [name, t] : b.tensors()) {
-    Tensor<float> v = b.tensor<float>(name, Shape(t.dims.begin(), t.dims.end()));
-    if (name == "fc0.weight")
-      for (auto& x : v) x *= gain0;
-    if (name == "target_stats") v[0] = target_mean, v[1] = 0.3f;
-    out.put(name, v);
-  }
-  return out;
-}
-
 // NNAO: the raw inputs of every non-sky pixel of a synthetic view, the exact per-pixel
 // inference there (nnao_exact_per_pixel.h) and the bilateral blur of its image; the
 // view's depth and normals for the torch feature extraction.
@@ -167,9 +151,10 @@ int main(int argc, char** argv) {
   }
   g_dir = argv[1];
   try {
-    nnao_case("nnao-grid", spread(fixtures::random_nnao_blob(/*window=*/5, /*hidden=*/6, 11), 20, 0.5f));
+    using fixtures::random_nnao_blob, fixtures::spread_nnao_outputs;
+    nnao_case("nnao-grid", spread_nnao_outputs(random_nnao_blob(/*window=*/5, /*hidden=*/6, 11), 20, 0.5f));
     const fixtures::HorizonShape horizon{/*directions=*/8, /*steps=*/4, /*bands=*/2};
-    nnao_case("nnao-horizon", spread(fixtures::random_nnao_blob(0, 8, 12, false, horizon), 20, -0.3f));
+    nnao_case("nnao-horizon", spread_nnao_outputs(random_nnao_blob(0, 8, 12, false, horizon), 20, -0.3f));
 
     gi::GiInputConfig front;  // 12 channels (CoordConv), HDR scale and light cap set
     front.mode = gi::GiMode::front;

@@ -1,0 +1,217 @@
+#pragma once
+// The engine side of NNAO: export-nnao's passes (nnao.frag, nnao_blur.frag and a grid
+// model's nnao_filters.exr) bound to G-buffer textures and drawn, as docs/nnao.md
+// ("The shader in an engine") describes. Needs a current OpenGL 3.3 core context
+// (headless_gl.h gives one without a display).
+//
+// Textures are laid out as an OpenGL renderer's targets are: row 0 at the bottom, so
+// the CPU planes (row 0 at the top, the dataset's order) are flipped on upload and on
+// read-back. The filter atlas is a table, not an image: uploaded as stored.
+#define GL_GLEXT_PROTOTYPES
+#include <GL/glcorearb.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "data/exr_io.h"
+#include "screen_space/gbuffer.h"
+
+namespace nns::gl {
+
+class NnaoGlPasses {
+ public:
+  // Compiles the folder's shaders; a grid model's nnao.frag also needs nnao_filters.exr.
+  explicit NnaoGlPasses(const std::string& export_dir) {
+    namespace fs = std::filesystem;
+    glGenVertexArrays(1, &vao_);  // the core profile draws only with a vertex array bound
+    glGenFramebuffers(1, &fbo_);
+    const std::string ao_file = (fs::path(export_dir) / "nnao.frag").string();
+    ao_program_ = program(ao_file);
+    blur_program_ = program((fs::path(export_dir) / "nnao_blur.frag").string());
+    if (glGetUniformLocation(ao_program_, "uFilters") >= 0) {
+      const std::string atlas = (fs::path(export_dir) / "nnao_filters.exr").string();
+      if (!fs::exists(atlas)) throw std::runtime_error(ao_file + " samples filters, but " + atlas + " is missing");
+      const data::View f = data::read_view(atlas);
+      std::vector<float> rgba(size_t(f.width) * f.height * 4);
+      const char* names[4] = {"R", "G", "B", "A"};
+      for (int c = 0; c < 4; ++c)
+        for (size_t i = 0; i < size_t(f.width) * f.height; ++i) rgba[i * 4 + c] = f.channel(names[c])[i];
+      filters_ = texture(GL_RGBA32F, f.width, f.height, GL_RGBA, rgba.data());
+    }
+  }
+  ~NnaoGlPasses() {
+    const GLuint textures[] = {filters_, depth_, normal_, ao_, tmp_, out_};
+    glDeleteTextures(6, textures);
+    glDeleteFramebuffers(1, &fbo_);
+    glDeleteVertexArrays(1, &vao_);
+    glDeleteProgram(ao_program_);
+    glDeleteProgram(blur_program_);
+  }
+  NnaoGlPasses(const NnaoGlPasses&) = delete;
+  NnaoGlPasses& operator=(const NnaoGlPasses&) = delete;
+
+  // The G-buffer's planes as R32F depth and RGB32F normals; its camera and radius
+  // become the passes' uniforms.
+  void set_gbuffer(const ao::GBuffer& g) {
+    g_ = g;
+    std::vector<float> normals(size_t(g.pixels()) * 3);
+    for (int64_t i = 0; i < g.pixels(); ++i)
+      normals[size_t(i) * 3] = g.nx[i], normals[size_t(i) * 3 + 1] = g.ny[i], normals[size_t(i) * 3 + 2] = g.nz[i];
+    const GLuint old[] = {depth_, normal_, ao_, tmp_, out_};
+    glDeleteTextures(5, old);
+    depth_ = texture(GL_R32F, g.width, g.height, GL_RED, flip_rows(g.z, 1).data());
+    normal_ = texture(GL_RGB32F, g.width, g.height, GL_RGB, flip_rows(normals.data(), 3).data());
+    ao_ = texture(GL_R32F, g.width, g.height, GL_RED, nullptr);
+    tmp_ = texture(GL_R32F, g.width, g.height, GL_RED, nullptr);
+    out_ = texture(GL_R32F, g.width, g.height, GL_RED, nullptr);
+  }
+
+  struct Frame {
+    int samples = 64;    // uSamples (grid models)
+    uint32_t index = 0;  // uFrame: the jitter pattern's seed (grid models)
+  };
+
+  // Both passes on the GPU, read back once: nnao-infer's image.
+  std::vector<float> run(const Frame& f) {
+    draw_ao(f);
+    draw_blur();
+    return read(out_);
+  }
+  // The NNAO pass alone: the image before the blur.
+  std::vector<float> ao_pass(const Frame& f) {
+    draw_ao(f);
+    return read(ao_);
+  }
+  // The blur alone, on an image given top row first.
+  std::vector<float> blur(const std::vector<float>& image) {
+    glBindTexture(GL_TEXTURE_2D, ao_);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, g_.width, g_.height, GL_RED, GL_FLOAT, flip_rows(image.data(), 1).data());
+    draw_blur();
+    return read(out_);
+  }
+
+ private:
+  void draw_ao(const Frame& f) {
+    glUseProgram(ao_program_);
+    bind_gbuffer(ao_program_);
+    if (filters_) bind(ao_program_, "uFilters", 2, filters_);
+    set_int(ao_program_, "uSamples", f.samples);
+    if (GLint u = glGetUniformLocation(ao_program_, "uFrame"); u >= 0) glUniform1ui(u, f.index);
+    draw_into(ao_);
+  }
+  // Horizontal into tmp_, then vertical into out_, as the CPU's separable blur.
+  void draw_blur() {
+    glUseProgram(blur_program_);
+    bind_gbuffer(blur_program_);
+    const GLint step = glGetUniformLocation(blur_program_, "uStep");
+    bind(blur_program_, "uAO", 2, ao_);
+    glUniform2i(step, 1, 0);
+    draw_into(tmp_);
+    bind(blur_program_, "uAO", 2, tmp_);
+    glUniform2i(step, 0, 1);
+    draw_into(out_);
+  }
+  void bind_gbuffer(GLuint prog) {
+    bind(prog, "uDepth", 0, depth_);
+    bind(prog, "uNormal", 1, normal_);
+    glUniform2f(glGetUniformLocation(prog, "uTanHalfFov"), g_.sx, g_.sy);
+    glUniform1f(glGetUniformLocation(prog, "uRadius"), g_.radius);
+  }
+  void draw_into(GLuint target) {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("OpenGL: an R32F render target is incomplete");
+    glViewport(0, 0, g_.width, g_.height);
+    glBindVertexArray(vao_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    if (GLenum e = glGetError(); e != GL_NO_ERROR) throw std::runtime_error("OpenGL error " + std::to_string(e) + " in a pass");
+  }
+  std::vector<float> read(GLuint source) {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, source, 0);
+    std::vector<float> rows(size_t(g_.pixels()));
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, g_.width, g_.height, GL_RED, GL_FLOAT, rows.data());
+    return flip_rows(rows.data(), 1);
+  }
+
+  static void bind(GLuint prog, const char* sampler, int unit, GLuint tex) {
+    glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glUniform1i(glGetUniformLocation(prog, sampler), unit);
+  }
+  static void set_int(GLuint prog, const char* name, int v) {
+    if (GLint u = glGetUniformLocation(prog, name); u >= 0) glUniform1i(u, v);
+  }
+  // texelFetch only: no filtering, no mipmaps (with the default minification filter a
+  // texture without mipmaps is incomplete and reads as 0).
+  static GLuint texture(GLenum internal, int w, int h, GLenum format, const float* data) {
+    GLuint t;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal), w, h, 0, format, GL_FLOAT, data);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return t;
+  }
+  std::vector<float> flip_rows(const float* p, int channels) const {
+    const size_t row = size_t(g_.width) * channels;
+    std::vector<float> out(row * g_.height);
+    for (int y = 0; y < g_.height; ++y)
+      std::copy(p + row * y, p + row * (y + 1), out.begin() + std::ptrdiff_t(row * (g_.height - 1 - y)));
+    return out;
+  }
+  static GLuint shader(GLenum kind, const std::string& source, const std::string& name) {
+    GLuint s = glCreateShader(kind);
+    const char* text = source.c_str();
+    glShaderSource(s, 1, &text, nullptr);
+    glCompileShader(s);
+    check(s, false, name + ": does not compile: ");
+    return s;
+  }
+  // Throws with the driver's log when a shader did not compile or a program did not link.
+  static void check(GLuint id, bool is_program, const std::string& what) {
+    GLint ok = 0;
+    char log[4096] = {};
+    if (is_program) glGetProgramiv(id, GL_LINK_STATUS, &ok);
+    else glGetShaderiv(id, GL_COMPILE_STATUS, &ok);
+    if (ok) return;
+    if (is_program) glGetProgramInfoLog(id, sizeof log, nullptr, log), glDeleteProgram(id);
+    else glGetShaderInfoLog(id, sizeof log, nullptr, log), glDeleteShader(id);
+    throw std::runtime_error(what + log);
+  }
+  // A full-screen triangle: the vertex stage every pass shares.
+  static GLuint program(const std::string& frag_file) {
+    std::ifstream in(frag_file);
+    if (!in) throw std::runtime_error("cannot read " + frag_file);
+    std::stringstream text;
+    text << in.rdbuf();
+    const GLuint vs = shader(GL_VERTEX_SHADER,
+                             "#version 330 core\nvoid main() {\n"
+                             "  vec2 c = vec2(gl_VertexID & 1, gl_VertexID >> 1) * 4.0 - 1.0;\n"
+                             "  gl_Position = vec4(c, 0.0, 1.0);\n}\n",
+                             "the full-screen vertex shader");
+    const GLuint fs = shader(GL_FRAGMENT_SHADER, text.str(), frag_file);
+    GLuint p = glCreateProgram();
+    glAttachShader(p, vs);
+    glAttachShader(p, fs);
+    glLinkProgram(p);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    check(p, true, frag_file + ": does not link: ");
+    return p;
+  }
+
+  ao::GBuffer g_;
+  GLuint vao_ = 0, fbo_ = 0, ao_program_ = 0, blur_program_ = 0;
+  GLuint filters_ = 0, depth_ = 0, normal_ = 0, ao_ = 0, tmp_ = 0, out_ = 0;
+};
+
+}  // namespace nns::gl

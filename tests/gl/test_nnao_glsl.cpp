@@ -1,0 +1,222 @@
+// The exported GLSL, run: export-nnao's passes drawn by Mesa on the CPU (EGL
+// surfaceless, llvmpipe; examples/nnao_gl binds them as an engine would) on a view the
+// ground-truth renderer made, against the CPU path nnao-infer runs. Pixels agree
+// within a float tolerance, except where a sample lands within rounding of a pixel
+// edge (the shader and the CPU may then read neighbouring pixels): those are counted,
+// and every pixel that differs must be one of them. Without a context the tests fail,
+// saying why.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+
+#include "core/rng.h"
+#include "examples/nnao_gl/headless_gl.h"
+#include "examples/nnao_gl/nnao_gl.h"
+#include "fixtures/random_nnao_blob.h"
+#include "models/nnao/nnao_inference.h"
+#include "render/placement.h"
+#include "render/render_view.h"
+#include "render/scenes/families.h"
+#include "runs/ao/nnao_export.h"
+#include "tests/gl/edge_samples.h"
+
+namespace fs = std::filesystem;
+using namespace nns;
+
+namespace {
+
+// Built without FMA contraction (tests/CMakeLists.txt), the CPU path rounds as the
+// shader does but for its order of addition (the H = 4 grid path keeps per-channel
+// partial sums): the largest difference measured was 1.8e-6 (these random weights,
+// layer 0 scaled up) and 5.4e-7 (trained models on dataset views; llvmpipe, LLVM 15;
+// docs/nnao.md).
+constexpr float kTolerance = 1e-5f;
+
+std::unique_ptr<gl::HeadlessGl> g_context;
+std::string g_context_error;
+
+class NnaoGlsl : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (g_context || !g_context_error.empty()) return;
+    setenv("LIBGL_ALWAYS_SOFTWARE", "1", 0);  // Mesa on the CPU, also where a GPU exists
+    try {
+      g_context = std::make_unique<gl::HeadlessGl>();
+      std::printf("OpenGL renderer: %s\n", g_context->renderer().c_str());
+    } catch (const std::exception& e) {
+      g_context_error = e.what();
+    }
+  }
+  void SetUp() override {
+    if (!g_context) FAIL() << "no headless OpenGL context, so the exported shaders cannot run: " << g_context_error;
+    dir_ = fs::temp_directory_path() / ("nnao_glsl_" + std::to_string(::getpid()));
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+// A family scene through the ground-truth renderer: depth and normals as the datasets
+// hold them (AO rays are not needed: one per pixel).
+const data::View& rendered_view() {
+  static const data::View v = [] {
+    data::Scene s = data::make_family_scene("room", 1, 3);
+    data::RayTracer rt(s);
+    Rng rng(5);
+    data::Camera cam = data::place_camera(rt, 160, 90, 60, rng);
+    data::RenderSettings rs;
+    rs.lighting = false;
+    rs.ao_spp = 1;
+    rs.seed = 2;
+    return data::render_view(rt, cam, rs, 1);
+  }();
+  return v;
+}
+
+nnao::NnaoWeights export_model(const Blob& blob, const fs::path& dir, int samples) {
+  const nnao::NnaoWeights m = nnao::NnaoWeights::from_blob(blob);
+  nnao::write_export(m, dir.string(), samples);
+  return m;
+}
+
+// Shader against CPU, pixel by pixel; `edge` marks the pixels allowed to differ.
+struct Diff {
+  int64_t off = 0;           // pixels differing by more than kTolerance
+  int64_t off_not_edge = 0;  // of those, pixels not marked: a failure
+  int64_t edge = 0;          // pixels marked
+  double max_elsewhere = 0;  // largest difference on the unmarked pixels
+  int64_t unclamped = 0;     // CPU values strictly inside (0, 1): what the comparison could see
+};
+Diff compare(const std::vector<float>& gpu, const std::vector<float>& cpu, const std::vector<bool>& edge) {
+  Diff d;
+  for (size_t i = 0; i < cpu.size(); ++i) {
+    const double e = std::abs(double(gpu[i]) - cpu[i]);
+    const bool off = !(e <= kTolerance);  // a NaN is off
+    d.off += off;
+    d.edge += edge[i];
+    d.unclamped += cpu[i] > 0 && cpu[i] < 1;
+    if (!edge[i]) {
+      d.off_not_edge += off;
+      d.max_elsewhere = std::max(d.max_elsewhere, std::isnan(e) ? INFINITY : e);
+    }
+  }
+  return d;
+}
+void report(const char* what, const Diff& d, size_t pixels) {
+  std::printf("%-52s max |GPU - CPU| %.1e off the marked pixels; %lld of %zu differ by > %.0e (%lld unmarked); "
+              "%lld marked; %lld unclamped\n",
+              what, d.max_elsewhere, (long long)d.off, pixels, double(kTolerance), (long long)d.off_not_edge,
+              (long long)d.edge, (long long)d.unclamped);
+}
+
+// The NNAO pass, the blur alone on the CPU's pass, then both passes as an engine runs
+// them; returns the pass's comparison.
+Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, const data::View& view, int samples, uint32_t frame,
+                  const char* name) {
+  const ao::GBuffer g = ao::gbuffer_from_view(view);
+  gl::NnaoGlPasses passes(dir.string());
+  passes.set_gbuffer(g);
+  std::vector<float> raw(size_t(g.pixels())), cpu(size_t(g.pixels())), cpu_blur(size_t(g.pixels()));
+  std::vector<bool> edge;
+  if (m.input.is_horizon()) {
+    nnao::infer_horizon(m, g, raw.data());
+    edge = test::horizon_edge_pixels(g, m.input.horizon);
+  } else {
+    nnao::infer_shader_style(m, g, samples, raw.data(), /*blur=*/false, frame);
+    edge = test::grid_edge_pixels(g, m.input.window, samples, frame);
+  }
+  nnao::bilateral_blur(g, raw.data(), cpu.data());
+  const gl::NnaoGlPasses::Frame f{samples, frame};
+  const Diff pass = compare(passes.ao_pass(f), raw, edge);
+  report((std::string(name) + ", NNAO pass (marked: a sample near an edge)").c_str(), pass, raw.size());
+  EXPECT_EQ(pass.off_not_edge, 0) << name << ": pixels differ away from pixel edges";
+  EXPECT_GT(pass.unclamped, int64_t(raw.size() * 4 / 10)) << name << ": the outputs are mostly clamped, hiding differences";
+
+  const Diff blur = compare(passes.blur(raw), cpu, std::vector<bool>(raw.size(), false));
+  report((std::string(name) + ", blur pass on the CPU's NNAO").c_str(), blur, raw.size());
+  EXPECT_EQ(blur.off, 0) << name << ": the blur differs";
+
+  // Both passes: a pixel whose 5 x 5 blur footprint holds a differing pass pixel may differ.
+  const std::vector<float> gpu_pass = passes.ao_pass(f);
+  std::vector<bool> near_off(raw.size(), false);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      if (!(std::abs(gpu_pass[size_t(y) * g.width + x] - raw[size_t(y) * g.width + x]) > kTolerance)) continue;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx)
+          if (x + dx >= 0 && x + dx < g.width && y + dy >= 0 && y + dy < g.height)
+            near_off[size_t(y + dy) * g.width + x + dx] = true;
+    }
+  const Diff both = compare(passes.run(f), cpu, near_off);
+  report((std::string(name) + ", both passes (marked: near a differing pixel)").c_str(), both, raw.size());
+  EXPECT_EQ(both.off_not_edge, 0) << name << ": the two passes differ away from the pass's differing pixels";
+  return pass;
+}
+
+// The paper's size (window 31, hidden 4: the grid and paper presets), the sample counts
+// and frames as uniforms; hidden 8 takes the CPU's general (not H = 4) path.
+TEST_F(NnaoGlsl, GridModelMatchesTheCpuShaderStylePath) {
+  using fixtures::random_nnao_blob, fixtures::spread_nnao_outputs;
+  const auto m4 = export_model(spread_nnao_outputs(random_nnao_blob(31, 4, 21), 40, 0.5f), dir_ / "h4", 64);
+  check_passes(m4, dir_ / "h4", rendered_view(), 64, 0, "grid w31 h4, 64 samples, frame 0");
+  check_passes(m4, dir_ / "h4", rendered_view(), 128, 7, "grid w31 h4, 128 samples, frame 7");
+  const auto m8 = export_model(spread_nnao_outputs(random_nnao_blob(15, 8, 22), 40, 0.5f), dir_ / "h8", 64);
+  check_passes(m8, dir_ / "h8", rendered_view(), 32, 3, "grid w15 h8, 32 samples, frame 3");
+}
+
+// The default model's shape: 16 directions x 8 steps in 4 bands, hidden 16.
+TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
+  const fixtures::HorizonShape shape{16, 8, 4};
+  const Blob blob = fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(0, 16, 23, false, shape), 20, -0.3f);
+  const auto m = export_model(blob, dir_, 64);
+  check_passes(m, dir_, rendered_view(), 0, 0, "horizon d16 s8 b4 h16");
+}
+
+// The comparison catches what an engine could get wrong: a filter atlas transposed, a
+// G-buffer uploaded upside down, normals with x and y swapped, the wrong frame's pattern.
+TEST_F(NnaoGlsl, AWronglyBoundInputIsCaught) {
+  const auto m = export_model(fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(31, 4, 21), 40, 0.5f), dir_, 64);
+  const data::View& v = rendered_view();
+  const ao::GBuffer g = ao::gbuffer_from_view(v);
+  std::vector<float> cpu(size_t(g.pixels()));
+  nnao::infer_shader_style(m, g, 64, cpu.data(), /*blur=*/false, /*seed=*/0);
+  const std::vector<bool> none(cpu.size(), false);
+  auto off = [&](const ao::GBuffer& bound, uint32_t frame) {
+    gl::NnaoGlPasses passes(dir_.string());
+    passes.set_gbuffer(bound);
+    const int64_t n = compare(passes.ao_pass({64, frame}), cpu, none).off;
+    std::printf("  %lld of %zu pixels off\n", (long long)n, cpu.size());
+    return n;
+  };
+  ASSERT_EQ(off(g, 0), 0);
+  const int64_t many = int64_t(cpu.size() / 10);
+  EXPECT_GT(off(g, 1), many) << "the frame uniform changes nothing";
+
+  // Upside down: the CPU planes uploaded as they are stored would be, top row first.
+  std::vector<float> planes[4];
+  const float* src[4] = {g.z, g.nx, g.ny, g.nz};
+  for (int c = 0; c < 4; ++c)
+    for (int y = g.height - 1; y >= 0; --y) planes[c].insert(planes[c].end(), src[c] + int64_t(y) * g.width, src[c] + int64_t(y + 1) * g.width);
+  ao::GBuffer flipped = g;
+  flipped.z = planes[0].data(), flipped.nx = planes[1].data(), flipped.ny = planes[2].data(), flipped.nz = planes[3].data();
+  EXPECT_GT(off(flipped, 0), many) << "an upside-down G-buffer goes unnoticed";
+  ao::GBuffer swapped = g;
+  swapped.nx = g.ny, swapped.ny = g.nx;
+  EXPECT_GT(off(swapped, 0), many) << "normals with x and y swapped go unnoticed";
+
+  // Each filter of the atlas transposed (grid column i <-> row j).
+  const std::string atlas = (dir_ / "nnao_filters.exr").string();
+  data::View f = data::read_view(atlas), t = f;
+  const int w = m.input.window;
+  for (auto& [name, plane] : t.channels)
+    for (int k = 0; k < m.hidden; ++k)
+      for (int j = 0; j < w; ++j)
+        for (int i = 0; i < w; ++i) plane[size_t(j) * f.width + k * w + i] = f.channel(name)[size_t(i) * f.width + k * w + j];
+  data::write_view(atlas, t);
+  EXPECT_GT(off(g, 0), many) << "a transposed filter atlas goes unnoticed";
+}
+
+}  // namespace
