@@ -13,23 +13,13 @@
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "report/html_report.h"
 
 namespace nns::data {
 namespace {
 
 const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
                           "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
-
-std::string escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else o += c;
-  }
-  return o;
-}
 
 std::string num(double v) {
   char b[32];
@@ -104,7 +94,7 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
     << o.height << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     << "<text x=\"" << num((L + R) / 2) << "\" y=\"28\" text-anchor=\"middle\" font-size=\"16\">"
-    << escape(o.title) << "</text>\n";
+    << html_escape(o.title) << "</text>\n";
   for (double t : ax.ticks()) {
     double px = ax.map(t, L, R);
     s << "<line x1=\"" << num(px) << "\" y1=\"" << num(T) << "\" x2=\"" << num(px) << "\" y2=\""
@@ -120,9 +110,9 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
   s << "<rect x=\"" << num(L) << "\" y=\"" << num(T) << "\" width=\"" << num(R - L)
     << "\" height=\"" << num(B - T) << "\" fill=\"none\" stroke=\"black\"/>\n"
     << "<text x=\"" << num((L + R) / 2) << "\" y=\"" << num(B + 42) << "\" text-anchor=\"middle\">"
-    << escape(o.x_label) << (o.log_x ? " (log scale)" : "") << "</text>\n"
+    << html_escape(o.x_label) << (o.log_x ? " (log scale)" : "") << "</text>\n"
     << "<text transform=\"translate(22," << num((T + B) / 2)
-    << ") rotate(-90)\" text-anchor=\"middle\">" << escape(o.y_label)
+    << ") rotate(-90)\" text-anchor=\"middle\">" << html_escape(o.y_label)
     << (o.log_y ? " (log scale)" : "") << "</text>\n";
   for (size_t k = 0; k < series.size(); ++k) {
     const auto& se = series[k];
@@ -137,14 +127,14 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
         << "\"/>\n";
       if (i < se.point_labels.size() && !se.point_labels[i].empty())
         s << "<text x=\"" << num(px + 5) << "\" y=\"" << num(py - 5) << "\" font-size=\"10\" fill=\""
-          << c << "\">" << escape(se.point_labels[i]) << "</text>\n";
+          << c << "\">" << html_escape(se.point_labels[i]) << "</text>\n";
     }
     s << "<polyline points=\"" << pts << "\" fill=\"none\" stroke=\"" << c << dash
       << "\" stroke-width=\"2\"/>\n";
     double ly = T + 10 + 20.0 * double(k);
     s << "<line x1=\"" << num(R + 15) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(R + 40)
       << "\" y2=\"" << num(ly) << "\" stroke=\"" << c << dash << "\" stroke-width=\"2\"/>\n<text x=\""
-      << num(R + 46) << "\" y=\"" << num(ly + 4) << "\">" << escape(se.name) << "</text>\n";
+      << num(R + 46) << "\" y=\"" << num(ly + 4) << "\">" << html_escape(se.name) << "</text>\n";
   }
   s << "</svg>\n";
   return s.str();
