@@ -6,7 +6,7 @@
 //
 // DIR is a split folder or a flat folder; a dataset root with train/ + test/ means its
 // test/ split. Writes results.csv, results_by_scene.csv, failure_bands.csv,
-// temporal.csv, timing.csv, speed_vs_accuracy.svg/.png, previews/ and report.md.
+// temporal.csv, timing.csv, speed_vs_accuracy.svg/.png, previews/, report.md and report.html.
 // Temporal stability is measured on camera-path frames (files "<scene>-pNN-fNNN.exr", or
 // surround frame folders of that name, as render-dataset --path-frames writes them),
 // reprojected: classical_ao/temporal.h.
@@ -31,6 +31,8 @@
 #include "data/exr_io.h"
 #include "report/image_metrics.h"
 #include "report/png_io.h"
+#include "report/html_report.h"
+#include "runs/ao/ao_previews.h"
 #include "classical_ao/failure_bands.h"
 #include "classical_ao/methods.h"
 #include "classical_ao/params.h"
@@ -42,12 +44,6 @@ namespace nns::ao_eval {
 
 namespace fs = std::filesystem;
 
-
-struct Method {
-  std::string name;  // "NNAO-exact", "NNAO", "SSAO", ...
-  int samples;
-  std::function<void(const ao::GBuffer&, float*)> run;
-};
 
 struct Score {  // pooled over pixels: squared error sum and count; SSIM summed per view
   double se = 0, ssim_sum = 0;
@@ -80,12 +76,6 @@ double process_cpu_ms() {
   return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
 }
 
-std::string fmt(double v, int prec = 6) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*g", prec, v);
-  return b;
-}
-
 double median(std::vector<double> v) {
   if (v.empty()) return std::nan("");
   std::sort(v.begin(), v.end());
@@ -110,12 +100,6 @@ std::string family_of(const std::string& scene) {
       scene.find_first_not_of("0123456789", dash + 1) != std::string::npos)
     return scene;
   return scene.substr(0, dash);
-}
-
-std::string safe(std::string s) {
-  for (char& c : s)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = c == '+' ? 'p' : '_';
-  return s;
 }
 
 
@@ -234,10 +218,7 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     ao::FailureBands bands = ao::failure_bands(g);
     band_names = bands.names;
     int frame = -1;
-    // A flat view names its frame ("room-1-p00-f003.exr"); a surround frame's folder
-    // does ("room-1-p00-f003/front.exr").
-    std::string path = ao::path_of_frame(fs::path(views[v]).stem().string(), frame);
-    if (path.empty()) path = ao::path_of_frame(fs::path(views[v]).parent_path().filename().string(), frame);
+    const std::string path = camera_path_of(views[v], frame);
     const bool same_path = !path.empty() && path == prev_path && frame == prev_frame + 1;
     pattern_seed = o.vary_pattern && !path.empty() ? uint32_t(frame) : 0u;
     std::vector<int64_t> to_prev;
@@ -249,10 +230,6 @@ inline void evaluate_ao(const EvalAoOptions& o) {
       gt_temporal.add_pair(to_prev, gt.data(), prev_gt, gt.data(), prev_gt);
       gt_temporal_by_family[family_of(view.scene)].add_pair(to_prev, gt.data(), prev_gt, gt.data(), prev_gt);
     }
-    const bool preview = int(v) < previews;
-    const std::string stem = fs::path(views[v]).parent_path().filename().string() + "_" + fs::path(views[v]).stem().string();
-    if (preview)
-      data::write_png_gray((fs::path(out) / "previews" / (stem + "_ground_truth.png")).string(), gt.data(), g.width, g.height);
     std::vector<float> result(size_t(g.pixels())), history(result.size());
     const int64_t px = std::count(mask.begin(), mask.end(), uint8_t(1));
     std::vector<int64_t> band_pixels;  // per failure band, counted once per view
@@ -306,14 +283,6 @@ inline void evaluate_ao(const EvalAoOptions& o) {
         ta.cpu_ms.push_back(cpu + blend_ms);
         score(size_t(accumulated[m]), history);
       }
-      const bool largest = m + 1 == methods.size() || methods[m + 1].name != methods[m].name;
-      if (preview && (largest || (methods[m].name == "NNAO" && methods[m].samples == 64))) {
-        std::string base = (fs::path(out) / "previews" / (stem + "_" + safe(methods[m].name) + "_" + std::to_string(methods[m].samples))).string();
-        data::write_png_gray(base + ".png", result.data(), g.width, g.height);
-        std::vector<float> err(result.size());
-        for (size_t i = 0; i < err.size(); ++i) err[i] = mask[i] ? std::abs(result[i] - gt[i]) : 0.0f;
-        data::write_png_heatmap(base + "_error.png", err.data(), g.width, g.height, 0.5f);
-      }
       bar.update(++done, methods[m].name + "@" + std::to_string(methods[m].samples));
     }
     if (!path.empty()) prev_view = std::move(view);
@@ -366,11 +335,10 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     if (it == best_setting.end() || stats[m].all.mse() < stats[it->second].all.mse()) best_setting[methods[m].name] = m;
   }
   std::string by_family = "family,method,samples,views,mse,ssim,flicker,ground_truth_flicker\n";
-  std::ostringstream family_md;
+  data::Table family_table{{"family", "method", "samples", "MSE", "SSIM", "flicker (x ground truth)"}, {}};
   std::set<std::string> families;
   for (auto& st : stats)
     for (auto& [fam, sc] : st.by_family) families.insert(fam);
-  family_md << "| family | method | samples | MSE | SSIM | flicker (x ground truth) |\n|---|---|---|---|---|---|\n";
   for (auto& fam : families)
     for (auto& n : order) {
       const size_t m = best_setting[n];
@@ -382,8 +350,8 @@ inline void evaluate_ao(const EvalAoOptions& o) {
       const double f = has_t ? t->second.flicker() : std::nan(""), gf = has_t ? gt->second.flicker() : std::nan("");
       by_family += fam + "," + n + "," + std::to_string(methods[m].samples) + "," + std::to_string(sc->second.views) + "," +
                    fmt(sc->second.mse()) + "," + fmt(sc->second.ssim()) + "," + fmt(f) + "," + fmt(gf) + "\n";
-      family_md << "| " << fam << " | " << n << " | " << methods[m].samples << " | " << fmt(sc->second.mse(), 4) << " | "
-                << fmt(sc->second.ssim(), 4) << " | " << (has_t ? fmt(f / gf, 3) : std::string("-")) << " |\n";
+      family_table.rows.push_back({fam, n, std::to_string(methods[m].samples), fmt(sc->second.mse(), 4),
+                                   fmt(sc->second.ssim(), 4), has_t ? fmt(f / gf, 3) : std::string("-")});
     }
   write_file_atomic((fs::path(out) / "results_by_family.csv").string(), by_family);
   // A method's accumulated form ("+TA") is drawn dashed in the method's own colour.
@@ -418,75 +386,98 @@ inline void evaluate_ao(const EvalAoOptions& o) {
     if (!fnote.empty()) std::fprintf(stderr, "eval-ao: note: %s\n", fnote.c_str());
   }
 
-  // report.md: the table, the paper's two claims checked, the bands, the chart.
+  // report.md and report.html: the table, the paper's two claims checked, the bands, the
+  // charts, and the previews of each method at its best setting.
   auto find = [&](const std::string& n, int s) -> int {
     for (size_t m = 0; m < methods.size(); ++m)
       if (methods[m].name == n && methods[m].samples == s) return int(m);
     return -1;
   };
-  std::ostringstream r;
-  r << "# AO evaluation\n\nData: " << split_note << " — " << views.size() << " views at " << width << "x" << height
-    << ", " << threads << " threads, classical parameters: " << (params_file.empty() ? std::string("built-in") : params_file) << ". Errors over non-sky pixels against the ray-traced `AO` channel; ms per frame is the median over views of the fastest of " << repeat << " runs per view.\n\n"
-    << "![speed vs accuracy](speed_vs_accuracy.svg)\n\n| method | samples | ms/frame | CPU ms/frame | MSE | SSIM | PSNR |\n|---|---|---|---|---|---|---|\n";
+  std::vector<Method> shown;  // each method at its best setting; the accumulated forms need a path's history
+  for (auto& n : order)
+    if (methods[best_setting[n]].run) shown.push_back(methods[best_setting[n]]);
+  const auto comparisons = write_ao_previews(views, previews, shown, out, [&](const std::string& view_file) {
+    int frame = -1;
+    const bool on_path = !camera_path_of(view_file, frame).empty();
+    pattern_seed = o.vary_pattern && on_path ? uint32_t(frame) : 0u;
+  });
+  data::Report r("AO evaluation");
+  r.text("Data: " + split_note + " — " + std::to_string(views.size()) + " views at " + std::to_string(width) + "x" +
+         std::to_string(height) + ", " + std::to_string(threads) + " threads, classical parameters: " +
+         (params_file.empty() ? std::string("built-in") : params_file) +
+         ". Errors over non-sky pixels against the ray-traced `AO` channel; ms per frame is the median over views of "
+         "the fastest of " + std::to_string(repeat) + " runs per view.");
+  if (!comparisons.empty()) {
+    r.heading("Previews").text("The ray-traced AO, each method at its best setting (lowest MSE over all views; the "
+                               "+TA forms are left out: they need a camera path's history) and its error heat-map "
+                               "(black 0, white 0.5), with the view's MSE and SSIM. PNGs in previews/.");
+    for (auto& c : comparisons) r.comparison(c);
+  }
+  r.heading("Speed against accuracy");
+  r.chart("speed_vs_accuracy.svg", "speed vs accuracy", note);
+  data::Table results{{"method", "samples", "ms/frame", "CPU ms/frame", "MSE", "SSIM", "PSNR"}, {}};
   for (size_t m = 0; m < methods.size(); ++m)
-    r << "| " << methods[m].name << " | " << methods[m].samples << " | " << fmt(median(stats[m].ms), 4) << " | "
-      << fmt(median(stats[m].cpu_ms), 4) << " | " << fmt(stats[m].all.mse(), 4) << " | " << fmt(stats[m].all.ssim(), 4) << " | " << fmt(data::psnr_from_mse(stats[m].all.mse()), 4) << " |\n";
-  r << "\n## The paper's claims on this data\n\n";
+    results.rows.push_back({methods[m].name, std::to_string(methods[m].samples), fmt(median(stats[m].ms), 4),
+                            fmt(median(stats[m].cpu_ms), 4), fmt(stats[m].all.mse(), 4), fmt(stats[m].all.ssim(), 4),
+                            fmt(data::psnr_from_mse(stats[m].all.mse()), 4)});
+  r.table(results).heading("The paper's claims on this data");
+  std::vector<std::string> claims;
   int ex = find("NNAO-exact", weights.input.samples());
   if (ex >= 0) {
-    std::vector<std::string> beaten_by;
+    std::string beaten_by;
     for (size_t m = 0; m < methods.size(); ++m)
       if (methods[m].name.rfind("NNAO", 0) != 0 && stats[m].all.mse() <= stats[size_t(ex)].all.mse())
-        beaten_by.push_back(methods[m].name + "@" + std::to_string(methods[m].samples));
-    r << "- NNAO (exact, MSE " << fmt(stats[size_t(ex)].all.mse(), 4) << ") has lower MSE than every classical method at every sample count: **"
-      << (beaten_by.empty() ? "holds" : "does not hold") << "**";
-    if (!beaten_by.empty()) {
-      r << " (not lower than:";
-      for (auto& b : beaten_by) r << " " << b;
-      r << ")";
-    }
-    r << ".\n";
+        beaten_by += " " + methods[m].name + "@" + std::to_string(methods[m].samples);
+    claims.push_back("NNAO (exact, MSE " + fmt(stats[size_t(ex)].all.mse(), 4) +
+                     ") has lower MSE than every classical method at every sample count: **" +
+                     (beaten_by.empty() ? "holds**." : "does not hold** (not lower than:" + beaten_by + ")."));
   }
   int n64 = find("NNAO", 64), h64 = find("HBAO", 64);
   if (n64 >= 0 && h64 >= 0) {
     double nm = median(stats[size_t(n64)].ms), hm = median(stats[size_t(h64)].ms);
     double ne = stats[size_t(n64)].all.mse(), he = stats[size_t(h64)].all.mse();
-    r << "- Shader-style NNAO at 64 samples (" << fmt(nm, 4) << " ms, MSE " << fmt(ne, 4) << ") vs HBAO at 64 (" << fmt(hm, 4)
-      << " ms, MSE " << fmt(he, 4) << "): faster **" << (nm < hm ? "yes" : "no") << "**, more accurate **" << (ne < he ? "yes" : "no") << "**.\n";
+    claims.push_back("Shader-style NNAO at 64 samples (" + fmt(nm, 4) + " ms, MSE " + fmt(ne, 4) + ") vs HBAO at 64 (" +
+                     fmt(hm, 4) + " ms, MSE " + fmt(he, 4) + "): faster **" + (nm < hm ? "yes" : "no") +
+                     "**, more accurate **" + (ne < he ? "yes" : "no") + "**.");
   }
-  r << "\n## Failure bands (MSE)\n\nhalo: within 3 px of a depth discontinuity; border: within 8% of the width of the screen edge; thin: surfaces under 6 px across. See failure_bands.csv.\n\n| method | samples |";
-  for (auto& b : band_names) r << " " << b << " |";
-  r << "\n|---|---|";
-  for (size_t b = 0; b < band_names.size(); ++b) r << "---|";
-  r << "\n";
+  if (claims.empty()) r.text("Not checked: they need NNAO-exact, or NNAO and HBAO at 64 samples.");
+  else r.list(claims);
+  r.heading("Failure bands (MSE)")
+      .text("halo: within 3 px of a depth discontinuity; border: within 8% of the width of the screen edge; thin: "
+            "surfaces under 6 px across. See failure_bands.csv.");
+  data::Table band_table{{"method", "samples"}, {}};
+  for (auto& b : band_names) band_table.header.push_back(b);
   for (size_t m = 0; m < methods.size(); ++m) {
-    r << "| " << methods[m].name << " | " << methods[m].samples << " |";
-    for (auto& b : stats[m].bands) r << " " << fmt(b.mse(), 4) << " |";
-    r << "\n";
+    band_table.rows.push_back({methods[m].name, std::to_string(methods[m].samples)});
+    for (auto& b : stats[m].bands) band_table.rows.back().push_back(fmt(b.mse(), 4));
   }
-  r << "\n## Per family\n\nEach method at its setting of lowest MSE over all views; flicker relative to the ground truth's "
-       "on the family's camera-path frames. See results_by_family.csv.\n\n" << family_md.str();
-  r << "\nPer scene: results_by_scene.csv. CPU ms (process CPU time over all threads, median over views): timing.csv.\n\n"
-    << "## Temporal stability\n\nOn camera-path frames (files `<scene>-pNN-fNNN.exr`), each frame reprojected to the one before it "
-    << "(worldToCamera; disocclusions and off-screen points skipped). flicker = mean |m_t - m_t-1| over the mapped pixels; "
-    << "temporal error = mean |(m_t - m_t-1) - (g_t - g_t-1)| against the ground truth g. See temporal.csv.\n\n";
+  r.table(band_table).heading("Per family");
+  r.text("Each method at its setting of lowest MSE over all views; flicker relative to the ground truth's on the "
+         "family's camera-path frames. See results_by_family.csv.");
+  r.table(family_table);
+  r.text("Per scene: results_by_scene.csv. CPU ms (process CPU time over all threads, median over views): timing.csv.");
+  r.heading("Temporal stability")
+      .text("On camera-path frames (files `<scene>-pNN-fNNN.exr`), each frame reprojected to the one before it "
+            "(worldToCamera; disocclusions and off-screen points skipped). flicker = mean |m_t - m_t-1| over the mapped "
+            "pixels; temporal error = mean |(m_t - m_t-1) - (g_t - g_t-1)| against the ground truth g. See temporal.csv.");
   if (gt_temporal.pairs) {
-    r << "Ground truth flicker " << fmt(gt_temporal.flicker(), 4) << " over " << gt_temporal.pairs << " frame pairs ("
-      << fmt(100 * gt_temporal.coverage(), 3) << "% of pixels mapped).\n\n![flicker vs time](flicker_vs_time.svg)\n\n"
-      << "| method | samples | flicker | relative to ground truth | temporal error |\n|---|---|---|---|---|\n";
+    r.text("Ground truth flicker " + fmt(gt_temporal.flicker(), 4) + " over " + std::to_string(gt_temporal.pairs) +
+           " frame pairs (" + fmt(100 * gt_temporal.coverage(), 3) + "% of pixels mapped).");
+    r.chart("flicker_vs_time.svg", "flicker vs time");
+    data::Table t_table{{"method", "samples", "flicker", "relative to ground truth", "temporal error"}, {}};
     for (size_t m = 0; m < methods.size(); ++m) {
       const auto& t = stats[m].temporal;
-      if (!t.pairs) continue;
-      r << "| " << methods[m].name << " | " << methods[m].samples << " | " << fmt(t.flicker(), 4) << " | "
-        << fmt(t.flicker() / gt_temporal.flicker(), 4) << " | " << fmt(t.error(), 4) << " |\n";
+      if (t.pairs)
+        t_table.rows.push_back({methods[m].name, std::to_string(methods[m].samples), fmt(t.flicker(), 4),
+                                fmt(t.flicker() / gt_temporal.flicker(), 4), fmt(t.error(), 4)});
     }
+    r.table(t_table);
   } else {
-    r << "No camera-path frames in this data, so there is nothing to report (temporal.csv is empty).\n";
+    r.text("No camera-path frames in this data, so there is nothing to report (temporal.csv is empty).");
   }
-  r << "\nPreviews (ground truth, each method at its largest sample count and NNAO at 64, error heat-maps with 0.5 = white): previews/.\n";
-  write_file_atomic((fs::path(out) / "report.md").string(), r.str());
+  r.write(out);
   std::printf("%s", csv.c_str());
-  std::printf("chart: %s%s\nreport: %s\n", chart_path.c_str(), note.empty() ? " (+ .png)" : "", (fs::path(out) / "report.md").string().c_str());
+  std::printf("chart: %s%s\nreport: %s (and report.md)\n", chart_path.c_str(), note.empty() ? " (+ .png)" : "", (fs::path(out) / "report.html").string().c_str());
 }
 
 }  // namespace nns::ao_eval
