@@ -7,7 +7,7 @@
 //                       light of the scenes trained on (least squares in linear HDR)
 // Files in OUT: results.csv (all test frames), results_offscreen.csv (the frames whose
 // directly lit surfaces are off the front view), frames.csv (every frame of every
-// model), results_by_family.csv, report.md, speed_vs_ssim.svg/.png and
+// model), results_by_family.csv, report.md and report.html, speed_vs_ssim.svg/.png and
 // speed_vs_mse_linear.svg/.png, previews/<model>_<frame>_{prediction,truth,error}.png.
 #include <algorithm>
 #include <chrono>
@@ -55,6 +55,7 @@ struct EvalRow {
   // the same pairs, and the temporal error; NaN without camera paths.
   double flicker = NAN, flicker_truth = NAN, temporal_error = NAN;
   int64_t flicker_pairs = 0;
+  std::vector<EvalPreview> previews;  // the frames with preview PNGs
 };
 
 namespace detail {
@@ -115,9 +116,10 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<GiS
                   detail::fmt(m.mse_linear) + "," + detail::fmt(m.psnr_linear) + "," +
                   detail::fmt(m.ssim_linear) + "\n";
     if (previews < o.previews) {
-      write_eval_pngs(o.out + "/previews/" + detail::safe_name(model) + "_" +
-                          detail::safe_name(detail::label_of(s.name)),
-                      p, s.target_linear, hdr);
+      const std::string prefix =
+          "previews/" + detail::safe_name(model) + "_" + detail::safe_name(detail::label_of(s.name));
+      write_eval_pngs(o.out + "/" + prefix, p, s.target_linear, hdr, s.geometry);
+      row.previews.push_back({model + (mode == "-" ? "" : " (" + mode + ")"), detail::label_of(s.name), prefix, m});
       ++previews;
     }
   }
@@ -170,18 +172,17 @@ inline std::string results_csv(const std::vector<EvalRow>& rows, bool offscreen)
   return s;
 }
 
-inline std::string markdown_table(const std::vector<EvalRow>& rows, bool offscreen) {
-  std::string s = "| model | mode | ms/frame | MSE | PSNR | SSIM | MSE (linear) | frames | flicker (x truth) | temporal error |\n"
-                  "|---|---|---|---|---|---|---|---|---|---|\n";
+inline data::Table results_table(const std::vector<EvalRow>& rows, bool offscreen) {
+  data::Table t{{"model", "mode", "ms/frame", "MSE", "PSNR", "SSIM", "MSE (linear)", "frames", "flicker (x truth)",
+                 "temporal error"}, {}};
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
-    s += "| " + r.model + " | " + r.mode + " | " + detail::fmt(r.ms_per_frame, "%.2f") + " | " +
-         detail::fmt(m.mse, "%.5f") + " | " + detail::fmt(m.psnr, "%.2f") + " | " +
-         detail::fmt(m.ssim, "%.4f") + " | " + detail::fmt(m.mse_linear, "%.4g") + " | " +
-         std::to_string(offscreen ? r.offscreen_frames : r.frames) + " | " +
-         detail::fmt(r.flicker / r.flicker_truth, "%.3f") + " | " + detail::fmt(r.temporal_error, "%.4f") + " |\n";
+    t.rows.push_back({r.model, r.mode, detail::fmt(r.ms_per_frame, "%.2f"), detail::fmt(m.mse, "%.5f"),
+                      detail::fmt(m.psnr, "%.2f"), detail::fmt(m.ssim, "%.4f"), detail::fmt(m.mse_linear, "%.4g"),
+                      std::to_string(offscreen ? r.offscreen_frames : r.frames),
+                      detail::fmt(r.flicker / r.flicker_truth, "%.3f"), detail::fmt(r.temporal_error, "%.4f")});
   }
-  return s;
+  return t;
 }
 
 // Per scene family, each row's SSIM and linear MSE: where a model wins and where the
@@ -197,27 +198,24 @@ inline std::string family_csv(const std::vector<EvalRow>& rows) {
   return s;
 }
 
-inline std::string family_markdown(const std::vector<EvalRow>& rows) {
-  if (rows.empty()) return "";
-  std::string s = "| family | frames |", rule = "|---|---|";
-  for (auto& r : rows) s += " " + r.model + " SSIM / MSE lin |", rule += "---|";
-  s += "\n" + rule + "\n";
+inline data::Table family_table(const std::vector<EvalRow>& rows) {
+  data::Table t{{"family", "frames"}, {}};
+  if (rows.empty()) return t;
+  for (auto& r : rows) t.header.push_back(r.model + " SSIM / MSE lin");
   for (auto& [family, mm0] : rows.front().by_family) {
-    s += "| " + family + " | " + std::to_string(mm0.frames) + " |";
+    t.rows.push_back({family, std::to_string(mm0.frames)});
     for (auto& r : rows) {
       auto it = r.by_family.find(family);
       const LightMetrics m = it == r.by_family.end() ? LightMetrics{} : it->second.mean();
-      s += " " + detail::fmt(m.ssim, "%.3f") + " / " + detail::fmt(m.mse_linear, "%.4f") + " |";
+      t.rows.back().push_back(detail::fmt(m.ssim, "%.3f") + " / " + detail::fmt(m.mse_linear, "%.4f"));
     }
-    s += "\n";
   }
-  return s;
+  return t;
 }
 
 // Speed against accuracy, one point per row: ms per frame (log axis) against mapped SSIM
-// and against linear MSE. Returns the chart files' names for report.md.
-inline std::string write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptions& o) {
-  std::string md;
+// and against linear MSE, added to the report.
+inline void write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptions& o, data::Report& report) {
   for (int k = 0; k < 2; ++k) {
     std::vector<data::ChartSeries> series;
     for (auto& r : rows) {
@@ -235,9 +233,8 @@ inline std::string write_speed_charts(const std::vector<EvalRow>& rows, const Ev
     co.log_x = true;
     const std::string name = k == 0 ? "speed_vs_ssim" : "speed_vs_mse_linear";
     const std::string note = data::write_chart(o.out + "/" + name + ".svg", series, co);
-    md += "![" + co.title + "](" + name + ".svg)\n" + (note.empty() ? "" : "(" + note + ")\n");
+    report.chart(name + ".svg", co.title, note);
   }
-  return md;
 }
 
 inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
@@ -316,20 +313,25 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   write_file_atomic(o.out + "/results_offscreen.csv", results_csv(rows, true));
   write_file_atomic(o.out + "/frames.csv", frames_csv);
   write_file_atomic(o.out + "/results_by_family.csv", family_csv(rows));
-  std::string md = "# eval-gi\n\nData: `" + o.data + "`, split " + o.split + " (" + std::to_string(scored->size()) +
-                   " frames, of which " + std::to_string(unlit_frames) + " unlit ones set aside: no light on the front view), test-time BatchNorm: " +
-                   (o.bn_batch_stats ? "batch statistics" : "running statistics") +
-                   ", dropout: " + (o.dropout_on ? "on" : "off") +
-                   ". Metrics in mapped space (Reinhard x/(x+k), [0,1]) over geometry pixels of the "
-                   "front view; MSE (linear) in HDR units. Flicker: on camera paths, each frame reprojected onto the one before "
-                   "(disocclusions skipped), the mean frame-to-frame change in mapped space, relative to the ground truth's "
-                   "on the same pixels (1 = as stable as the truth); temporal error: mean |predicted - true| change.\n\n## All " + o.split + " frames\n\n" +
-                   markdown_table(rows, false) +
-                   "\n## Off-screen-lit frames (front face holds < " + detail::fmt(100 * o.offscreen_share, "%.1f") +
-                   "% of the frame's direct light)\n\n" + markdown_table(rows, true) +
-        "\n## Per scene family (SSIM mapped / MSE linear)\n\n" + family_markdown(rows) +
-        "\n## Speed against accuracy\n\n" + write_speed_charts(rows, o);
-  write_file_atomic(o.out + "/report.md", md);
+  data::Report report("eval-gi");
+  report.text("Data: `" + o.data + "`, split " + o.split + " (" + std::to_string(scored->size()) + " frames, of which " +
+              std::to_string(unlit_frames) + " unlit ones set aside: no light on the front view), test-time BatchNorm: " +
+              (o.bn_batch_stats ? "batch statistics" : "running statistics") + ", dropout: " +
+              (o.dropout_on ? "on" : "off") +
+              ". Metrics in mapped space (Reinhard x/(x+k), [0,1]) over geometry pixels of the "
+              "front view; MSE (linear) in HDR units. Flicker: on camera paths, each frame reprojected onto the one before "
+              "(disocclusions skipped), the mean frame-to-frame change in mapped space, relative to the ground truth's "
+              "on the same pixels (1 = as stable as the truth); temporal error: mean |predicted - true| change.");
+  std::vector<EvalPreview> previews;
+  for (auto& r : rows) previews.insert(previews.end(), r.previews.begin(), r.previews.end());
+  add_eval_previews(report, previews);
+  report.heading("All " + o.split + " frames").table(results_table(rows, false));
+  report.heading("Off-screen-lit frames (front face holds < " + detail::fmt(100 * o.offscreen_share, "%.1f") +
+                 "% of the frame's direct light)").table(results_table(rows, true));
+  report.heading("Per scene family (SSIM mapped / MSE linear)").table(family_table(rows));
+  report.heading("Speed against accuracy");
+  write_speed_charts(rows, o, report);
+  report.write(o.out);
   return rows;
 }
 

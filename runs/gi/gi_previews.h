@@ -2,13 +2,18 @@
 // PNG previews of GI samples and predictions, and the loss chart of a training run.
 // Light is tone-mapped with exposure 1/k (k = the HDR scale), so the data set's median
 // light shows mid-grey whatever the scene's units.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "report/chart.h"
+#include "report/html_report.h"
 #include "report/png_io.h"
+#include "runs/gi/gi_eval.h"
 #include "runs/metrics_log.h"
 #include "models/gi/gi_inputs.h"
 
@@ -19,42 +24,101 @@ inline void write_light_png(const std::string& path, const float* rgb, int w, in
   data::write_png_rgb(path, rgb, rgb + n, rgb + 2 * n, w, h, {.exposure = 1.0f / hdr.scale});
 }
 
-// prefix_{input,prediction,truth,shaded}.png: the input's lumination (direct + emission
-// + env) of the front region, the predicted and true light, and albedo * prediction +
-// emission, the shaded image the screen would show.
+// prefix_{prediction,truth,error}.png; the error is |mapped difference| averaged over
+// the channels on the geometry the metrics score (sky black), the heat map saturating
+// at 0.25.
+inline void write_eval_pngs(const std::string& prefix, const Tensor<float>& pred, const Tensor<float>& truth,
+                            const HdrMapping& hdr, const std::vector<uint8_t>& geometry) {
+  const int h = int(truth.size(1)), w = int(truth.size(2));
+  const int64_t n = int64_t(w) * h;
+  std::vector<float> err(size_t(n), 0.0f);
+  for (int c = 0; c < 3; ++c)
+    for (int64_t i = 0; i < n; ++i)
+      if (geometry[size_t(i)]) err[size_t(i)] += std::abs(hdr.to_unit(pred[c * n + i]) - hdr.to_unit(truth[c * n + i])) / 3;
+  write_light_png(prefix + "_prediction.png", pred.data(), w, h, hdr);
+  write_light_png(prefix + "_truth.png", truth.data(), w, h, hdr);
+  data::write_png_heatmap(prefix + "_error.png", err.data(), w, h, 0.25f);
+}
+
+// prefix_{input,prediction,truth,error,shaded}.png: the input's lumination (direct +
+// emission + env) of the front region, the predicted and true light and the error
+// (write_eval_pngs), and albedo * prediction + emission, the shaded image the screen
+// would show.
 inline void write_sample_pngs(const std::string& prefix, const GiSample& s, const Tensor<float>& pred_tanh,
                               const HdrMapping& hdr) {
   const int h = int(s.front.h), w = int(s.front.w);
   const int64_t n = int64_t(w) * h;
-  std::vector<float> input(size_t(3 * n)), pred(size_t(3 * n)), shaded(size_t(3 * n));
+  std::vector<float> input(size_t(3 * n)), shaded(size_t(3 * n));
+  Tensor<float> pred({3, h, w});
   const int64_t H = s.input.size(2), W = s.input.size(3);
   for (int c = 0; c < 3; ++c)
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const int64_t i = c * n + y * w + x;
         input[size_t(i)] = hdr.from_tanh(s.input[((7 + c) * H + s.front.y0 + y) * W + s.front.x0 + x]);
-        pred[size_t(i)] = hdr.from_tanh(pred_tanh[i]);
-        shaded[size_t(i)] = s.albedo[i] * pred[size_t(i)] + s.emission[i];
+        pred[i] = hdr.from_tanh(pred_tanh[i]);
+        shaded[size_t(i)] = s.albedo[i] * pred[i] + s.emission[i];
       }
   write_light_png(prefix + "_input.png", input.data(), w, h, hdr);
-  write_light_png(prefix + "_prediction.png", pred.data(), w, h, hdr);
-  write_light_png(prefix + "_truth.png", s.target_linear.data(), w, h, hdr);
+  write_eval_pngs(prefix, pred, s.target_linear, hdr, s.geometry);
   write_light_png(prefix + "_shaded.png", shaded.data(), w, h, hdr);
 }
 
-// prefix_{prediction,truth,error}.png; the error is |mapped difference| averaged over
-// the channels, the heat map saturating at 0.25.
-inline void write_eval_pngs(const std::string& prefix, const Tensor<float>& pred, const Tensor<float>& truth,
-                            const HdrMapping& hdr) {
-  const int h = int(truth.size(1)), w = int(truth.size(2));
-  const int64_t n = int64_t(w) * h;
-  std::vector<float> err(size_t(n), 0.0f);
-  for (int c = 0; c < 3; ++c)
-    for (int64_t i = 0; i < n; ++i)
-      err[size_t(i)] += std::abs(hdr.to_unit(pred[c * n + i]) - hdr.to_unit(truth[c * n + i])) / 3;
-  write_light_png(prefix + "_prediction.png", pred.data(), w, h, hdr);
-  write_light_png(prefix + "_truth.png", truth.data(), w, h, hdr);
-  data::write_png_heatmap(prefix + "_error.png", err.data(), w, h, 0.25f);
+// A frame eval-gi wrote previews of (write_eval_pngs) for one row of its table.
+struct EvalPreview {
+  std::string model, frame;  // the row's label, the frame's
+  std::string prefix;        // "previews/<model>_<frame>", relative to the report
+  LightMetrics metrics;      // this frame's
+};
+
+// One image comparison per frame, in the order the frames were scored: the truth, then
+// each row's prediction and its error heat-map, with the frame's numbers.
+inline void add_eval_previews(data::Report& report, const std::vector<EvalPreview>& previews) {
+  std::vector<data::Comparison> frames;
+  for (auto& p : previews) {
+    auto c = std::find_if(frames.begin(), frames.end(), [&](const data::Comparison& f) { return f.title == p.frame; });
+    if (c == frames.end()) {
+      frames.push_back({p.frame, {{"ray-traced light (truth)", p.prefix + "_truth.png", ""}}});
+      c = frames.end() - 1;
+    }
+    char numbers[96];
+    std::snprintf(numbers, sizeof numbers, "SSIM %.3f, MSE %.4f (mapped), MSE %.4g (linear)", p.metrics.ssim,
+                  p.metrics.mse, p.metrics.mse_linear);
+    c->images.push_back({p.model, p.prefix + "_prediction.png", numbers});
+    c->images.push_back({p.model + ": error", p.prefix + "_error.png",
+                         std::string(numbers) + "; |mapped difference| black 0, white 0.25"});
+  }
+  if (frames.empty()) return;
+  report.heading("Previews")
+      .text("The ray-traced light (truth), each row's prediction and its error heat-map "
+            "(|difference| in mapped space, averaged over the channels), tone-mapped with exposure 1/k (k = the HDR "
+            "scale). PNGs in previews/.");
+  for (auto& f : frames) report.comparison(std::move(f));
+}
+
+// train-gan's samples on its report: the first and the last step that wrote them (a
+// resumed run's earlier samples included), each a comparison of its five images.
+inline void add_sample_comparisons(data::Report& report, const std::string& out, int sample_every, int64_t steps) {
+  if (sample_every <= 0 || steps < sample_every) return;
+  std::vector<int64_t> shown = {sample_every};
+  if (steps / sample_every > 1) shown.push_back(steps / sample_every * sample_every);
+  bool heading = false;
+  for (int64_t step : shown) {
+    const std::string prefix = "samples/step" + std::to_string(step);
+    if (!std::filesystem::exists(out + "/" + prefix + "_error.png")) continue;
+    if (!heading)
+      report.heading("Samples").text("A training frame at the first and the last step that drew one: the "
+                                     "ray-traced light, the generator's prediction and its error (|mapped "
+                                     "difference|, black 0, white 0.25), the input's direct light and the shaded "
+                                     "image (albedo x prediction + emission). More in samples/.");
+    heading = true;
+    report.comparison({"step " + std::to_string(step),
+                       {{"ray-traced light (truth)", prefix + "_truth.png", ""},
+                        {"prediction", prefix + "_prediction.png", ""},
+                        {"error", prefix + "_error.png", ""},
+                        {"input: direct + emission + env", prefix + "_input.png", ""},
+                        {"shaded: albedo x prediction + emission", prefix + "_shaded.png", ""}}});
+  }
 }
 
 // OUT/loss.svg and .png from the run's metrics log: the D loss, G's adversarial loss and
