@@ -8,7 +8,8 @@
 //     seed, batch, data or model is refused, naming every value that changed;
 //   - the order of the end-of-epoch writes: outputs first, then the checkpoint, so a
 //     run killed in between redoes the epoch on resume (never an output left behind);
-//   - the non-finite stop (NonFiniteError) and summary.json, the final report.
+//   - the non-finite stop (NonFiniteError), summary.json, and report.md / report.html
+//     (runs/run_report.h) for the people who look.
 //
 //   TrainingRun run(spec, ck);               // folder, log; on resume: ck restored
 //   for (int64_t e = run.epochs_done(); e < epochs; ++e) {
@@ -33,6 +34,7 @@
 #include "optim/checkpoint.h"
 #include "runs/metrics_log.h"
 #include "runs/non_finite.h"
+#include "runs/run_report.h"
 
 namespace nns::runs {
 
@@ -106,15 +108,19 @@ class TrainingRun {
     ck_.save(path(spec_.checkpoint_name), meta);
   }
 
-  // summary.json: how the run ended, and the trainer's own figures. Returns the exit
+  // summary.json and the report: how the run ended, and the trainer's own figures;
+  // add_to_report puts the trainer's charts and images on the page. Returns the exit
   // status: 0 finished, 3 stopped on a non-finite value.
-  int finish(const std::string& stop_message, const std::vector<std::pair<std::string, double>>& figures) {
+  int finish(const std::string& stop_message, const std::vector<std::pair<std::string, double>>& figures,
+             const std::function<void(data::Report&)>& add_to_report = {}) {
     const bool finished = stop_message.empty();
     std::string js = "{\"finished\":" + std::string(finished ? "true" : "false") +
                      ",\"stop\":" + json_string(stop_message) + ",\"epochs_done\":" + std::to_string(epochs_done_) +
                      ",\"steps\":" + std::to_string(step_);
     for (auto& [k, v] : figures) js += ",\"" + k + "\":" + json_number(v);
     write_file_atomic(path("summary.json"), js + "}\n");
+    training_report({spec_.app, stop_message, epochs_done_, step_, figures}, log_.records(), spec_.config, add_to_report)
+        .write(spec_.out);
     return finished ? 0 : 3;
   }
 

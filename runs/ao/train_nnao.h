@@ -363,7 +363,11 @@ inline TrainResult train_nnao(const TrainOptions& o) {
                                     {"step_microseconds", res.step_microseconds},
                                     {"build_seconds", res.build_seconds},
                                     {"epoch_seconds", res.epoch_seconds},
-                                    {"seconds", res.seconds}});
+                                    {"seconds", res.seconds}},
+                              [&](data::Report& r) {
+                                if (fs::exists(run.path("loss.svg")))
+                                  r.chart("loss.svg", "train loss and test MSE per epoch");
+                              });
   return res;
 }
 

@@ -10,8 +10,9 @@
 //   D.blob            the discriminator alone (--loss gan), with G.blob: tools/nnshade_torch.py
 //   metrics.jsonl     one line per `log_every` steps: step, epoch, lr, losses, seconds
 //   loss.svg/.png     D and G losses over steps
-//   samples/          step<N>_{input,prediction,truth,shaded}.png every `sample_every` steps
+//   samples/          step<N>_{input,prediction,truth,error,shaded}.png every `sample_every` steps
 //   summary.json      how the run ended (finished | non-finite), D-wins windows, timing
+//   report.md/.html   the run for people: losses, the first and last samples, figures
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -146,7 +147,11 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   r.seconds = bar.elapsed_seconds();
   run.finish(r.stop_message, {{"seconds", r.seconds}, {"d_wins_windows", double(r.d_wins_windows)},
                               {"first_d_wins_step", double(r.first_d_wins_step)},
-                              {"g_parameters", double(t.G.parameter_count())}});
+                              {"g_parameters", double(t.G.parameter_count())}},
+             [&](data::Report& report) {
+               if (std::filesystem::exists(run.path("loss.svg"))) report.chart("loss.svg", "D and G losses per step");
+               add_sample_comparisons(report, o.out, o.sample_every, t.step());
+             });
   return r;
 }
 
