@@ -138,10 +138,10 @@ std::string style(size_t max_images) {
       "figure{margin:8px 0 16px}figure.chart img{max-width:100%;height:auto;border:1px solid #e4e4ea}"
       "figcaption{font-size:13px;color:#555}"
       ".cmp{border:1px solid #d0d0d7;border-radius:6px;padding:6px 12px 12px;margin:12px 0}"
-      ".cmp h3{font-size:15px;margin:4px 0 8px}"
+      ".cmp h3{font-size:15px;margin:4px 0 2px}.hint{font-size:12px;color:#666;margin:0 0 6px}"
       ".cmp>input{position:absolute;opacity:0;width:1px;height:1px}"
       ".stage>figure{display:none;margin:0 0 8px}"
-      ".stage img{width:min(100%,640px);height:auto;image-rendering:pixelated;background:#000}"
+      ".stage img{width:min(100%,512px);height:auto;image-rendering:pixelated;background:#000}"
       ".thumbs{display:flex;flex-wrap:wrap;gap:6px}"
       ".thumbs label{cursor:pointer;width:132px;font-size:12px;line-height:1.3;border:2px solid transparent;"
       "border-radius:4px;padding:2px}"
@@ -188,7 +188,8 @@ std::string comparison_html(const Comparison& c, size_t index) {
     thumbs += "<label for=\"" + id + "\"><img src=\"" + src + "\" alt=\"\">" + label +
               (numbers.empty() ? "" : "<br>" + numbers) + "</label>";
   }
-  return "<section class=\"cmp\"><h3>" + html_escape(c.title) + "</h3>" + inputs + "<div class=\"stage\">" + stage +
+  return "<section class=\"cmp\"><h3>" + html_escape(c.title) + "</h3><p class=\"hint\">Click a thumbnail to show it " +
+         "large; the arrow keys then flip through them.</p>" + inputs + "<div class=\"stage\">" + stage +
          "</div><div class=\"thumbs\">" + thumbs + "</div></section>\n";
 }
 
