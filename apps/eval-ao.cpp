@@ -6,7 +6,7 @@
 // DIR is a split folder or a flat folder; a dataset root with train/ + test/ means its
 // test/ split, and its holdout/ split (whole families never trained on) goes to OUT/holdout
 // with the same files. Writes results.csv, results_by_scene.csv, failure_bands.csv,
-// temporal.csv, timing.csv, speed_vs_accuracy.svg/.png, previews/ and report.md.
+// temporal.csv, timing.csv, speed_vs_accuracy.svg/.png, previews/, report.md and report.html.
 // Temporal stability is measured on camera-path frames (files "<scene>-pNN-fNNN.exr", or
 // surround frame folders of that name, as render-dataset --path-frames writes them),
 // reprojected: classical_ao/temporal.h.

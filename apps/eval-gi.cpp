@@ -3,7 +3,7 @@
 //
 //   eval-gi --data DIR --model runs/surround/G.blob --model runs/front/G.blob --out eval
 // writes eval/results.csv (model,mode,ms_per_frame,mse,psnr,ssim,...), results_offscreen.csv,
-// frames.csv, report.md and previews/. See docs/gan.md.
+// frames.csv, report.md, report.html and previews/. See docs/gan.md.
 #include <cstdio>
 
 #include "apps/args.h"
@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
     set_num_threads(threads);
     auto rows = gi::evaluate_gi(o);
     std::printf("%s", gi::results_csv(rows, false).c_str());
-    std::printf("eval-gi: report %s/report.md\n", o.out.c_str());
+    std::printf("eval-gi: report %s/report.html (and report.md)\n", o.out.c_str());
     return 0;
   });
 }

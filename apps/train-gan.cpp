@@ -145,13 +145,13 @@ int main(int argc, char** argv) {
     e.dropout_on = test_dropout == "on";
     e.max_frames = max_items;
     evaluate_gi(e);
-    std::printf("train-gan: report %s/report.md, chart %s/speed_vs_ssim.png (results.csv, previews/ beside them)\n",
-                e.out.c_str(), e.out.c_str());
+    std::printf("train-gan: training %s/report.html; evaluation %s/report.html, chart %s/speed_vs_ssim.png "
+                "(report.md, results.csv, previews/ beside them)\n", out.c_str(), e.out.c_str(), e.out.c_str());
     if (listing.has_holdout) {
       e.split = "holdout";
       e.out = out + "/eval/holdout";
       evaluate_gi(e);
-      std::printf("train-gan: held-out families %s/report.md, chart %s/speed_vs_ssim.png\n", e.out.c_str(),
+      std::printf("train-gan: held-out families %s/report.html, chart %s/speed_vs_ssim.png\n", e.out.c_str(),
                   e.out.c_str());
     }
     return 0;

@@ -78,8 +78,8 @@ int main(int argc, char** argv) {
                 (long long)r.train_points, (long long)r.test_points, (long long)r.steps, r.step_microseconds,
                 r.step_microseconds > 0 ? 1e6 * o.batch / r.step_microseconds : 0.0, mse, r.seconds,
                 r.build_seconds, r.epoch_seconds);
-    std::printf("model: %s/nnao.blob  metrics: %s/metrics.jsonl  chart: %s/loss.svg\n", o.out_dir.c_str(),
-                o.out_dir.c_str(), o.out_dir.c_str());
+    std::printf("model: %s/nnao.blob  metrics: %s/metrics.jsonl  chart: %s/loss.svg  report: %s/report.html\n",
+                o.out_dir.c_str(), o.out_dir.c_str(), o.out_dir.c_str(), o.out_dir.c_str());
     return 0;
   });
 }
