@@ -243,10 +243,13 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   fs::create_directories(o.out + "/previews");
   auto listing = data::list_dataset(o.data);
   if (listing.flat) listing = data::split_flat_by_scene(listing, 0.2);
+  // Every model read once, before any frame: a bad blob stops the run at once.
+  std::vector<LoadedGenerator> generators;
+  for (const auto& path : o.models) generators.push_back(load_generator(path));
   // The ambient term is fitted on the scenes the models trained on: train/ without the
   // validation scenes the first model's run carved out (the models of one table are
   // trained on the same data, so they share them).
-  const double val_fraction = load_generator(o.models.front()).inputs.validation_fraction;
+  const double val_fraction = generators.front().inputs.validation_fraction;
   auto [fit_split, validation] = data::hold_out_validation(listing.train, val_fraction);
   const data::SplitListing* scored = &listing.test;
   if (o.split == "validation") {
@@ -270,8 +273,9 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   // One mapping scores every row, or mapped-space numbers would not compare: the first
   // model's (models trained on the same split fit the same scale).
   std::optional<HdrMapping> metric_hdr;
-  for (const auto& path : o.models) {
-    LoadedGenerator g = load_generator(path);
+  for (size_t m = 0; m < o.models.size(); ++m) {
+    const std::string& path = o.models[m];
+    LoadedGenerator& g = generators[m];
     const GiInputConfig& cfg = g.inputs;
     GiItemReader rd{cfg.mode, cfg.size};
     auto test = load_samples(*scored, rd, cfg, o.max_frames, "eval-gi " + detail::label_of(path), o.quiet);

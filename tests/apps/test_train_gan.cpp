@@ -185,6 +185,7 @@ TEST_F(TrainGan, EvalGiRefusesABlobWithABadConfig) {
       {{"arch", "bogus"}, "unknown generator architecture 'bogus'"},
       {{"residual", "sideways"}, "unknown residual mode 'sideways'"},
       {{"light_max", "nan"}, "is not a positive finite number"},
+      {{"validation_fraction", "1.5"}, "validation_fraction 1.500000 is not in [0, 1)"},
   };
   for (auto [kv, message] : cases) {
     SCOPED_TRACE(kv.first);
