@@ -55,11 +55,10 @@ class GiTrainData {
     GiInputConfig cfg;
     size_t n = 0;
     GiSample current;
+    // Declared after what the prefetch reads: a std::async future's destructor waits for
+    // its task, so the read finishes before split/rd/cfg go away.
     std::optional<std::future<GiSample>> ahead;
     size_t ahead_index = 0;
-    ~Stream() {
-      if (ahead && ahead->valid()) ahead->wait();
-    }
   };
   std::vector<GiSample> samples_;
   std::unique_ptr<Stream> stream_;
