@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 
 #include "core/rng.h"
 #include "examples/nnao_gl/headless_gl.h"
@@ -33,9 +34,7 @@ namespace {
 // docs/nnao.md).
 constexpr float kTolerance = 1e-5f;
 
-// Never destroyed: eglTerminate would unload Mesa's driver before LeakSanitizer looks,
-// and its few bytes of state would then be reported as leaks no suppression can name.
-gl::HeadlessGl* g_context = nullptr;
+std::unique_ptr<gl::HeadlessGl> g_context;
 std::string g_context_error;
 
 class NnaoGlsl : public ::testing::Test {
@@ -44,7 +43,7 @@ class NnaoGlsl : public ::testing::Test {
     if (g_context || !g_context_error.empty()) return;
     setenv("LIBGL_ALWAYS_SOFTWARE", "1", 0);  // Mesa on the CPU, also where a GPU exists
     try {
-      g_context = new gl::HeadlessGl();
+      g_context = std::make_unique<gl::HeadlessGl>();
       std::printf("OpenGL renderer: %s\n", g_context->renderer().c_str());
     } catch (const std::exception& e) {
       g_context_error = e.what();
