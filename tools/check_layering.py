@@ -28,6 +28,8 @@ ALLOWED = {
     "benchmarks": {"core", "nn", "optim", "data", "render", "report", "screen_space", "classical_ao", "models",
                    "runs", "fixtures"},
     "fuzz": {"core", "nn", "optim", "data", "render", "report", "screen_space", "classical_ao", "models", "runs"},
+    # An engine's view of the exported shaders: the files and the G-buffer, never the model code.
+    "examples": {"core", "data", "screen_space", "apps"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 

@@ -18,11 +18,9 @@
 #include "examples/nnao_gl/nnao_gl.h"
 #include "fixtures/random_nnao_blob.h"
 #include "models/nnao/nnao_inference.h"
-#include "render/placement.h"
-#include "render/render_view.h"
-#include "render/scenes/families.h"
 #include "runs/ao/nnao_export.h"
 #include "tests/gl/edge_samples.h"
+#include "tests/gl/rendered_view.h"
 
 namespace fs = std::filesystem;
 using namespace nns;
@@ -58,23 +56,6 @@ class NnaoGlsl : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   fs::path dir_;
 };
-
-// A family scene through the ground-truth renderer: depth and normals as the datasets
-// hold them (AO rays are not needed: one per pixel).
-const data::View& rendered_view() {
-  static const data::View v = [] {
-    data::Scene s = data::make_family_scene("room", 1, 3);
-    data::RayTracer rt(s);
-    Rng rng(5);
-    data::Camera cam = data::place_camera(rt, 160, 90, 60, rng);
-    data::RenderSettings rs;
-    rs.lighting = false;
-    rs.ao_spp = 1;
-    rs.seed = 2;
-    return data::render_view(rt, cam, rs, 1);
-  }();
-  return v;
-}
 
 nnao::NnaoWeights export_model(const Blob& blob, const fs::path& dir, int samples) {
   const nnao::NnaoWeights m = nnao::NnaoWeights::from_blob(blob);
@@ -161,10 +142,10 @@ Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, const data::V
 TEST_F(NnaoGlsl, GridModelMatchesTheCpuShaderStylePath) {
   using fixtures::random_nnao_blob, fixtures::spread_nnao_outputs;
   const auto m4 = export_model(spread_nnao_outputs(random_nnao_blob(31, 4, 21), 40, 0.5f), dir_ / "h4", 64);
-  check_passes(m4, dir_ / "h4", rendered_view(), 64, 0, "grid w31 h4, 64 samples, frame 0");
-  check_passes(m4, dir_ / "h4", rendered_view(), 128, 7, "grid w31 h4, 128 samples, frame 7");
+  check_passes(m4, dir_ / "h4", test::rendered_view(), 64, 0, "grid w31 h4, 64 samples, frame 0");
+  check_passes(m4, dir_ / "h4", test::rendered_view(), 128, 7, "grid w31 h4, 128 samples, frame 7");
   const auto m8 = export_model(spread_nnao_outputs(random_nnao_blob(15, 8, 22), 40, 0.5f), dir_ / "h8", 64);
-  check_passes(m8, dir_ / "h8", rendered_view(), 32, 3, "grid w15 h8, 32 samples, frame 3");
+  check_passes(m8, dir_ / "h8", test::rendered_view(), 32, 3, "grid w15 h8, 32 samples, frame 3");
 }
 
 // The default model's shape: 16 directions x 8 steps in 4 bands, hidden 16.
@@ -172,14 +153,14 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
   const fixtures::HorizonShape shape{16, 8, 4};
   const Blob blob = fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(0, 16, 23, false, shape), 20, -0.3f);
   const auto m = export_model(blob, dir_, 64);
-  check_passes(m, dir_, rendered_view(), 0, 0, "horizon d16 s8 b4 h16");
+  check_passes(m, dir_, test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16");
 }
 
 // The comparison catches what an engine could get wrong: a filter atlas transposed, a
 // G-buffer uploaded upside down, normals with x and y swapped, the wrong frame's pattern.
 TEST_F(NnaoGlsl, AWronglyBoundInputIsCaught) {
   const auto m = export_model(fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(31, 4, 21), 40, 0.5f), dir_, 64);
-  const data::View& v = rendered_view();
+  const data::View& v = test::rendered_view();
   const ao::GBuffer g = ao::gbuffer_from_view(v);
   std::vector<float> cpu(size_t(g.pixels()));
   nnao::infer_shader_style(m, g, 64, cpu.data(), /*blur=*/false, /*seed=*/0);
