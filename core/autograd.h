@@ -47,6 +47,11 @@ struct Node {
   Tensor<T> value;
   Tensor<T> grad;  // undefined until something accumulates into it
   std::vector<std::shared_ptr<Node<T>>> parents;
+  // Which parents wanted a gradient when the op was recorded (PyTorch's rule: the graph's
+  // edges are fixed then). Reading parents[i]->requires_grad at backward time instead let
+  // a GAN's discriminator, frozen while G's adversarial loss was recorded and unfrozen
+  // before G's backward, receive G's gradient too (it was trained to call fakes real).
+  std::vector<char> parent_wants_grad;
   // Reads this->grad and accumulates into parents[i]->grad_buffer(). It receives the
   // node by reference and must not capture it (a closure owning its node would leak).
   std::function<void(Node<T>&)> backward;
@@ -120,6 +125,7 @@ class Var {
       // Free what the op saved and its gradient: the graph is used once.
       n.backward = nullptr;
       n.parents.clear();
+      n.parent_wants_grad.clear();
       n.grad = Tensor<T>();
     }
   }
@@ -135,7 +141,8 @@ class Var {
       auto& [n, next] = stack.back();
       if (next < n->parents.size()) {
         const auto& p = n->parents[next++];
-        if (p && p->requires_grad && visited.insert(p.get()).second) stack.push_back({p, 0});
+        if (p && n->parent_wants_grad[next - 1] && visited.insert(p.get()).second)
+          stack.push_back({p, 0});
       } else {
         order.push_back(std::move(n));
         stack.pop_back();
@@ -162,7 +169,11 @@ Var<T> make_result(Tensor<T> value, std::vector<Var<T>> parents, const char* op,
   auto& node = *out.node();
   node.requires_grad = true;
   node.parents.reserve(parents.size());
-  for (auto& p : parents) node.parents.push_back(p.node());
+  node.parent_wants_grad.reserve(parents.size());
+  for (auto& p : parents) {
+    node.parents.push_back(p.node());
+    node.parent_wants_grad.push_back(p.requires_grad());
+  }
   node.backward = std::forward<Backward>(backward);
   return out;
 }
@@ -170,7 +181,7 @@ Var<T> make_result(Tensor<T> value, std::vector<Var<T>> parents, const char* op,
 // True if parent i of a node wants a gradient (saves work in backward functions).
 template <class T>
 inline bool wants_grad(const Node<T>& n, size_t i) {
-  return i < n.parents.size() && n.parents[i] && n.parents[i]->requires_grad;
+  return i < n.parents.size() && n.parents[i] && n.parent_wants_grad[i];
 }
 
 }  // namespace nns

@@ -350,3 +350,28 @@ TEST_F(TrainGan, StreamedFramesTrainBitwiseLikeFramesInMemory) {
   EXPECT_NE(read_all(tight + ".log").find("streamed from disk"), std::string::npos);
   EXPECT_EQ(read_all(mem + "/G.blob"), read_all(tight + "/G.blob"));
 }
+
+// The discriminator-collapse watch, end to end. With G all but frozen (--lr 1e-9) and
+// D's rate 10x pix2pix's, D separates real from generated pairs: its loss falls to ~0
+// while G's adversarial loss climbs. The trainer must say so on stderr and in
+// summary.json, and go on to the end (it reports; the remedy is the user's). The same
+// run at pix2pix's rates stays silent. Before autograd fixed the graph's edges when an
+// op is recorded, D also received G's adversarial gradient, was held at D(fake) = 2/3
+// and could never win: this test failed (D loss ~0.6).
+TEST_F(TrainGan, DiscriminatorWatchFiresWhenDWinsOutright) {
+  const std::string won = (root_ / "dwins").string(), calm = (root_ / "dcalm").string();
+  // 3 frames x 70 epochs = 210 steps: two full 100-step windows.
+  ASSERT_EQ(run(train_cmd(won, "--lr 1e-9 --lr-d 0.002 --epochs 70"), won + ".log"), 0) << read_all(won + ".log");
+  const std::string log = read_all(won + ".log");
+  EXPECT_NE(log.find("warning: the discriminator wins outright at step 200"), std::string::npos) << log;
+  EXPECT_NE(log.find("the discriminator won outright in 1 windows"), std::string::npos) << log;
+  const std::string summary = read_all(won + "/summary.json");
+  EXPECT_NE(summary.find("\"d_wins_windows\":1"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"first_d_wins_step\":200"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"finished\":true"), std::string::npos) << summary;
+  EXPECT_TRUE(fs::exists(won + "/G.blob"));
+
+  ASSERT_EQ(run(train_cmd(calm, "--epochs 70"), calm + ".log"), 0) << read_all(calm + ".log");
+  EXPECT_EQ(read_all(calm + ".log").find("wins outright"), std::string::npos) << read_all(calm + ".log");
+  EXPECT_NE(read_all(calm + "/summary.json").find("\"d_wins_windows\":0"), std::string::npos);
+}

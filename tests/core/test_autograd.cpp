@@ -22,6 +22,27 @@ TEST(Autograd, NoGradGuardRecordsNothing) {
   EXPECT_FALSE(y.requires_grad());
 }
 
+// A leaf frozen when an op is recorded gets no gradient from that op, even if it is
+// unfrozen before backward (PyTorch's rule). The GAN trainer freezes D while G's
+// adversarial loss is recorded and unfreezes it before G's backward: reading the flag at
+// backward time gave D the generator's gradient (docs/gan.md, "The bug that held D").
+TEST(Autograd, RequiresGradIsReadWhenTheOpIsRecorded) {
+  Var<double> x(Tensor<double>::from({1, 1}, {2.0}), true);
+  Var<double> w(Tensor<double>::from({1, 1}, {3.0}), false);
+  auto y = linear(x, w);
+  w.set_requires_grad(true);
+  y.backward();
+  EXPECT_DOUBLE_EQ(x.grad()[0], 3.0);
+  EXPECT_FALSE(w.grad().defined()) << "w was frozen when linear() was recorded";
+  // And the other way: a leaf that wanted a gradient at record time gets it.
+  Var<double> v(Tensor<double>::from({1, 1}, {5.0}), true);
+  auto z = linear(x, v);
+  v.set_requires_grad(false);
+  z.backward();
+  ASSERT_TRUE(v.grad().defined());
+  EXPECT_DOUBLE_EQ(v.grad()[0], 2.0);
+}
+
 TEST(Autograd, DeepChainDoesNotOverflowTheStack) {
   Var<double> w(Tensor<double>::from({1, 1}, {1.0}), true);
   Var<double> h(Tensor<double>::from({1, 1}, {1.0}));
