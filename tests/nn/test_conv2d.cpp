@@ -7,6 +7,7 @@
 #include "nn/conv2d.h"
 #include "nn/functional/conv2d.h"
 #include "tests/support/gradcheck.h"
+#include "core/kernels/gemm_precision.h"
 #include "tests/support/kernel_pair_check.h"
 
 using namespace nns;
@@ -183,4 +184,36 @@ TEST(Conv2d, BadArgumentsAreNamed) {
   Var<float> w5(randn_float({2, 3, 5, 5}, rng));
   EXPECT_THROW(conv2d(x, w5), std::invalid_argument);  // kernel larger than the input
   EXPECT_THROW(Conv2d<float>(rng, 3, 4, 3, 1, 0, true, 1, 2), std::invalid_argument);
+}
+
+// Precision::bf16: the three products take bf16 operands through every path (im2col,
+// implicit GEMM, packed A, skinny and tiny shapes), so the result is the reference's on
+// rounded x, w and dy, up to fp32 summation. Unrounded operands would be ~1e-2 off.
+TEST(Conv2d, Bf16MatchesReferenceOnRoundedOperands) {
+  const ScopedGemmPrecision bf16(Precision::bf16);
+  Rng rng(2);
+  for (size_t i = 0; i < std::size(kCases); ++i) {
+    const Case& c = kCases[i];
+    SCOPED_TRACE("case " + std::to_string(i));
+    ConvGeometry g = geometry_of(c);
+    LayerBuffers in = random_buffers(g, rng);
+      if (g.cout_g() == 1) continue;  // conv2d_direct.h: no GEMM, stays fp32
+    const auto fast = run_fast(in, g);
+    const auto ref = forward_backward<double>(
+        bf16_operands(in), [&](auto... a) { conv2d_forward_reference(a..., g); },
+        [&](auto... a) { conv2d_backward_reference(a..., g); });
+    for (int k = 0; k < 3; ++k) expect_close(fast[k], ref[k], kLayerOutputNames[k]);
+  }
+}
+
+TEST(Conv2d, Bf16OneAndTwoThreadsAgreeBitwise) {
+  const ScopedGemmPrecision bf16(Precision::bf16);
+  expect_same_bits_on_1_and_2_threads(3, [](Rng& rng) {
+    std::vector<std::array<Tensor<float>, 4>> out;
+    for (const Case& c : kCases) {
+      ConvGeometry g = geometry_of(c);
+      out.push_back(run_fast(random_buffers(g, rng), g));
+    }
+    return out;
+  });
 }

@@ -9,6 +9,7 @@
 #include "nn/functional/conv2d.h"
 #include "nn/functional/conv_transpose2d.h"
 #include "tests/support/gradcheck.h"
+#include "core/kernels/gemm_precision.h"
 #include "tests/support/kernel_pair_check.h"
 
 using namespace nns;
@@ -197,4 +198,35 @@ TEST(ConvTranspose2d, BadArgumentsAreNamed) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("output_padding"), std::string::npos);
   }
+}
+
+// Precision::bf16: the three products take bf16 operands through every path (im2col,
+// implicit GEMM, packed A, skinny and tiny shapes), so the result is the reference's on
+// rounded x, w and dy, up to fp32 summation. Unrounded operands would be ~1e-2 off.
+TEST(ConvTranspose2d, Bf16MatchesReferenceOnRoundedOperands) {
+  const ScopedGemmPrecision bf16(Precision::bf16);
+  Rng rng(2);
+  for (size_t i = 0; i < std::size(kCases); ++i) {
+    const Case& c = kCases[i];
+    SCOPED_TRACE("case " + std::to_string(i));
+    ConvGeometry g = geometry_of(c);
+    LayerBuffers in = random_buffers(c, g, rng);
+    const auto fast = run_fast(in, g);
+    const auto ref = forward_backward<double>(
+        bf16_operands(in), [&](auto... a) { conv_transpose2d_forward_reference(a..., g); },
+        [&](auto... a) { conv_transpose2d_backward_reference(a..., g); });
+    for (int k = 0; k < 3; ++k) expect_close(fast[k], ref[k], kLayerOutputNames[k]);
+  }
+}
+
+TEST(ConvTranspose2d, Bf16OneAndTwoThreadsAgreeBitwise) {
+  const ScopedGemmPrecision bf16(Precision::bf16);
+  expect_same_bits_on_1_and_2_threads(3, [](Rng& rng) {
+    std::vector<std::array<Tensor<float>, 4>> out;
+    for (const Case& c : kCases) {
+      ConvGeometry g = geometry_of(c);
+      out.push_back(run_fast(random_buffers(c, g, rng), g));
+    }
+    return out;
+  });
 }

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <vector>
 
+#include "core/kernels/bf16.h"
 #include "core/rng.h"
 #include "core/tensor.h"
 
@@ -51,6 +52,16 @@ std::array<Tensor<T>, 4> forward_backward(const LayerBuffers& in, Fwd fwd, Bwd b
   auto db = Tensor<T>::full(in.b.shape(), T(1));
   bwd(dx.data(), dw.data(), db.data(), dy.data(), x.data(), w.data());
   return {std::move(y), std::move(dx), std::move(dw), std::move(db)};
+}
+
+// The buffers with x, w and dy rounded to bf16: the operands of a layer's three products
+// (forward, input and weight gradients) as Precision::bf16 feeds them to the GEMM. The
+// bias and the bias gradient (a sum of dy) stay fp32, so only {y, dx, dw} compare.
+inline LayerBuffers bf16_operands(const LayerBuffers& in) {
+  LayerBuffers r{in.x.clone(), in.w.clone(), in.b.clone(), in.dy.clone()};
+  for (Tensor<float>* t : {&r.x, &r.w, &r.dy})
+    for (auto& v : *t) v = round_to_bf16(v);
+  return r;
 }
 
 inline constexpr const char* kLayerOutputNames[4] = {"forward", "dinp", "dweight", "dbias"};
