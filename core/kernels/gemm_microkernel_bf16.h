@@ -14,35 +14,20 @@
 // without AVX512-BF16.
 #include <immintrin.h>
 
-#include <array>
 #include <cstdint>
-#include <utility>
 
 #include "core/kernels/bf16.h"
+#include "core/kernels/gemm_microkernel_generic.h"
+#include "core/kernels/gemm_tile_avx512.h"
 
 namespace nns::gemm_detail {
 
 template <int MR, int NV>
-struct Avx512Bf16Kernel {
+struct Avx512Bf16Kernel : TileDispatch<Avx512Bf16Kernel<MR, NV>, MR, NV, uint32_t> {
   static constexpr int mr = MR;
   static constexpr int nr = NV * 16;
 
-  static void run(int64_t kp, const uint32_t* a, const uint32_t* b, float* c, int64_t ldc,
-                  float alpha, float beta, int m, int n) {
-    if (m == MR && n > nr - 16) return tile<MR, NV>(kp, a, b, c, ldc, alpha, beta, m, n);
-    static constexpr auto full = table<NV>(std::make_integer_sequence<int, MR>());
-    static constexpr auto half = table<1>(std::make_integer_sequence<int, MR>());
-    (n <= 16 ? half : full)[m - 1](kp, a, b, c, ldc, alpha, beta, m, n);
-  }
-
- private:
-  using Fn = void (*)(int64_t, const uint32_t*, const uint32_t*, float*, int64_t, float, float,
-                      int, int);
-  template <int V, int... R>
-  static constexpr std::array<Fn, MR> table(std::integer_sequence<int, R...>) {
-    return {&tile<R + 1, V>...};
-  }
-
+  // kp pair steps; noipa as the fp32 kernel's tile.
   template <int ROWS, int V>
   __attribute__((noipa, target("avx512f,avx512bf16"))) static void tile(
       int64_t kp, const uint32_t* __restrict a, const uint32_t* __restrict b, float* __restrict c,
@@ -52,11 +37,7 @@ struct Avx512Bf16Kernel {
     for (int r = 0; r < ROWS; ++r)
 #pragma GCC unroll 4
       for (int v = 0; v < V; ++v) acc[r][v] = _mm512_setzero_ps();
-#pragma GCC unroll 32
-    for (int r = 0; r < ROWS; ++r) {
-      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc), _MM_HINT_T0);
-      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc + V * 16 - 1), _MM_HINT_T0);
-    }
+    prefetch_c_tile<ROWS, V>(c, ldc);
     for (int64_t p = 0; p < kp; ++p) {
       __m512bh bv[V];
 #pragma GCC unroll 4
@@ -71,30 +52,7 @@ struct Avx512Bf16Kernel {
       a += MR;
       b += nr;
     }
-    __mmask16 mask[V];
-#pragma GCC unroll 4
-    for (int v = 0; v < V; ++v) {
-      int lanes = n - v * 16;
-      lanes = lanes < 0 ? 0 : (lanes > 16 ? 16 : lanes);
-      mask[v] = __mmask16((1u << lanes) - 1u);
-    }
-    const __m512 va = _mm512_set1_ps(alpha), vb = _mm512_set1_ps(beta);
-#pragma GCC unroll 32
-    for (int r = 0; r < ROWS; ++r) {
-      if (r >= m) break;
-      float* cr = c + r * ldc;
-#pragma GCC unroll 4
-      for (int v = 0; v < V; ++v) {
-        __m512 out;
-        if (beta == 0.0f) {
-          out = _mm512_mul_ps(va, acc[r][v]);
-        } else {
-          __m512 old = _mm512_maskz_loadu_ps(mask[v], cr + v * 16);
-          out = _mm512_fmadd_ps(va, acc[r][v], beta == 1.0f ? old : _mm512_mul_ps(vb, old));
-        }
-        _mm512_mask_storeu_ps(cr + v * 16, mask[v], out);
-      }
-    }
+    store_c_tile<ROWS, V>(acc, c, ldc, alpha, beta, m, n);
   }
 };
 
@@ -112,11 +70,7 @@ struct GenericBf16Kernel {
       a += MR;
       b += NR;
     }
-    for (int r = 0; r < m; ++r)
-      for (int j = 0; j < n; ++j) {
-        float& out = c[r * ldc + j];
-        out = beta == 0.0f ? alpha * acc[r][j] : alpha * acc[r][j] + beta * out;
-      }
+    store_c_block<MR, NR>(acc, c, ldc, alpha, beta, m, n);
   }
 };
 

@@ -42,22 +42,12 @@ struct PackBuffer {
   }
 };
 
-inline PackBuffer& thread_pack_a() {
-  thread_local PackBuffer b;
-  return b;
-}
-inline PackBuffer& thread_pack_b() {
-  thread_local PackBuffer b;
-  return b;
-}
-// bf16 copies of the packed panels (pair_bf16's layout; a float's worth per word).
-inline PackBuffer& thread_pack_a_bf16() {
-  thread_local PackBuffer b;
-  return b;
-}
-inline PackBuffer& thread_pack_b_bf16() {
-  thread_local PackBuffer b;
-  return b;
+// The calling thread's buffer for one kind of packed panel: fp32 A and B, and their bf16
+// copies (pair_bf16's layout; a float's worth per word).
+enum class Pack { a, b, a_bf16, b_bf16 };
+inline PackBuffer& thread_pack(Pack which) {
+  thread_local PackBuffer buffers[4];
+  return buffers[int(which)];
 }
 
 using Bf16KernelFn = void (*)(int64_t, const uint32_t*, const uint32_t*, float*, int64_t, float,
@@ -107,7 +97,7 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
   const int64_t kb = k_block(K);
   const int64_t nc_max =
       panel_at_a_time ? kNR : std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
-  float* bpack = thread_pack_b().get(size_t(kb * nc_max));
+  float* bpack = thread_pack(Pack::b).get(size_t(kb * nc_max));
   for (int64_t jc = 0; jc < N; jc += kNC) {
     const int64_t nc = std::min(kNC, N - jc);
     for (int64_t pc = 0; pc < K; pc += kb) {
@@ -116,18 +106,18 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
       const int64_t kp = (kc + 1) / 2;
       if (!panel_at_a_time) {
         pack_b_block(bpack, pc, kc, jc, nc);
-        if (bf16) bbf = pair_panels_bf16(thread_pack_b_bf16(), bpack, kNR, nc, kc);
+        if (bf16) bbf = pair_panels_bf16(thread_pack(Pack::b_bf16), bpack, kNR, nc, kc);
       }
       for (int64_t ic = 0; ic < M; ic += kMC) {
         const int64_t mc = std::min(kMC, M - ic);
         const float* apack = packed_a(pc, kc, ic, mc);
         const uint32_t* abf =
-            bf16 ? pair_panels_bf16(thread_pack_a_bf16(), apack, kMR, mc, kc) : nullptr;
+            bf16 ? pair_panels_bf16(thread_pack(Pack::a_bf16), apack, kMR, mc, kc) : nullptr;
         for (int64_t jr = 0; jr < nc; jr += kNR) {
           const int n = int(std::min<int64_t>(kNR, nc - jr));
           if (panel_at_a_time) {
             pack_b_block(bpack, pc, kc, jc + jr, int64_t(n));
-            if (bf16) bbf = pair_panels_bf16(thread_pack_b_bf16(), bpack, kNR, n, kc);
+            if (bf16) bbf = pair_panels_bf16(thread_pack(Pack::b_bf16), bpack, kNR, n, kc);
           }
           const float* bp = panel_at_a_time ? bpack : bpack + jr * kc;
           const uint32_t* bpbf = bf16 ? (panel_at_a_time ? bbf : bbf + jr * kp) : nullptr;
@@ -156,7 +146,7 @@ inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N
                         float alpha, float beta, float* C, int64_t ldc,
                         Precision precision = Precision::fp32) {
   const int64_t mc_max = std::min<int64_t>(kMC, (M + kMR - 1) / kMR * kMR);
-  float* apack = thread_pack_a().get(size_t(k_block(K) * mc_max));
+  float* apack = thread_pack(Pack::a).get(size_t(k_block(K) * mc_max));
   gemm_packed_loops(
       [&](int64_t pc, int64_t kc, int64_t ic, int64_t mc) {
         pack_a<kMR>(apack, A, ic, mc, pc, kc);

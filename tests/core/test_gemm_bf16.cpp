@@ -176,13 +176,7 @@ void check(const Case& c, uint64_t seed) {
         ADD_FAILURE() << "C[" << i << "," << j << "] = " << C[at] << ", reference " << ref
                       << ", bound " << bound;
     }
-  for (int64_t i = 0; i < c.M; ++i)
-    for (int64_t j = c.N; j < p.ldc; ++j) {
-      const size_t at = size_t(i * p.ldc + j);
-      const float expect = c.beta == 0.0f ? std::numeric_limits<float>::quiet_NaN() : p.C0[at];
-      if (std::memcmp(&C[at], &expect, sizeof(float)) != 0 && bad++ < 5)
-        ADD_FAILURE() << "padding C[" << i << "," << j << "] was written";
-    }
+  // The padding columns of C: the fp32 kernels' store, tested in test_gemm.cpp.
   EXPECT_EQ(bad, 0);
 }
 

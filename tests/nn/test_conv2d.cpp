@@ -110,7 +110,8 @@ TEST(Conv2d, FastKernelsMatchReference) {
   }
 }
 
-TEST(Conv2d, OneAndTwoThreadsAgreeBitwise) {
+namespace {
+void expect_all_cases_same_bits_on_1_and_2_threads() {
   // All cases with one thread, then all with two: the pool is resized only twice.
   expect_same_bits_on_1_and_2_threads(3, [](Rng& rng) {
     std::vector<std::array<Tensor<float>, 4>> out;
@@ -121,6 +122,9 @@ TEST(Conv2d, OneAndTwoThreadsAgreeBitwise) {
     return out;
   });
 }
+}  // namespace
+
+TEST(Conv2d, OneAndTwoThreadsAgreeBitwise) { expect_all_cases_same_bits_on_1_and_2_threads(); }
 
 TEST(Conv2d, GradCheck) {
   for (size_t i = 0; i < kFirstLargeCase; ++i) {
@@ -186,34 +190,21 @@ TEST(Conv2d, BadArgumentsAreNamed) {
   EXPECT_THROW(Conv2d<float>(rng, 3, 4, 3, 1, 0, true, 1, 2), std::invalid_argument);
 }
 
-// Precision::bf16: the three products take bf16 operands through every path (im2col,
-// implicit GEMM, packed A, skinny and tiny shapes), so the result is the reference's on
-// rounded x, w and dy, up to fp32 summation. Unrounded operands would be ~1e-2 off.
+// Precision::bf16 through every path (im2col, implicit GEMM, packed weights, skinny and
+// tiny products).
 TEST(Conv2d, Bf16MatchesReferenceOnRoundedOperands) {
   const ScopedGemmPrecision bf16(Precision::bf16);
   Rng rng(2);
-  for (size_t i = 0; i < std::size(kCases); ++i) {
-    const Case& c = kCases[i];
-    SCOPED_TRACE("case " + std::to_string(i));
+  for (const Case& c : kCases) {
     ConvGeometry g = geometry_of(c);
     LayerBuffers in = random_buffers(g, rng);
-      if (g.cout_g() == 1) continue;  // conv2d_direct.h: no GEMM, stays fp32
-    const auto fast = run_fast(in, g);
-    const auto ref = forward_backward<double>(
-        bf16_operands(in), [&](auto... a) { conv2d_forward_reference(a..., g); },
-        [&](auto... a) { conv2d_backward_reference(a..., g); });
-    for (int k = 0; k < 3; ++k) expect_close(fast[k], ref[k], kLayerOutputNames[k]);
+    if (g.cout_g() == 1) continue;  // conv2d_direct.h: no GEMM, stays fp32
+    expect_bf16_matches_reference(run_fast(in, g), in, [&](auto... a) { conv2d_forward_reference(a..., g); },
+                                  [&](auto... a) { conv2d_backward_reference(a..., g); });
   }
 }
 
 TEST(Conv2d, Bf16OneAndTwoThreadsAgreeBitwise) {
   const ScopedGemmPrecision bf16(Precision::bf16);
-  expect_same_bits_on_1_and_2_threads(3, [](Rng& rng) {
-    std::vector<std::array<Tensor<float>, 4>> out;
-    for (const Case& c : kCases) {
-      ConvGeometry g = geometry_of(c);
-      out.push_back(run_fast(random_buffers(g, rng), g));
-    }
-    return out;
-  });
+  expect_all_cases_same_bits_on_1_and_2_threads();
 }

@@ -139,7 +139,8 @@ TEST(ConvTranspose2d, FastKernelsMatchReference) {
   }
 }
 
-TEST(ConvTranspose2d, OneAndTwoThreadsAgreeBitwise) {
+namespace {
+void expect_all_cases_same_bits_on_1_and_2_threads() {
   // All cases with one thread, then all with two: the pool is resized only twice.
   expect_same_bits_on_1_and_2_threads(3, [](Rng& rng) {
     std::vector<std::array<Tensor<float>, 4>> out;
@@ -150,6 +151,9 @@ TEST(ConvTranspose2d, OneAndTwoThreadsAgreeBitwise) {
     return out;
   });
 }
+}  // namespace
+
+TEST(ConvTranspose2d, OneAndTwoThreadsAgreeBitwise) { expect_all_cases_same_bits_on_1_and_2_threads(); }
 
 TEST(ConvTranspose2d, GradCheck) {
   for (size_t i = 0; i + 2 < std::size(kCases); ++i) {  // the last two cases are only large
@@ -200,33 +204,20 @@ TEST(ConvTranspose2d, BadArgumentsAreNamed) {
   }
 }
 
-// Precision::bf16: the three products take bf16 operands through every path (im2col,
-// implicit GEMM, packed A, skinny and tiny shapes), so the result is the reference's on
-// rounded x, w and dy, up to fp32 summation. Unrounded operands would be ~1e-2 off.
+// Precision::bf16 through every path (im2col, implicit GEMM, packed weights, skinny and
+// tiny products).
 TEST(ConvTranspose2d, Bf16MatchesReferenceOnRoundedOperands) {
   const ScopedGemmPrecision bf16(Precision::bf16);
   Rng rng(2);
-  for (size_t i = 0; i < std::size(kCases); ++i) {
-    const Case& c = kCases[i];
-    SCOPED_TRACE("case " + std::to_string(i));
+  for (const Case& c : kCases) {
     ConvGeometry g = geometry_of(c);
     LayerBuffers in = random_buffers(c, g, rng);
-    const auto fast = run_fast(in, g);
-    const auto ref = forward_backward<double>(
-        bf16_operands(in), [&](auto... a) { conv_transpose2d_forward_reference(a..., g); },
-        [&](auto... a) { conv_transpose2d_backward_reference(a..., g); });
-    for (int k = 0; k < 3; ++k) expect_close(fast[k], ref[k], kLayerOutputNames[k]);
+    expect_bf16_matches_reference(run_fast(in, g), in, [&](auto... a) { conv_transpose2d_forward_reference(a..., g); },
+                                  [&](auto... a) { conv_transpose2d_backward_reference(a..., g); });
   }
 }
 
 TEST(ConvTranspose2d, Bf16OneAndTwoThreadsAgreeBitwise) {
   const ScopedGemmPrecision bf16(Precision::bf16);
-  expect_same_bits_on_1_and_2_threads(3, [](Rng& rng) {
-    std::vector<std::array<Tensor<float>, 4>> out;
-    for (const Case& c : kCases) {
-      ConvGeometry g = geometry_of(c);
-      out.push_back(run_fast(random_buffers(c, g, rng), g));
-    }
-    return out;
-  });
+  expect_all_cases_same_bits_on_1_and_2_threads();
 }

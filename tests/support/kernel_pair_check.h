@@ -81,6 +81,16 @@ void expect_close(const std::array<Tensor<float>, 4>& fast,
   for (int i = 0; i < 4; ++i) expect_close(fast[i], reference[i], kLayerOutputNames[i]);
 }
 
+// fast = {y, dx, dw, db} of a fast pair run in Precision::bf16 on in: its products take
+// in's x, w and dy rounded to bf16, so {y, dx, dw} are the double reference's on those
+// rounded operands, up to fp32 summation (unrounded operands would be ~1e-2 off).
+template <class Fwd, class Bwd>
+void expect_bf16_matches_reference(const std::array<Tensor<float>, 4>& fast, const LayerBuffers& in,
+                                   Fwd reference_fwd, Bwd reference_bwd) {
+  const auto ref = forward_backward<double>(bf16_operands(in), reference_fwd, reference_bwd);
+  for (int k = 0; k < 3; ++k) expect_close(fast[k], ref[k], kLayerOutputNames[k]);
+}
+
 inline bool bitwise_equal(const Tensor<float>& a, const Tensor<float>& b) {
   return a.numel() == b.numel() &&
          std::memcmp(a.data(), b.data(), sizeof(float) * a.numel()) == 0;
