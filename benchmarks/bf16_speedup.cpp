@@ -8,13 +8,17 @@
 // the range of the per-round ratios fp32 / bf16. Items: the square and U-Net GEMM shapes
 // of bench_gemm, the conv2d fwd+bwd shapes of bench_conv that go through GEMM, and the
 // pix2pix 256 ngf64 iteration of bench_gan_iteration. Timing of a GEMM or conv item
-// repeats the call for at least 0.2 s.
+// repeats the call for at least 0.2 s. Times are process CPU time (summed over the
+// threads): on a machine shared with other jobs, wall time measures the scheduler (with
+// 1 thread, CPU time is the time the work took); wall-time ratios are printed beside.
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
+#include <utility>
 #include <functional>
 #include <memory>
 #include <string>
@@ -41,24 +45,27 @@ struct Item {
   double flops;                  // per call (0: report time only)
   std::function<void()> call;
   bool repeat;                   // repeat for >= 0.2 s (cheap calls) or time one call
-  std::vector<double> t[2];      // seconds per call, [fp32, bf16], one per round
+  std::vector<double> t[2];      // CPU seconds per call, [fp32, bf16], one per round
+  std::vector<double> wall[2];   // wall seconds per call
 };
 
-double time_call(Item& it) {
-  if (!it.repeat) {
-    const double t0 = now();
-    it.call();
-    return now() - t0;
-  }
+double cpu_now() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// {CPU seconds, wall seconds} per call.
+std::pair<double, double> time_call(Item& it) {
   int n = 0;
-  const double t0 = now();
+  const double t0 = now(), c0 = cpu_now();
   double t = t0;
   do {
     it.call();
     ++n;
     t = now();
-  } while (t - t0 < 0.2);
-  return (t - t0) / n;
+  } while (it.repeat && t - t0 < 0.2);
+  return {(cpu_now() - c0) / n, (t - t0) / n};
 }
 
 double median(std::vector<double> v) {
@@ -164,9 +171,13 @@ int main(int argc, char** argv) {
       for (int k = 0; k < 2; ++k) {
         const int m = (r + k) % 2;  // fp32 first on even rounds, bf16 first on odd ones
         const ScopedGemmPrecision mode(m ? Precision::bf16 : Precision::fp32);
-        it.t[m].push_back(time_call(it));
+        const auto [cpu, wall] = time_call(it);
+        it.t[m].push_back(cpu);
+        it.wall[m].push_back(wall);
       }
-  std::printf("| row | threads | fp32 | bf16 | fp32 / bf16 (median) | per-round range |\n|---|---:|---:|---:|---:|---:|\n");
+  std::printf("CPU time (all threads); wall-time ratio of the medians in the last column\n");
+  std::printf("| row | threads | fp32 | bf16 | fp32 / bf16 (median) | per-round range | wall fp32 / bf16 |\n"
+              "|---|---:|---:|---:|---:|---:|---:|\n");
   for (auto& it : items) {
     std::vector<double> ratio;
     for (int r = 0; r < rounds; ++r) ratio.push_back(it.t[0][size_t(r)] / it.t[1][size_t(r)]);
@@ -177,9 +188,9 @@ int main(int argc, char** argv) {
       else std::snprintf(c, sizeof c, "%.3f s", s);
       return std::string(c);
     };
-    std::printf("| %s | %d | %s | %s | %.2fx | %.2f-%.2fx |\n", it.name.c_str(), threads, cell(f).c_str(),
-                cell(b).c_str(), f / b, *std::min_element(ratio.begin(), ratio.end()),
-                *std::max_element(ratio.begin(), ratio.end()));
+    std::printf("| %s | %d | %s | %s | %.2fx | %.2f-%.2fx | %.2fx |\n", it.name.c_str(), threads,
+                cell(f).c_str(), cell(b).c_str(), f / b, *std::min_element(ratio.begin(), ratio.end()),
+                *std::max_element(ratio.begin(), ratio.end()), median(it.wall[0]) / median(it.wall[1]));
     std::fflush(stdout);
   }
   return 0;
