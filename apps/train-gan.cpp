@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
     std::string g_norm = a.get_choice("--g-norm", def.g_norm, {"batch", "none"}, "normalisation in the pix2pix U-Net (docs/gan.md)");
     std::string arch = a.get_choice("--arch", "pix2pix", {"pix2pix", "deepshading"}, "generator: pix2pix U-Net, or Deep Shading's U-Net (mean-pool down, bilinear up)");
     std::string residual = a.get_choice("--residual", def.residual, {"off", "mapped", "linear"}, "predict a correction to the input light: none (pix2pix), in Tanh range, or the indirect light in linear light (docs/gan.md)");
+    std::string precision = a.get_choice("--precision", "fp32", {"fp32", "bf16"}, "GEMM/convolution inputs: fp32, or bf16 with fp32 sums, master weights, Adam and BatchNorm (docs/gan.md)");
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
     int seed = a.get_int("--seed", 1, "random seed (weights, dropout, data order)", 0, INT_MAX);
     bool resume = a.get_flag("--resume", "continue from OUT/checkpoint.blob");
@@ -94,6 +95,8 @@ int main(int argc, char** argv) {
     o.sample_every = sample_every;
     o.poison_step = poison;
     o.stop_after_epochs = stop_after;
+    o.precision = parse_precision(precision);
+    if (o.precision == Precision::bf16) std::fprintf(stderr, "train-gan: bf16 GEMMs on %s\n", bf16_isa_description().c_str());
     o.data_identity = std::filesystem::weakly_canonical(data_dir).string() + " (" +
                       std::to_string(train_listing.size()) + " train, " + std::to_string(val_listing.size()) +
                       " validation, " + std::to_string(listing.test.size()) + " test)";

@@ -3,7 +3,7 @@
 //              [--epochs N] [--batch 16] [--lr 1e-3] [--window 31] [--directions 16] [--steps 8]
 //              [--bands 4] [--hidden 16] [--radius R] [--dropout 0] [--gamma 1e-4]
 //              [--points-per-view 1024] [--threads 2] [--seed S] [--resume] [--sweep]
-//              [--shuffle-chunk 256] [--shuffle-buffer-mb 512]
+//              [--shuffle-chunk 256] [--shuffle-buffer-mb 512] [--precision fp32|bf16]
 // The points go to unnamed files in --out (7.7 KB each for a w-31 grid, 0.14 KB for the
 // default horizons): memory stays at the two shuffle buffers whatever the data size.
 // Without --data it renders (once, cached) and uses the built-in default dataset.
@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
     o.test_points_per_view = args.get_int("--test-points-per-view", 1024, "test pixels per view (test loss)", 1, 1 << 20);
     o.shuffle_chunk = args.get_int("--shuffle-chunk", 256, "points per chunk of the chunked shuffle (read from disk in one piece)", 1, 1 << 24);
     o.shuffle_buffer_mb = args.get_double("--shuffle-buffer-mb", 512, "MiB per shuffle buffer (two are held); one that holds every training point gives the global shuffle", 1e-6, 1e7);
+    o.precision = parse_precision(args.get_choice("--precision", "fp32", {"fp32", "bf16"}, "inputs of the network's products: fp32, or bf16 with fp32 sums, weights and Adam (docs/nnao.md)"));
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     o.seed = uint64_t(args.get_int("--seed", 1, "random seed", 0, INT_MAX));
     o.validation_fraction = args.get_double("--validation-fraction", 0, "share of the training split's scenes held out as validation (val_mse); --sweep uses 0.2 when 0", 0, 0.9);

@@ -18,6 +18,7 @@
 #include "benchmarks/fma_peak.h"
 #include "core/kernels/conv2d.h"
 #include "core/kernels/conv_transpose2d.h"
+#include "core/kernels/gemm_precision.h"
 #include "core/rng.h"
 #include "core/tensor.h"
 
@@ -153,7 +154,8 @@ std::string check(Layer& L, bool transposed, Rng& rng) {
 
 enum Pass { kForward, kForwardBackward };
 
-void run(benchmark::State& state, bool transposed, Pass pass) {
+void run(benchmark::State& state, bool transposed, Pass pass,
+         Precision precision = Precision::fp32) {
   const int64_t cin = state.range(0), cout = state.range(1), k = state.range(2), s = state.range(3),
                 p = state.range(4), hw = state.range(5);
   const int threads = int(state.range(6));
@@ -164,6 +166,14 @@ void run(benchmark::State& state, bool transposed, Pass pass) {
       : conv2d_geometry(1, cin, hw, hw, cout, k, k, s, s, p, p, 1, 1, 1);
   Rng rng(42);
   Layer L(g, rng);
+  // bf16 (gemm_precision.h): operands that are bf16 already, so the check against the
+  // definition keeps its fp32 bound; the speed does not depend on the values.
+  const ScopedGemmPrecision mode(precision);
+  if (precision == Precision::bf16) {
+    for (Tensor<float>* t : {&L.x, &L.w, &L.y})
+      for (auto& v : *t) v = round_to_bf16(v);
+    state.SetLabel(bf16_isa_description());
+  }
   std::string err = check(L, transposed, rng);
   if (!err.empty()) {
     state.SkipWithError(err.c_str());
@@ -201,6 +211,10 @@ void BM_Conv2dFwd(benchmark::State& s) { run(s, false, kForward); }
 void BM_Conv2dFwdBwd(benchmark::State& s) { run(s, false, kForwardBackward); }
 void BM_ConvTranspose2dFwd(benchmark::State& s) { run(s, true, kForward); }
 void BM_ConvTranspose2dFwdBwd(benchmark::State& s) { run(s, true, kForwardBackward); }
+void BM_Conv2dFwdBwdBf16(benchmark::State& s) { run(s, false, kForwardBackward, Precision::bf16); }
+void BM_ConvTranspose2dFwdBwdBf16(benchmark::State& s) {
+  run(s, true, kForwardBackward, Precision::bf16);
+}
 
 // {Cin, Cout, k, stride, pad, HW}
 const std::vector<std::vector<int64_t>> kConvShapes = {
@@ -237,5 +251,7 @@ BENCHMARK(BM_Conv2dFwd)->Apply([](auto* b) { shapes(b, kConvShapes); });
 BENCHMARK(BM_Conv2dFwdBwd)->Apply([](auto* b) { shapes(b, kConvShapes); });
 BENCHMARK(BM_ConvTranspose2dFwd)->Apply([](auto* b) { shapes(b, kConvTransposeShapes); });
 BENCHMARK(BM_ConvTranspose2dFwdBwd)->Apply([](auto* b) { shapes(b, kConvTransposeShapes); });
+BENCHMARK(BM_Conv2dFwdBwdBf16)->Apply([](auto* b) { shapes(b, kConvShapes); });
+BENCHMARK(BM_ConvTranspose2dFwdBwdBf16)->Apply([](auto* b) { shapes(b, kConvTransposeShapes); });
 
 BENCHMARK_MAIN();

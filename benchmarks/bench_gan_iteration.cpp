@@ -20,6 +20,7 @@
 #include <string>
 
 #include "benchmarks/fma_peak.h"
+#include "core/kernels/gemm_precision.h"
 #include "core/thread_pool.h"
 #include "runs/gi/gan_trainer.h"
 
@@ -101,7 +102,9 @@ void set_counters(benchmark::State& state, double flops, int threads) {
 }
 
 // args: size, ngf, levels, threads
-void BM_GanIteration(benchmark::State& state) {
+void gan_iteration(benchmark::State& state, Precision precision) {
+  const ScopedGemmPrecision mode(precision);
+  if (precision == Precision::bf16) state.SetLabel(bf16_isa_description());
   const int64_t S = state.range(0);
   const int threads = int(state.range(3));
   set_num_threads(threads);
@@ -113,6 +116,10 @@ void BM_GanIteration(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(t.train_step(s));
   set_counters(state, 3 * unet_flops(t.config.unet(), S) + 8 * patchgan_flops(t.config.patchgan(), S), threads);
 }
+
+void BM_GanIteration(benchmark::State& state) { gan_iteration(state, Precision::fp32); }
+// Mixed precision (train-gan --precision bf16): bf16 GEMM/conv inputs, the rest fp32.
+void BM_GanIterationBf16(benchmark::State& state) { gan_iteration(state, Precision::bf16); }
 
 // The generator alone: forward, L1 backward, Adam (the --loss l1 baseline's iteration).
 void BM_UnetStep(benchmark::State& state) {
@@ -152,6 +159,7 @@ void BM_PatchGanStep(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_GanIteration)->Args({256, 64, 8, 2})->Args({256, 64, 8, 1})->Args({128, 16, 5, 2})->Unit(benchmark::kSecond)->MinTime(1.0)->UseRealTime();
+BENCHMARK(BM_GanIterationBf16)->Args({256, 64, 8, 2})->Args({256, 64, 8, 1})->Args({128, 16, 5, 2})->Unit(benchmark::kSecond)->MinTime(1.0)->UseRealTime();
 BENCHMARK(BM_UnetStep)->Args({256, 64, 8, 2})->Args({256, 64, 8, 1})->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
 BENCHMARK(BM_PatchGanStep)->Args({256, 2})->Args({256, 1})->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
 BENCHMARK_MAIN();

@@ -59,7 +59,7 @@ double probe_error(bool ta, bool tb, int64_t M, int64_t N, int64_t K, const floa
   return worst;
 }
 
-void BM_Sgemm(benchmark::State& state) {
+void run_gemm(benchmark::State& state, nns::Precision precision) {
   const int64_t M = state.range(0), N = state.range(1), K = state.range(2);
   const bool ta = state.range(3) != 0, tb = state.range(4) != 0;
   const int threads = int(state.range(5));
@@ -70,6 +70,14 @@ void BM_Sgemm(benchmark::State& state) {
   std::vector<float> A(size_t(M * K)), B(size_t(K * N)), C(size_t(M * N));
   for (auto& x : A) x = float(rng.uniform(-1, 1));
   for (auto& x : B) x = float(rng.uniform(-1, 1));
+  // bf16: operands that are bf16 already, so the fp32 probe's bound still applies (a
+  // product of two bf16 is exact); the speed does not depend on the values.
+  const nns::ScopedGemmPrecision mode(precision);
+  if (precision == nns::Precision::bf16) {
+    for (auto& x : A) x = nns::round_to_bf16(x);
+    for (auto& x : B) x = nns::round_to_bf16(x);
+    state.SetLabel(nns::bf16_isa_description());
+  }
   const int64_t lda = ta ? M : K, ldb = tb ? K : N;
   auto run = [&] {
     nns::gemm<float>(ta, tb, M, N, K, 1.0f, A.data(), lda, B.data(), ldb, 0.0f, C.data(), N);
@@ -91,6 +99,11 @@ void BM_Sgemm(benchmark::State& state) {
   state.counters["peak_GFLOP/s"] = peak;
   state.counters["flops"] = flops;
 }
+
+// fp32 and bf16 inputs with fp32 sums (gemm_precision.h); the label says which bf16
+// kernel ran (AVX512-BF16 or the generic fallback).
+void BM_Sgemm(benchmark::State& state) { run_gemm(state, nns::Precision::fp32); }
+void BM_GemmBf16(benchmark::State& state) { run_gemm(state, nns::Precision::bf16); }
 
 void square_and_unet_shapes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"M", "N", "K", "ta", "tb", "threads"});
@@ -114,4 +127,5 @@ void square_and_unet_shapes(benchmark::internal::Benchmark* b) {
 }  // namespace
 
 BENCHMARK(BM_Sgemm)->Apply(square_and_unet_shapes)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GemmBf16)->Apply(square_and_unet_shapes)->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK_MAIN();

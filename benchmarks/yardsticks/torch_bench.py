@@ -9,6 +9,10 @@ Prints one JSON object per measured row and line:
 (peak RSS of this process so far, and its RSS once Python and torch were imported).
 Run by benchmarks/compare (which also picks the allocator environment); never by CMake.
 Keys: sgemm, conv, convT, batchnorm, nnao_step, gan_iteration.
+--bf16 (sgemm, conv, convT, gan_iteration): sgemm multiplies bf16 tensors (torch.mm in
+bf16, oneDNN's bf16 matmul); the others run their forward passes under
+torch.autocast("cpu", dtype=torch.bfloat16), PyTorch's mixed precision. Rows then carry
+"isa": what PyTorch reports for its CPU kernels and oneDNN's bf16 support.
 """
 import argparse
 import json
@@ -19,6 +23,9 @@ import time
 import torch
 import torch.nn as nn
 import torch.nn.functional as F
+from contextlib import nullcontext
+
+ARGS = None  # the parsed arguments (emit and the conv helpers read --bf16)
 
 # Part of every peak below, but the runtime's rather than the workload's.
 IMPORT_RSS_MIB = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
@@ -44,10 +51,41 @@ def peak_rss_mib():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
+def cpu_isa():
+    """The implementations oneDNN picks for a bf16 matmul and an autocast convolution,
+    from oneDNN's verbose log of a small probe in a child process (its log goes to the
+    C stdout, which this process cannot read back)."""
+    global CPU_ISA
+    if CPU_ISA is None:
+        import os
+        import subprocess
+        probe = ("import torch\na = torch.rand(64, 64).bfloat16(); torch.mm(a, a)\n"
+                 "c = torch.nn.Conv2d(8, 8, 3)\n"
+                 "with torch.autocast('cpu', dtype=torch.bfloat16): c(torch.rand(1, 8, 16, 16))\n")
+        env = dict(os.environ, ONEDNN_VERBOSE="1", DNNL_VERBOSE="1")
+        out = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True).stdout
+        impl = {}
+        for line in out.splitlines():
+            f = line.split(",")
+            if len(f) > 4 and f[1] == "exec" and f[3] in ("matmul", "convolution"):
+                impl.setdefault(f[3], f[4])
+        CPU_ISA = "oneDNN " + ", ".join(f"{k} {v}" for k, v in impl.items()) if impl else "oneDNN: no log"
+    return CPU_ISA
+
+
+CPU_ISA = None
+
+
+def autocast(args):
+    return torch.autocast("cpu", dtype=torch.bfloat16) if args.bf16 else nullcontext()
+
+
 def emit(key, threads, seconds, flops=None, **extra):
     row = {"key": key, "threads": threads, "seconds": seconds, "flops": flops,
            "peak_rss_mib": peak_rss_mib(), "import_rss_mib": IMPORT_RSS_MIB}
     row.update(extra)
+    if ARGS.bf16:
+        row["isa"] = cpu_isa()
     print(json.dumps(row), flush=True)
 
 
@@ -57,28 +95,32 @@ def bench_sgemm(args):
         M, N, K, ta, tb = (int(x) for x in s.split(","))
         A = torch.rand(K, M) if ta else torch.rand(M, K)
         B = torch.rand(N, K) if tb else torch.rand(K, N)
+        if args.bf16:
+            A, B = A.bfloat16(), B.bfloat16()
         A = A.t() if ta else A  # a transposed view, as BLAS sees it
         B = B.t() if tb else B
-        C = torch.empty(M, N)
+        C = torch.empty(M, N, dtype=A.dtype)
         sec = timed(lambda: torch.mm(A, B, out=C), args.reps, args.min_seconds)
         emit(s, args.threads, sec, 2.0 * M * N * K)
 
 
 # ---- convolutions (shapes Cin,Cout,k,stride,pad,HW for an input 1 x Cin x HW x HW) -----
 def fwd_bwd(module, x):
-    with torch.no_grad():
+    with torch.no_grad(), autocast(ARGS):
         grad_out = torch.randn_like(module(x))
 
     def step():
         module.zero_grad(set_to_none=False)
         x.grad = None
-        module(x).backward(grad_out)
+        with autocast(ARGS):
+            y = module(x)
+        y.backward(grad_out)
     return step
 
 
 def fwd_only(module, x):
     def step():
-        with torch.no_grad():
+        with torch.no_grad(), autocast(ARGS):
             module(x)
     return step
 
@@ -212,21 +254,24 @@ def bench_gan_iteration(args):
     bce = nn.BCEWithLogitsLoss()
     real_a, real_b = torch.rand(1, in_nc, S, S) * 2 - 1, torch.rand(1, out_nc, S, S) * 2 - 1
 
-    def iteration():  # pix2pix_model.optimize_parameters
-        fake_b = G(real_a)
+    def iteration():  # pix2pix_model.optimize_parameters; autocast around the forward passes
+        with autocast(args):
+            fake_b = G(real_a)
         for p in D.parameters():
             p.requires_grad_(True)
         opt_d.zero_grad()
-        pred_fake = D(torch.cat([real_a, fake_b.detach()], 1))
-        pred_real = D(torch.cat([real_a, real_b], 1))
-        loss_d = 0.5 * (bce(pred_fake, torch.zeros_like(pred_fake)) + bce(pred_real, torch.ones_like(pred_real)))
+        with autocast(args):
+            pred_fake = D(torch.cat([real_a, fake_b.detach()], 1))
+            pred_real = D(torch.cat([real_a, real_b], 1))
+            loss_d = 0.5 * (bce(pred_fake, torch.zeros_like(pred_fake)) + bce(pred_real, torch.ones_like(pred_real)))
         loss_d.backward()
         opt_d.step()
         for p in D.parameters():
             p.requires_grad_(False)
         opt_g.zero_grad()
-        pred_fake = D(torch.cat([real_a, fake_b], 1))
-        loss_g = bce(pred_fake, torch.ones_like(pred_fake)) + 100.0 * F.l1_loss(fake_b, real_b)
+        with autocast(args):
+            pred_fake = D(torch.cat([real_a, fake_b], 1))
+            loss_g = bce(pred_fake, torch.ones_like(pred_fake)) + 100.0 * F.l1_loss(fake_b, real_b)
         loss_g.backward()
         opt_g.step()
 
@@ -248,7 +293,10 @@ def main():
     ap.add_argument("--ngf", type=int, default=64)
     ap.add_argument("--levels", type=int, default=8)
     ap.add_argument("--in-channels", type=int, default=12)
+    ap.add_argument("--bf16", action="store_true", help="bf16 mm / autocast bf16 (see above)")
     args = ap.parse_args()
+    global ARGS
+    ARGS = args
     torch.set_num_threads(args.threads)
     torch.set_num_interop_threads(1)
     if args.key == "sgemm":

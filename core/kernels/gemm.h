@@ -4,7 +4,8 @@
 // beta = 0 assigns (C is not read), beta = 1 accumulates — this is how kernel pairs
 // express the gradient contract of core/autograd.h.
 //
-// float goes to the packed BLIS-style kernel (gemm_packed.h) unless a direct path fits the
+// float goes (in the precision of gemm_precision.h: fp32, or bf16 inputs with fp32 sums)
+// to the packed BLIS-style kernel (gemm_packed.h) unless a direct path fits the
 // shape better (gemm_small.h: tiny; gemm_skinny.h: a few columns of C), split between the pool's
 // threads in whole micro-tiles of C so that results are bitwise identical for any
 // thread count; double (gradient checks) goes to the simple generic loops. The naive
@@ -66,14 +67,21 @@ void split_packed(int64_t M, int64_t N, int64_t K, F&& f) {
   });
 }
 
+inline bool takes_packed_path(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K);
+inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K,
+                                float alpha, const float* A, int64_t lda, const float* B,
+                                int64_t ldb, float beta, float* C, int64_t ldc);
+
 inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, float alpha,
                   const float* A, int64_t lda, const float* B, int64_t ldb, float beta, float* C,
-                  int64_t ldc) {
+                  int64_t ldc, Precision precision = gemm_precision()) {
   if (M <= 0 || N <= 0) return;
   if (K <= 0 || alpha == 0.0f) {
     scale_c(M, N, beta, C, ldc);
     return;
   }
+  if (precision == Precision::bf16 && !takes_packed_path(trans_a, trans_b, M, N, K))
+    return sgemm_bf16_unpacked(trans_a, trans_b, M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
   if (use_gemm_dot(trans_a, trans_b, M, N, K))
     return gemm_dot(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
   if (use_gemm_rows(trans_b, M, N, K)) {
@@ -93,7 +101,7 @@ inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, f
   const MatView a{A, lda, trans_a}, b{B, ldb, trans_b};
   split_packed(M, N, K, [&](int64_t m0, int64_t m1, int64_t n0, int64_t n1) {
     gemm_packed(MatView{a.ptr(m0, 0), lda, trans_a}, MatView{b.ptr(0, n0), ldb, trans_b}, m1 - m0,
-                n1 - n0, K, alpha, beta, C + m0 * ldc + n0, ldc);
+                n1 - n0, K, alpha, beta, C + m0 * ldc + n0, ldc, precision);
   });
 }
 
@@ -102,6 +110,32 @@ inline bool takes_packed_path(bool trans_a, bool trans_b, int64_t M, int64_t N, 
   return M > 0 && N > 0 && K > 0 && !use_gemm_dot(trans_a, trans_b, M, N, K) &&
          !use_gemm_rows(trans_b, M, N, K) && !use_gemm_nn_skinny(trans_a, trans_b, M, N, K) &&
          !use_gemm_tn_skinny(trans_a, trans_b, M, N, K);
+}
+
+// bf16 for the shapes the packed kernel does not take (tiny, or a few columns of C): the
+// operands are rounded to bf16 into scratch copies and the fp32 path multiplies them. A
+// product of two bf16 is exact in fp32, so this is the same arithmetic as the bf16
+// micro-kernels (bf16 inputs, fp32 sums), in another order.
+inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K,
+                                float alpha, const float* A, int64_t lda, const float* B,
+                                int64_t ldb, float beta, float* C, int64_t ldc) {
+  // Stored shapes: A is M x K (K x M transposed), B is K x N (N x K transposed).
+  const int64_t a_rows = trans_a ? K : M, a_cols = trans_a ? M : K;
+  const int64_t b_rows = trans_b ? N : K, b_cols = trans_b ? K : N;
+  CachingAllocator& heap = CachingAllocator::instance();
+  const size_t a_bytes = size_t(a_rows * a_cols) * sizeof(float);
+  const size_t b_bytes = size_t(b_rows * b_cols) * sizeof(float);
+  float* a = static_cast<float*>(heap.allocate(a_bytes));
+  float* b = static_cast<float*>(heap.allocate(b_bytes));
+  parallel_for(a_rows, [&](int64_t r0, int64_t r1) {
+    round_copy_bf16(a + r0 * a_cols, A + r0 * lda, r1 - r0, a_cols, lda);
+  });
+  parallel_for(b_rows, [&](int64_t r0, int64_t r1) {
+    round_copy_bf16(b + r0 * b_cols, B + r0 * ldb, r1 - r0, b_cols, ldb);
+  });
+  sgemm(trans_a, trans_b, M, N, K, alpha, a, a_cols, b, b_cols, beta, C, ldc, Precision::fp32);
+  heap.release(a, a_bytes);
+  heap.release(b, b_bytes);
 }
 
 }  // namespace gemm_detail
@@ -160,6 +194,7 @@ class GemmPackedA {
   void multiply_packing_b(int64_t N, float alpha, PackB&& pack_b, float beta, float* C,
                           int64_t ldc) const {
     using namespace gemm_detail;
+    const Precision precision = gemm_precision();
     split_packed(M_, N, K_, [&](int64_t m0, int64_t m1, int64_t n0, int64_t n1) {
       gemm_packed_loops(
           [&](int64_t pc, int64_t kc, int64_t ic, int64_t) {
@@ -168,7 +203,7 @@ class GemmPackedA {
           [&](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) {
             pack_b(dst, pc, kc, n0 + jc, nc);
           },
-          m1 - m0, n1 - n0, K_, alpha, beta, C + m0 * ldc + n0, ldc);
+          m1 - m0, n1 - n0, K_, alpha, beta, C + m0 * ldc + n0, ldc, precision);
     });
   }
 

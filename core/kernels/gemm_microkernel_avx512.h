@@ -10,37 +10,22 @@
 // are needed to hide the latency; MR x NR = 14 x 32 keeps 28 of the 32 zmm registers as
 // accumulators, which also gives the best ratio of FMAs to loads (28 per 2 + 14).
 // Edge tiles run a copy of the loop with only the rows (and 16-column halves) they
-// need, so M = 128 does not pay for 10 full tiles of 14. Every element of C is still
+// need (gemm_tile_avx512.h). Every element of C is still
 // produced by the same sequence of FMAs whatever tile computes it, so results do not
 // depend on how the work is cut between threads.
 #include <immintrin.h>
 
-#include <array>
 #include <cstdint>
-#include <utility>
+
+#include "core/kernels/gemm_tile_avx512.h"
 
 namespace nns::gemm_detail {
 
 template <int MR, int NV>
-struct Avx512Kernel {
+struct Avx512Kernel : TileDispatch<Avx512Kernel<MR, NV>, MR, NV, float> {
   static constexpr int mr = MR;
   static constexpr int nr = NV * 16;
   static constexpr int kPrefetchA = 16;  // k steps ahead
-
-  static void run(int64_t kc, const float* a, const float* b, float* c, int64_t ldc, float alpha,
-                  float beta, int m, int n) {
-    if (m == MR && n > nr - 16) return tile<MR, NV>(kc, a, b, c, ldc, alpha, beta, m, n);
-    static constexpr auto full = table<NV>(std::make_integer_sequence<int, MR>());
-    static constexpr auto half = table<1>(std::make_integer_sequence<int, MR>());
-    (n <= 16 ? half : full)[m - 1](kc, a, b, c, ldc, alpha, beta, m, n);
-  }
-
- private:
-  using Fn = void (*)(int64_t, const float*, const float*, float*, int64_t, float, float, int, int);
-  template <int V, int... R>
-  static constexpr std::array<Fn, MR> table(std::integer_sequence<int, R...>) {
-    return {&tile<R + 1, V>...};
-  }
 
   // ROWS x (V * 16) of C; the panels keep their full strides MR and nr.
   // noipa: a clone specialised on constant arguments (alpha = 1) keeps one more zmm
@@ -53,13 +38,7 @@ struct Avx512Kernel {
     for (int r = 0; r < ROWS; ++r)
 #pragma GCC unroll 4
       for (int v = 0; v < V; ++v) acc[r][v] = _mm512_setzero_ps();
-
-    // The C tile is touched only after the k loop: start fetching it now (+8% measured).
-#pragma GCC unroll 32
-    for (int r = 0; r < ROWS; ++r) {
-      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc), _MM_HINT_T0);
-      _mm_prefetch(reinterpret_cast<const char*>(c + r * ldc + V * 16 - 1), _MM_HINT_T0);
-    }
+    prefetch_c_tile<ROWS, V>(c, ldc);
     for (int64_t k = 0; k < kc; ++k) {
       __m512 bv[V];
 #pragma GCC unroll 4
@@ -77,31 +56,7 @@ struct Avx512Kernel {
       a += MR;
       b += nr;
     }
-
-    __mmask16 mask[V];
-#pragma GCC unroll 4
-    for (int v = 0; v < V; ++v) {
-      int lanes = n - v * 16;
-      lanes = lanes < 0 ? 0 : (lanes > 16 ? 16 : lanes);
-      mask[v] = __mmask16((1u << lanes) - 1u);
-    }
-    const __m512 va = _mm512_set1_ps(alpha), vb = _mm512_set1_ps(beta);
-#pragma GCC unroll 32
-    for (int r = 0; r < ROWS; ++r) {
-      if (r >= m) break;
-      float* cr = c + r * ldc;
-#pragma GCC unroll 4
-      for (int v = 0; v < V; ++v) {
-        __m512 out;
-        if (beta == 0.0f) {
-          out = _mm512_mul_ps(va, acc[r][v]);
-        } else {
-          __m512 old = _mm512_maskz_loadu_ps(mask[v], cr + v * 16);
-          out = _mm512_fmadd_ps(va, acc[r][v], beta == 1.0f ? old : _mm512_mul_ps(vb, old));
-        }
-        _mm512_mask_storeu_ps(cr + v * 16, mask[v], out);
-      }
-    }
+    store_c_tile<ROWS, V>(acc, c, ldc, alpha, beta, m, n);
   }
 };
 

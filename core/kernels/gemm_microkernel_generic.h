@@ -6,6 +6,17 @@
 
 namespace nns::gemm_detail {
 
+// C := alpha * acc + beta * C on the first m rows and n columns (C not read when beta == 0).
+template <int MR, int NR>
+inline void store_c_block(const float (&acc)[MR][NR], float* __restrict c, int64_t ldc, float alpha,
+                          float beta, int m, int n) {
+  for (int r = 0; r < m; ++r)
+    for (int j = 0; j < n; ++j) {
+      float& out = c[r * ldc + j];
+      out = beta == 0.0f ? alpha * acc[r][j] : alpha * acc[r][j] + beta * out;
+    }
+}
+
 template <int MR, int NR>
 struct GenericKernel {
   static constexpr int mr = MR;
@@ -20,11 +31,7 @@ struct GenericKernel {
       a += MR;
       b += NR;
     }
-    for (int r = 0; r < m; ++r)
-      for (int j = 0; j < n; ++j) {
-        float& out = c[r * ldc + j];
-        out = beta == 0.0f ? alpha * acc[r][j] : alpha * acc[r][j] + beta * out;
-      }
+    store_c_block<MR, NR>(acc, c, ldc, alpha, beta, m, n);
   }
 };
 

@@ -12,8 +12,11 @@
 #include <memory>
 #include <new>
 
+#include "core/kernels/bf16.h"
 #include "core/kernels/gemm_arch.h"
+#include "core/kernels/gemm_microkernel_bf16.h"
 #include "core/kernels/gemm_pack.h"
+#include "core/kernels/gemm_precision.h"
 
 namespace nns::gemm_detail {
 
@@ -39,13 +42,29 @@ struct PackBuffer {
   }
 };
 
-inline PackBuffer& thread_pack_a() {
-  thread_local PackBuffer b;
-  return b;
+// The calling thread's buffer for one kind of packed panel: fp32 A and B, and their bf16
+// copies (pair_bf16's layout; a float's worth per word).
+enum class Pack { a, b, a_bf16, b_bf16 };
+inline PackBuffer& thread_pack(Pack which) {
+  thread_local PackBuffer buffers[4];
+  return buffers[int(which)];
 }
-inline PackBuffer& thread_pack_b() {
-  thread_local PackBuffer b;
-  return b;
+
+using Bf16KernelFn = void (*)(int64_t, const uint32_t*, const uint32_t*, float*, int64_t, float,
+                              float, int, int);
+
+inline Bf16KernelFn bf16_kernel() {
+  if (bf16_isa() == Bf16Isa::avx512_bf16) return &Avx512Bf16Kernel<kMR, kNR / 16>::run;
+  return &GenericBf16Kernel<kMR, kNR>::run;
+}
+
+// Converts the ceil(extent / W) panels of kc steps of W floats at src to pair_bf16's layout.
+inline uint32_t* pair_panels_bf16(PackBuffer& buf, const float* src, int W, int64_t extent,
+                                  int64_t kc) {
+  const int64_t panels = (extent + W - 1) / W, kp = (kc + 1) / 2;
+  uint32_t* dst = reinterpret_cast<uint32_t*>(buf.get(size_t(panels * kp * W)));
+  for (int64_t p = 0; p < panels; ++p) pair_bf16(dst + p * kp * W, src + p * kc * W, W, kc);
+  return dst;
 }
 
 // K is cut into equal blocks of at most kKC so no block is a sliver.
@@ -59,9 +78,17 @@ inline int64_t k_block(int64_t K) {
 // packs op(B)[pc : pc+kc, jc : jc+nc] into dst (pack_b's layout). B is only ever seen
 // through pack_b, so it need not exist as a matrix (conv2d_implicit.h packs a
 // convolution's column matrix straight from the image).
+// With Precision::bf16 the packed fp32 panels are rounded to bf16 pairs (pair_bf16) just
+// after packing, while still in cache, and the bf16 micro-kernel of bf16_isa() runs: every
+// packer serves both precisions, and the loops, blocking and thread split are the same,
+// so 1 and 2 threads give the same bits in either mode.
 template <class PackedA, class PackB>
 void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int64_t N, int64_t K,
-                       float alpha, float beta, float* C, int64_t ldc) {
+                       float alpha, float beta, float* C, int64_t ldc,
+                       Precision precision = Precision::fp32) {
+  const bool bf16 = precision == Precision::bf16;
+  const Bf16KernelFn bf16_run = bf16 ? bf16_kernel() : nullptr;
+  const uint32_t* bbf = nullptr;
   // With a single MC block of rows, each packed B micro-panel is used by one sweep of
   // the IR loop only: packing it just before that sweep keeps it in L1 instead of
   // writing the whole KC x NC block out to L3 and reading it back (-19% time at
@@ -70,24 +97,37 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
   const int64_t kb = k_block(K);
   const int64_t nc_max =
       panel_at_a_time ? kNR : std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
-  float* bpack = thread_pack_b().get(size_t(kb * nc_max));
+  float* bpack = thread_pack(Pack::b).get(size_t(kb * nc_max));
   for (int64_t jc = 0; jc < N; jc += kNC) {
     const int64_t nc = std::min(kNC, N - jc);
     for (int64_t pc = 0; pc < K; pc += kb) {
       const int64_t kc = std::min(kb, K - pc);
       const float beta_block = pc == 0 ? beta : 1.0f;
-      if (!panel_at_a_time) pack_b_block(bpack, pc, kc, jc, nc);
+      const int64_t kp = (kc + 1) / 2;
+      if (!panel_at_a_time) {
+        pack_b_block(bpack, pc, kc, jc, nc);
+        if (bf16) bbf = pair_panels_bf16(thread_pack(Pack::b_bf16), bpack, kNR, nc, kc);
+      }
       for (int64_t ic = 0; ic < M; ic += kMC) {
         const int64_t mc = std::min(kMC, M - ic);
         const float* apack = packed_a(pc, kc, ic, mc);
+        const uint32_t* abf =
+            bf16 ? pair_panels_bf16(thread_pack(Pack::a_bf16), apack, kMR, mc, kc) : nullptr;
         for (int64_t jr = 0; jr < nc; jr += kNR) {
           const int n = int(std::min<int64_t>(kNR, nc - jr));
-          if (panel_at_a_time) pack_b_block(bpack, pc, kc, jc + jr, int64_t(n));
+          if (panel_at_a_time) {
+            pack_b_block(bpack, pc, kc, jc + jr, int64_t(n));
+            if (bf16) bbf = pair_panels_bf16(thread_pack(Pack::b_bf16), bpack, kNR, n, kc);
+          }
           const float* bp = panel_at_a_time ? bpack : bpack + jr * kc;
+          const uint32_t* bpbf = bf16 ? (panel_at_a_time ? bbf : bbf + jr * kp) : nullptr;
           for (int64_t ir = 0; ir < mc; ir += kMR) {
             const int m = int(std::min<int64_t>(kMR, mc - ir));
-            Kernel::run(kc, apack + ir * kc, bp, C + (ic + ir) * ldc + jc + jr, ldc, alpha,
-                        beta_block, m, n);
+            float* c = C + (ic + ir) * ldc + jc + jr;
+            if (bf16)
+              bf16_run(kp, abf + ir * kp, bpbf, c, ldc, alpha, beta_block, m, n);
+            else
+              Kernel::run(kc, apack + ir * kc, bp, c, ldc, alpha, beta_block, m, n);
           }
         }
       }
@@ -103,15 +143,16 @@ inline auto packer_b(const MatView& B) {
 }
 
 inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N, int64_t K,
-                        float alpha, float beta, float* C, int64_t ldc) {
+                        float alpha, float beta, float* C, int64_t ldc,
+                        Precision precision = Precision::fp32) {
   const int64_t mc_max = std::min<int64_t>(kMC, (M + kMR - 1) / kMR * kMR);
-  float* apack = thread_pack_a().get(size_t(k_block(K) * mc_max));
+  float* apack = thread_pack(Pack::a).get(size_t(k_block(K) * mc_max));
   gemm_packed_loops(
       [&](int64_t pc, int64_t kc, int64_t ic, int64_t mc) {
         pack_a<kMR>(apack, A, ic, mc, pc, kc);
         return static_cast<const float*>(apack);
       },
-      packer_b(B), M, N, K, alpha, beta, C, ldc);
+      packer_b(B), M, N, K, alpha, beta, C, ldc, precision);
 }
 
 }  // namespace nns::gemm_detail

@@ -17,7 +17,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/kernels/bf16.h"
 #include "core/kernels/dropout.h"
+#include "core/kernels/gemm_precision.h"
 #include "models/nnao/nnao_model.h"
 
 namespace nns::nnao {
@@ -49,6 +51,19 @@ class NnaoFastStep {
       xin = xm_.data();
     }
     const float* W0 = net_.fc[0]->weight.value().data();
+    // Precision::bf16 (gemm_precision.h): every operand of a matrix product is rounded to
+    // bf16 (r), the sums stay fp32, as the GEMMs of the autograd path do in that mode.
+    // The layer-0 operands are rounded once into copies; r is the identity in fp32.
+    const bool bf16 = gemm_precision() == Precision::bf16;
+    auto r = [bf16](float v) { return bf16 ? round_to_bf16(v) : v; };
+    if (bf16) {
+      xb_.resize(size_t(B * F));
+      w0b_.resize(size_t(H * F));
+      round_copy_bf16(xb_.data(), xin, 1, B * F, B * F);
+      round_copy_bf16(w0b_.data(), W0, 1, H * F, H * F);
+      xin = xb_.data();
+      W0 = w0b_.data();
+    }
     // Layer 0: z0[b][k] = b0[k] + x[b] . W0[k]; 16 independent partial sums per dot
     // product so the compiler vectorises without reassociating a float reduction.
     for (int64_t b = 0; b < B; ++b)
@@ -75,7 +90,7 @@ class NnaoFastStep {
         for (int64_t b = 0; b < B; ++b)
           for (int o = 0; o < out; ++o) {
             float s = bias[o];
-            for (int i = 0; i < in; ++i) s += W[o * in + i] * a_[l - 1][b][i];
+            for (int i = 0; i < in; ++i) s += r(W[o * in + i]) * r(a_[l - 1][b][i]);
             z_[l][b][o] = s;
           }
       }
@@ -120,7 +135,7 @@ class NnaoFastStep {
         for (int k = 0; k < H; ++k) {
           float* dwr = dW + int64_t(k) * F;
           for (int64_t b = 0; b < B; ++b) {
-            const float c = dz_[b][k];
+            const float c = r(dz_[b][k]);
             const float* xr = xin + b * F;
             for (int64_t f = 0; f < F; ++f) dwr[f] += c * xr[f];
           }
@@ -131,11 +146,11 @@ class NnaoFastStep {
       for (int64_t b = 0; b < B; ++b) {
         for (int i = 0; i < in; ++i) {
           float s = 0;
-          for (int o = 0; o < out; ++o) s += dz_[b][o] * W[o * in + i];
+          for (int o = 0; o < out; ++o) s += r(dz_[b][o]) * r(W[o * in + i]);
           da_next_[b][i] = s;
         }
         for (int o = 0; o < out; ++o)
-          for (int i = 0; i < in; ++i) dW[o * in + i] += dz_[b][o] * a_[l - 1][b][i];
+          for (int i = 0; i < in; ++i) dW[o * in + i] += r(dz_[b][o]) * r(a_[l - 1][b][i]);
       }
       for (int64_t b = 0; b < B; ++b)
         for (int i = 0; i < in; ++i) da_[b][i] = da_next_[b][i];
@@ -167,6 +182,7 @@ class NnaoFastStep {
   Rng* rng_ = nullptr;
   std::vector<Var<float>> params_;
   std::vector<float> xm_, mask_;
+  std::vector<float> xb_, w0b_;  // bf16-rounded layer-0 operands (Precision::bf16 only)
   // Per-layer activations for the batch (B <= kMaxBatch, widths <= kMaxHidden).
   struct Act {
     std::vector<float> v;

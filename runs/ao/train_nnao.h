@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/kernels/gemm_precision.h"
 #include "core/progress.h"
 #include "report/chart.h"
 #include "data/dataset.h"
@@ -81,6 +82,8 @@ struct TrainOptions {
   int test_points_per_view = 1024;
   float radius = 0;  // <= 0: each view's aoRadius
   uint64_t seed = 1;
+  // bf16: the products of the network take bf16 inputs (fp32 sums, weights, Adam, loss).
+  Precision precision = Precision::fp32;
   // The chunked shuffle (point_file.h): points per chunk read in one piece, and the MiB
   // of each of the two buffers (a buffer holds whole chunks, at least one).
   int shuffle_chunk = 256;
@@ -206,6 +209,7 @@ inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing&
   std::string fams;
   for (auto& f : o.validation_families) fams += (fams.empty() ? "" : ",") + f;
   spec.config.emplace_back("validation_families", fams);
+  spec.config.emplace_back("precision", precision_name(o.precision));
   return spec;
 }
 
@@ -226,6 +230,7 @@ inline void write_loss_chart(runs::TrainingRun& run) {
 inline TrainResult train_nnao(const TrainOptions& o) {
   namespace fs = std::filesystem;
   auto t_start = std::chrono::steady_clock::now();
+  const ScopedGemmPrecision precision(o.precision);
   if (const std::string p = o.net.input().problem(); !p.empty()) throw std::invalid_argument("train-nnao: " + p);
   if (o.batch < 1 || o.epochs < 0 || o.net.window < 1 || o.net.hidden < 1 || o.net.hidden > 64 ||
       o.points_per_view < 1 || !(o.net.dropout >= 0 && o.net.dropout < 1) || o.shuffle_chunk < 1 ||

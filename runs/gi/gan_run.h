@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/progress.h"
+#include "core/kernels/gemm_precision.h"
 #include "runs/gi/gan_trainer.h"
 #include "runs/gi/gi_previews.h"
 #include "runs/gi/gi_train_data.h"
@@ -38,6 +39,9 @@ struct GanRunOptions {
   int stop_after_epochs = -1;   // test hook: stop (as if killed) after this many epochs
   bool quiet = false;
   std::string data_identity;    // the data's folder and frame counts: a resume must match
+  // bf16: every GEMM and convolution of the training takes bf16 inputs (fp32 sums); the
+  // weights, Adam's moments, BatchNorm statistics and the losses stay fp32.
+  Precision precision = Precision::fp32;
 };
 
 struct GanRunResult {
@@ -52,6 +56,7 @@ struct GanRunResult {
 
 inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train) {
   if (train.empty()) throw std::runtime_error("train-gan: no training samples");
+  const ScopedGemmPrecision precision(o.precision);
   GanTrainer t(o.train);
   Checkpoint<float> ck;
   t.add_to(ck);
@@ -62,6 +67,7 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   spec.resume = o.resume;
   spec.config = t.run_config();
   spec.config.emplace_back("data", o.data_identity);
+  spec.config.emplace_back("precision", precision_name(o.precision));
   runs::TrainingRun run(spec, ck, t.step_counter());
   std::filesystem::create_directories(o.out + "/samples");
   const int start_epoch = int(run.epochs_done());

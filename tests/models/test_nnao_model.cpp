@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/kernels/gemm_precision.h"
 #include "models/nnao/nnao_fast_step.h"
 #include "models/nnao/nnao_loss.h"
 #include "models/nnao/nnao_model.h"
@@ -37,7 +38,12 @@ TEST(NnaoModel, GradCheckWholeNetworkAndLoss) {
       in);
 }
 
-TEST(NnaoModel, FusedStepMatchesAutograd) {
+namespace {
+
+// The fused step against the autograd graph on the same batch and dropout mask, in the
+// given precision; *grads gets the fused step's gradients.
+void check_fused_matches_autograd(Precision precision, std::vector<std::vector<float>>* grads = nullptr) {
+  const ScopedGemmPrecision mode(precision);
   const int w = 9, H = 4, B = 16;
   const int64_t F = int64_t(w) * w * 4;
   Rng init_a(5), init_b(5);
@@ -70,4 +76,28 @@ TEST(NnaoModel, FusedStepMatchesAutograd) {
   }
   // Both drew one seed from their dropout Rng: the generators stay in step.
   EXPECT_EQ(a.named_rngs()[0].second->state(), b.named_rngs()[0].second->state());
+  if (grads)
+    for (auto& p : pb) grads->emplace_back(p.grad().data(), p.grad().data() + p.grad().numel());
+}
+
+}  // namespace
+
+TEST(NnaoModel, FusedStepMatchesAutograd) { check_fused_matches_autograd(Precision::fp32); }
+
+// --precision bf16: both paths round the same operands (the fused step itself, the
+// autograd path in its GEMMs), so they agree as closely as in fp32 — and differ from fp32
+// by far more than that, so a path that skipped the rounding could not pass.
+TEST(NnaoModel, FusedStepMatchesAutogradInBf16) {
+  std::vector<std::vector<float>> bf16, fp32;
+  check_fused_matches_autograd(Precision::bf16, &bf16);
+  check_fused_matches_autograd(Precision::fp32, &fp32);
+  ASSERT_EQ(bf16.size(), fp32.size());
+  double worst = 0;
+  for (size_t i = 0; i < bf16.size(); ++i) {
+    double scale = 1e-6;
+    for (float g : fp32[i]) scale = std::max(scale, double(std::abs(g)));
+    for (size_t k = 0; k < bf16[i].size(); ++k)
+      worst = std::max(worst, std::abs(double(bf16[i][k]) - fp32[i][k]) / scale);
+  }
+  EXPECT_GT(worst, 1e-3);
 }

@@ -7,6 +7,7 @@
 #include "nn/conv2d.h"
 #include "nn/functional/conv2d.h"
 #include "tests/support/gradcheck.h"
+#include "core/kernels/gemm_precision.h"
 #include "tests/support/kernel_pair_check.h"
 
 using namespace nns;
@@ -109,7 +110,8 @@ TEST(Conv2d, FastKernelsMatchReference) {
   }
 }
 
-TEST(Conv2d, OneAndTwoThreadsAgreeBitwise) {
+namespace {
+void expect_all_cases_same_bits_on_1_and_2_threads() {
   // All cases with one thread, then all with two: the pool is resized only twice.
   expect_same_bits_on_1_and_2_threads(3, [](Rng& rng) {
     std::vector<std::array<Tensor<float>, 4>> out;
@@ -120,6 +122,9 @@ TEST(Conv2d, OneAndTwoThreadsAgreeBitwise) {
     return out;
   });
 }
+}  // namespace
+
+TEST(Conv2d, OneAndTwoThreadsAgreeBitwise) { expect_all_cases_same_bits_on_1_and_2_threads(); }
 
 TEST(Conv2d, GradCheck) {
   for (size_t i = 0; i < kFirstLargeCase; ++i) {
@@ -183,4 +188,23 @@ TEST(Conv2d, BadArgumentsAreNamed) {
   Var<float> w5(randn_float({2, 3, 5, 5}, rng));
   EXPECT_THROW(conv2d(x, w5), std::invalid_argument);  // kernel larger than the input
   EXPECT_THROW(Conv2d<float>(rng, 3, 4, 3, 1, 0, true, 1, 2), std::invalid_argument);
+}
+
+// Precision::bf16 through every path (im2col, implicit GEMM, packed weights, skinny and
+// tiny products).
+TEST(Conv2d, Bf16MatchesReferenceOnRoundedOperands) {
+  const ScopedGemmPrecision bf16(Precision::bf16);
+  Rng rng(2);
+  for (const Case& c : kCases) {
+    ConvGeometry g = geometry_of(c);
+    LayerBuffers in = random_buffers(g, rng);
+    if (g.cout_g() == 1) continue;  // conv2d_direct.h: no GEMM, stays fp32
+    expect_bf16_matches_reference(run_fast(in, g), in, [&](auto... a) { conv2d_forward_reference(a..., g); },
+                                  [&](auto... a) { conv2d_backward_reference(a..., g); });
+  }
+}
+
+TEST(Conv2d, Bf16OneAndTwoThreadsAgreeBitwise) {
+  const ScopedGemmPrecision bf16(Precision::bf16);
+  expect_all_cases_same_bits_on_1_and_2_threads();
 }

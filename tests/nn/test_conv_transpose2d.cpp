@@ -9,6 +9,7 @@
 #include "nn/functional/conv2d.h"
 #include "nn/functional/conv_transpose2d.h"
 #include "tests/support/gradcheck.h"
+#include "core/kernels/gemm_precision.h"
 #include "tests/support/kernel_pair_check.h"
 
 using namespace nns;
@@ -138,7 +139,8 @@ TEST(ConvTranspose2d, FastKernelsMatchReference) {
   }
 }
 
-TEST(ConvTranspose2d, OneAndTwoThreadsAgreeBitwise) {
+namespace {
+void expect_all_cases_same_bits_on_1_and_2_threads() {
   // All cases with one thread, then all with two: the pool is resized only twice.
   expect_same_bits_on_1_and_2_threads(3, [](Rng& rng) {
     std::vector<std::array<Tensor<float>, 4>> out;
@@ -149,6 +151,9 @@ TEST(ConvTranspose2d, OneAndTwoThreadsAgreeBitwise) {
     return out;
   });
 }
+}  // namespace
+
+TEST(ConvTranspose2d, OneAndTwoThreadsAgreeBitwise) { expect_all_cases_same_bits_on_1_and_2_threads(); }
 
 TEST(ConvTranspose2d, GradCheck) {
   for (size_t i = 0; i + 2 < std::size(kCases); ++i) {  // the last two cases are only large
@@ -197,4 +202,22 @@ TEST(ConvTranspose2d, BadArgumentsAreNamed) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("output_padding"), std::string::npos);
   }
+}
+
+// Precision::bf16 through every path (im2col, implicit GEMM, packed weights, skinny and
+// tiny products).
+TEST(ConvTranspose2d, Bf16MatchesReferenceOnRoundedOperands) {
+  const ScopedGemmPrecision bf16(Precision::bf16);
+  Rng rng(2);
+  for (const Case& c : kCases) {
+    ConvGeometry g = geometry_of(c);
+    LayerBuffers in = random_buffers(c, g, rng);
+    expect_bf16_matches_reference(run_fast(in, g), in, [&](auto... a) { conv_transpose2d_forward_reference(a..., g); },
+                                  [&](auto... a) { conv_transpose2d_backward_reference(a..., g); });
+  }
+}
+
+TEST(ConvTranspose2d, Bf16OneAndTwoThreadsAgreeBitwise) {
+  const ScopedGemmPrecision bf16(Precision::bf16);
+  expect_all_cases_same_bits_on_1_and_2_threads();
 }

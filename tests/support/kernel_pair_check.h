@@ -9,6 +9,7 @@
 #include <cstring>
 #include <vector>
 
+#include "core/kernels/bf16.h"
 #include "core/rng.h"
 #include "core/tensor.h"
 
@@ -53,6 +54,16 @@ std::array<Tensor<T>, 4> forward_backward(const LayerBuffers& in, Fwd fwd, Bwd b
   return {std::move(y), std::move(dx), std::move(dw), std::move(db)};
 }
 
+// The buffers with x, w and dy rounded to bf16: the operands of a layer's three products
+// (forward, input and weight gradients) as Precision::bf16 feeds them to the GEMM. The
+// bias and the bias gradient (a sum of dy) stay fp32, so only {y, dx, dw} compare.
+inline LayerBuffers bf16_operands(const LayerBuffers& in) {
+  LayerBuffers r{in.x.clone(), in.w.clone(), in.b.clone(), in.dy.clone()};
+  for (Tensor<float>* t : {&r.x, &r.w, &r.dy})
+    for (auto& v : *t) v = round_to_bf16(v);
+  return r;
+}
+
 inline constexpr const char* kLayerOutputNames[4] = {"forward", "dinp", "dweight", "dbias"};
 
 template <class R>
@@ -68,6 +79,16 @@ template <class R>
 void expect_close(const std::array<Tensor<float>, 4>& fast,
                   const std::array<Tensor<R>, 4>& reference) {
   for (int i = 0; i < 4; ++i) expect_close(fast[i], reference[i], kLayerOutputNames[i]);
+}
+
+// fast = {y, dx, dw, db} of a fast pair run in Precision::bf16 on in: its products take
+// in's x, w and dy rounded to bf16, so {y, dx, dw} are the double reference's on those
+// rounded operands, up to fp32 summation (unrounded operands would be ~1e-2 off).
+template <class Fwd, class Bwd>
+void expect_bf16_matches_reference(const std::array<Tensor<float>, 4>& fast, const LayerBuffers& in,
+                                   Fwd reference_fwd, Bwd reference_bwd) {
+  const auto ref = forward_backward<double>(bf16_operands(in), reference_fwd, reference_bwd);
+  for (int k = 0; k < 3; ++k) expect_close(fast[k], ref[k], kLayerOutputNames[k]);
 }
 
 inline bool bitwise_equal(const Tensor<float>& a, const Tensor<float>& b) {
