@@ -209,7 +209,9 @@ inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing&
   std::string fams;
   for (auto& f : o.validation_families) fams += (fams.empty() ? "" : ",") + f;
   spec.config.emplace_back("validation_families", fams);
-  spec.config.emplace_back("precision", precision_name(o.precision));
+  // Recorded only when not fp32, so checkpoints made before --precision existed still resume
+  // (the run layer refuses a key present on one side only: fp32 <-> bf16 is still caught).
+  if (o.precision != Precision::fp32) spec.config.emplace_back("precision", precision_name(o.precision));
   return spec;
 }
 

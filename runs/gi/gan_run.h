@@ -67,7 +67,9 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   spec.resume = o.resume;
   spec.config = t.run_config();
   spec.config.emplace_back("data", o.data_identity);
-  spec.config.emplace_back("precision", precision_name(o.precision));
+  // Recorded only when not fp32, so checkpoints made before --precision existed still resume
+  // (the run layer refuses a key present on one side only: fp32 <-> bf16 is still caught).
+  if (o.precision != Precision::fp32) spec.config.emplace_back("precision", precision_name(o.precision));
   runs::TrainingRun run(spec, ck, t.step_counter());
   std::filesystem::create_directories(o.out + "/samples");
   const int start_epoch = int(run.epochs_done());

@@ -375,3 +375,19 @@ TEST_F(TrainGan, DiscriminatorWatchFiresWhenDWinsOutright) {
   EXPECT_EQ(read_all(calm + ".log").find("wins outright"), std::string::npos) << read_all(calm + ".log");
   EXPECT_NE(read_all(calm + "/summary.json").find("\"d_wins_windows\":0"), std::string::npos);
 }
+
+// --precision is part of the run's configuration: resuming a bf16 run as fp32 (or the
+// other way) is refused naming it; fp32 is not recorded, so checkpoints made before the
+// flag existed still resume.
+TEST_F(TrainGan, ResumeWithAnotherPrecisionIsRefusedNamingIt) {
+  const std::string out = (root_ / "prec").string();
+  ASSERT_EQ(run(train_cmd(out, "--precision bf16 --debug-stop-after-epochs 1"), out + ".log"), 0) << read_all(out + ".log");
+  EXPECT_EQ(nns::Blob::load(out + "/checkpoint.blob").config_string("precision"), "bf16");
+  EXPECT_EQ(run(train_cmd(out, "--resume"), out + ".log1"), 1) << read_all(out + ".log1");
+  EXPECT_NE(read_all(out + ".log1").find("precision"), std::string::npos) << read_all(out + ".log1");
+  ASSERT_EQ(run(train_cmd(out, "--precision bf16 --resume"), out + ".log2"), 0) << read_all(out + ".log2");
+  const std::string fp = (root_ / "prec32").string();
+  ASSERT_EQ(run(train_cmd(fp, "--debug-stop-after-epochs 1"), fp + ".log"), 0) << read_all(fp + ".log");
+  EXPECT_FALSE(nns::Blob::load(fp + "/checkpoint.blob").has_config("precision"));
+  EXPECT_EQ(run(train_cmd(fp, "--precision bf16 --resume"), fp + ".log1"), 1) << read_all(fp + ".log1");
+}
