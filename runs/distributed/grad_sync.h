@@ -33,6 +33,7 @@
 //   sync.finish_step();     // every parameter's gradient buffer holds the mean g
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -135,7 +136,7 @@ class GradSync {
     const double t1 = now();
     ++times_.steps;
     times_.wait_seconds += t1 - t0;
-    times_.overlap_seconds += first_start_ > 0 ? backward_end_ - first_start_ : 0;
+    times_.overlap_seconds += first_start_ > 0 ? std::max(0.0, backward_end_ - first_start_) : 0;
     times_.buckets = double(buckets_.size());
   }
 

@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #ifdef NNSHADE_MPI
 #include <mpi.h>
@@ -56,6 +57,15 @@ inline bool built_with_mpi() {
 inline void barrier() {
 #ifdef NNSHADE_MPI
   if (world().size > 1) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}
+
+// Sums each value over the ranks (counts and totals for a report; the order of the
+// additions is MPI's, so never use it for numbers that must be bitwise reproducible).
+inline void sum_over_ranks(std::vector<double>& values) {
+#ifdef NNSHADE_MPI
+  if (world().size > 1)
+    MPI_Allreduce(MPI_IN_PLACE, values.data(), int(values.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
 #endif
 }
 
