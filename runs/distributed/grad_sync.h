@@ -25,6 +25,11 @@
 //
 // Dropout: micro-batch m draws its masks from the step's generators forked at m, on
 // whichever rank computes it; after the step every generator advances by one draw.
+// Buffers (BatchNorm's running statistics, set_buffers): every micro-batch starts from
+// the step's buffers and each normalises with its own image's statistics; after the step
+// the buffers are the mean, in micro-batch order, of what each micro-batch left in them,
+// i.e. one momentum update towards the mean of the step's per-image statistics (a
+// sequential update would make each rank wait for the previous rank's forward passes).
 //
 //   GradSync sync(params, rngs, K, bucket_mb);
 //   for (int m = sync.mine().begin; m < sync.mine().end; ++m) {
@@ -91,13 +96,21 @@ class GradSync {
   const SyncTimes& times() const { return times_; }
   size_t bucket_count() const { return buckets_.size(); }
 
+  // Buffers that forward passes update (running statistics), averaged per step.
+  void set_buffers(std::vector<Tensor<float>*> buffers) { buffers_ = std::move(buffers); }
+
   void begin_micro(int m) {
     if (m == mine_.begin) start_step();
+    for (size_t i = 0; i < buffers_.size(); ++i)
+      std::memcpy(buffers_[i]->data(), buffer_start_[i].data(), sizeof(float) * buffer_start_[i].size());
     for (size_t i = 0; i < rngs_.size(); ++i) rngs_[i]->set_state(snapshot_[i].fork(uint64_t(m)).state());
     if (m == mine_.end - 1) arm(true);
   }
 
   void end_micro(int m) {
+    std::vector<double> left;
+    for (Tensor<float>* b : buffers_) left.insert(left.end(), b->data(), b->data() + b->numel());
+    buffers_left_.push_back(std::move(left));
     if (m < mine_.end - 1) {
       hold();
       return;
@@ -132,6 +145,12 @@ class GradSync {
     for (size_t i = 0; i < rngs_.size(); ++i) {
       *rngs_[i] = snapshot_[i];
       rngs_[i]->next_u64();
+    }
+    if (!buffers_.empty()) {
+      const std::vector<double> mean = mean_over_micro(buffers_left_);
+      size_t k = 0;
+      for (Tensor<float>* b : buffers_)
+        for (int64_t e = 0; e < b->numel(); ++e) (*b)[e] = float(mean[k++]);
     }
     const double t1 = now();
     ++times_.steps;
@@ -210,6 +229,9 @@ class GradSync {
     }
     snapshot_.clear();
     for (Rng* g : rngs_) snapshot_.push_back(*g);
+    buffer_start_.clear();
+    for (Tensor<float>* b : buffers_) buffer_start_.emplace_back(b->data(), b->data() + b->numel());
+    buffers_left_.clear();
     held_.clear();
     for (auto& b : buckets_) b.pending = b.params.size(), b.ready = b.combined = false;
     first_start_ = 0;
@@ -349,6 +371,9 @@ class GradSync {
   std::vector<Var<float>> params_;
   std::vector<Rng*> rngs_;
   std::vector<Rng> snapshot_;
+  std::vector<Tensor<float>*> buffers_;
+  std::vector<std::vector<float>> buffer_start_;
+  std::vector<std::vector<double>> buffers_left_;  // per micro-batch of this rank
   int K_, r_, n_;
   MicroRange mine_;
   std::vector<Bucket> buckets_;

@@ -76,6 +76,7 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   runs::TrainingRun run(spec, ck, t.step_counter());
   if (run.writes_files()) std::filesystem::create_directories(o.out + "/samples");
   dist::GradSync sync(t.trained_parameters(), t.rngs(), o.accumulate, o.bucket_mb);
+  sync.set_buffers(t.buffers());
   const int K = o.accumulate;
   const int start_epoch = int(run.epochs_done());
   if (o.resume && !o.quiet)

@@ -180,6 +180,13 @@ class GanTrainer {
       for (auto& v : D->parameters()) p.push_back(v);
     return p;
   }
+  std::vector<Tensor<float>*> buffers() {
+    std::vector<Tensor<float>*> b;
+    for (auto& [name, t] : G.named_buffers()) b.push_back(t);
+    if (D)
+      for (auto& [name, t] : D->named_buffers()) b.push_back(t);
+    return b;
+  }
   std::vector<Rng*> rngs() {
     std::vector<Rng*> r;
     for (auto& [name, g] : G.named_rngs()) r.push_back(g);
@@ -229,12 +236,18 @@ class GanTrainer {
       Var<float> adv = bce_with_logits_target(D->forward(pair(x_f, fake_f)), 1.0f);
       out.g_adv = adv.value()[0];
       g_loss = adv + g_loss;
-      set_requires_grad(*D, true);
     }
     out.g = g_loss.value()[0];
-    if (checked && !std::isfinite(out.g)) throw NonFiniteError(k, "generator loss");
+    if (checked && !std::isfinite(out.g)) {
+      if (D) set_requires_grad(*D, true);
+      throw NonFiniteError(k, "generator loss");
+    }
     opt_g_->zero_grad();
+    // D stays frozen through this backward: ops ask whether a parent wants a gradient
+    // when backward runs, so unfreezing D before it added the adversarial loss's
+    // gradient to D's (a D step partly towards calling fakes real).
     g_loss.backward();
+    if (D) set_requires_grad(*D, true);
     if (checked) check_gradients(G, k, "G.");
     return out;
   }
