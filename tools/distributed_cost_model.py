@@ -70,12 +70,14 @@ def main():
     ap.add_argument("--gan-ms-per-image", type=float, required=True)
     ap.add_argument("--batch", type=int, default=64, help="global batch K (images per step)")
     ap.add_argument("--bucket-mb", type=float, default=1.0)
+    ap.add_argument("--rank-speedup", type=float, default=1.0,
+                    help="how much faster one rank computes an image than the measured thread (e.g. 32 cores at ideal scaling: 32)")
     o = ap.parse_args()
     gd, gp = unet(12, 16, 5, 128, 256)
     dd, dp = patchgan(15, 16, 3, 64, 64)
     td, tp = unet(12, 64, 8, 256, 256)
     tdd, tdp = patchgan(15, 64, 3, 256, 256)
-    t_default = o.gan_ms_per_image * 1e-3
+    t_default = o.gan_ms_per_image * 1e-3 / o.rank_speedup
     models = {
         "default GAN (G %.2f M + D %.2f M)" % (gp / 1e6, dp / 1e6): (gp + dp, t_default),
         "thesis-size (G %.1f M + D %.1f M)" % (tp / 1e6, tdp / 1e6): (tp + tdp, t_default * (td + tdd) / (gd + dd)),
