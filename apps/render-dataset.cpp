@@ -13,6 +13,7 @@
 #include "core/thread_pool.h"
 #include "render/dataset_writer.h"
 #include "render/scenes/families.h"
+#include "runs/distributed/world.h"
 
 using namespace nns;
 
@@ -32,6 +33,8 @@ bool parse_size(const std::string& s, int& w, int& h) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // mpirun -np N: view i is rendered by rank i % N, the dataset is the one-process one.
+  dist::Session mpi(argc, argv);
   std::string families_help = "procedural scene families (default: nnao-v2 all, other presets the first eight: ";
   for (auto& f : data::scene_families()) families_help += f.name + (&f == &data::scene_families().back() ? ")" : ", ");
   cli::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
@@ -68,9 +71,17 @@ int main(int argc, char** argv) {
   args.done();
   job.width = w, job.height = h;
 
-  return cli::run_main("render-dataset", [&] {
+  job.part = dist::rank(), job.parts = dist::size();
+  job.progress = dist::writer();
+  return mpi.finish(cli::run_main("render-dataset", [&] {
     set_num_threads(threads);
     data::DatasetReport r = data::render_dataset(job);
+    std::vector<double> sums = {double(r.train_views), double(r.test_views), double(r.holdout_views), double(r.rays),
+                                r.render_seconds, r.cpu_seconds};
+    dist::sum_over_ranks(sums);  // the report counts every rank's views
+    r.train_views = int(sums[0]), r.test_views = int(sums[1]), r.holdout_views = int(sums[2]);
+    r.rays = uint64_t(sums[3]), r.render_seconds = sums[4], r.cpu_seconds = sums[5];
+    if (!dist::writer()) return 0;
     int n = std::max(1, r.train_views + r.test_views + r.holdout_views);
     std::string held = r.holdout_views ? " + " + std::to_string(r.holdout_views) + " holdout" : "";
     std::string held_scenes = r.holdout_views ? " + " + std::to_string(r.holdout_scenes.size()) : "";
@@ -82,5 +93,5 @@ int main(int argc, char** argv) {
                 r.render_seconds > 0 ? r.rays / r.render_seconds * 1e-6 : 0.0,
                 r.cpu_seconds > 0 ? r.rays / r.cpu_seconds * 1e-6 : 0.0);
     return 0;
-  });
+  }));
 }

@@ -7,6 +7,8 @@
 //   train-gan --loss l1                        the non-adversarial baseline
 //   train-gan --loss dssim --arch deepshading  Deep Shading's U-Net and loss
 //   train-gan --out runs/x --resume            continue exactly where runs/x stopped
+//   mpirun -np 2 train-gan --accumulate 4      data-parallel: the weights of one process
+//                                              with --accumulate 4 (docs/distributed.md)
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -21,12 +23,14 @@
 #include "runs/gi/gan_run.h"
 #include "runs/gi/gi_data.h"
 #include "runs/gi/gi_evaluate.h"
+#include "runs/distributed/world.h"
 
 using namespace nns;
 using namespace nns::gi;
 
 int main(int argc, char** argv) {
-  return cli::run_main("train-gan", [&] {
+  dist::Session mpi(argc, argv);
+  return mpi.finish(cli::run_main("train-gan", [&] {
     cli::Args a(argc, argv, "train-gan",
                 "Train a pix2pix GAN (or an L1/DSSIM U-Net) to predict diffuse global illumination.");
     const GanDefaults def;
@@ -52,6 +56,10 @@ int main(int argc, char** argv) {
     std::string residual = a.get_choice("--residual", def.residual, {"off", "mapped", "linear"}, "predict a correction to the input light: none (pix2pix), in Tanh range, or the indirect light in linear light (docs/gan.md)");
     std::string precision = a.get_choice("--precision", "fp32", {"fp32", "bf16"}, "GEMM/convolution inputs: fp32, or bf16 with fp32 sums, master weights, Adam and BatchNorm (docs/gan.md)");
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
+    int accumulate = a.get_int("--accumulate", 1, "samples per optimizer step, their gradients averaged in a fixed order "
+                               "(BatchNorm per image); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
+    double bucket_mb = a.get_double("--bucket-mb", 25, "MiB per gradient bucket sent between MPI ranks during backward "
+                                    "(0: one bucket, sent after backward)", 0, 1e6);
     int seed = a.get_int("--seed", 1, "random seed (weights, dropout, data order)", 0, INT_MAX);
     bool resume = a.get_flag("--resume", "continue from OUT/checkpoint.blob");
     int max_frames = a.get_int("--max-frames", 0, "use at most N train and N test items (0: all)", 0, INT_MAX);
@@ -74,10 +82,12 @@ int main(int argc, char** argv) {
     if (dssim_weight == -1) dssim_weight = loss == "gan" ? def.dssim_weight : 0;  // --loss l1 stays L1 alone
     if (decay < 0) decay = epochs / 2;
     if (decay > epochs) a.error("--decay-epochs must be <= --epochs");
+    if (accumulate < dist::size())
+      a.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(dist::size()) + ")");
     a.done();
     set_num_threads(threads);
 
-    if (data_dir.empty()) data_dir = data::ensure_default_dataset("surround", threads);
+    if (data_dir.empty()) data_dir = dist::rank0_first([&] { return data::ensure_default_dataset("surround", threads); });
     data::require_valid_dataset(data_dir, data::Purpose::gi);
     auto listing = data::list_dataset(data_dir);
     if (listing.flat) listing = data::split_flat_by_scene(listing, 0.2);
@@ -97,6 +107,9 @@ int main(int argc, char** argv) {
     o.stop_after_epochs = stop_after;
     o.precision = parse_precision(precision);
     if (o.precision == Precision::bf16) std::fprintf(stderr, "train-gan: bf16 GEMMs on %s\n", bf16_isa_description().c_str());
+    o.accumulate = accumulate;
+    o.bucket_mb = bucket_mb;
+    o.quiet = !dist::writer();
     o.data_identity = std::filesystem::weakly_canonical(data_dir).string() + " (" +
                       std::to_string(train_listing.size()) + " train, " + std::to_string(val_listing.size()) +
                       " validation, " + std::to_string(listing.test.size()) + " test)";
@@ -123,7 +136,8 @@ int main(int argc, char** argv) {
     const bool streamed = stream == "on" || (stream == "auto" && gib > budget_gib);
     GiTrainData train = streamed ? GiTrainData(train_listing, rd, c.inputs, n_train)
                                  : GiTrainData(load_samples(train_listing, rd, c.inputs, max_items, "loading train"));
-    std::fprintf(stderr, "train-gan: %zu training %s (%zu more in validation scenes) from %s, input %s, depth_max %.3g, "
+    if (dist::writer())
+      std::fprintf(stderr, "train-gan: %zu training %s (%zu more in validation scenes) from %s, input %s, depth_max %.3g, "
                  "hdr_scale %.3g, light_max %.3g; %.2f GiB of samples, %s\n",
                  n_train, c.inputs.mode == GiMode::surround ? "frames" : "views", val_listing.size(), data_dir.c_str(),
                  first.input.shape().str().c_str(), c.inputs.norm.depth_max, c.inputs.norm.hdr_scale,
@@ -131,10 +145,11 @@ int main(int argc, char** argv) {
 
     GanRunResult r = run_gan_training(o, train);
     train = GiTrainData({});  // the evaluation loads its own frames
-    if (r.d_wins_windows > 0)
+    if (dist::writer() && r.d_wins_windows > 0)
       std::fprintf(stderr, "train-gan: the discriminator won outright in %lld windows of %d steps (first at step %lld)\n",
                    (long long)r.d_wins_windows, DiscriminatorWatch::kWindow, (long long)r.first_d_wins_step);
     if (!r.finished) return 3;  // the run layer's non-finite stop
+    if (!dist::writer()) return 0;  // rank 0 reports and evaluates
     std::printf("train-gan: %d epochs, %lld steps in %s; generator %s/G.blob\n", r.epochs_done,
                 (long long)r.steps, Progress::format_seconds(r.seconds).c_str(), out.c_str());
     if (no_eval || listing.test.size() == 0) return 0;
@@ -158,5 +173,5 @@ int main(int argc, char** argv) {
                   e.out.c_str());
     }
     return 0;
-  });
+  }));
 }

@@ -9,6 +9,8 @@
 // Without --data it renders (once, cached) and uses the built-in default dataset.
 // --sweep trains a size ladder instead (runs/ao/nnao_sweep.h; --resume continues an
 // interrupted sweep).
+// `mpirun -np N train-nnao --accumulate K ...` (K >= N) trains data-parallel with the
+// weights of the one-process run with --accumulate K (docs/distributed.md).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -19,11 +21,13 @@
 #include "render/default_dataset.h"
 #include "runs/ao/nnao_sweep.h"
 #include "runs/ao/train_nnao.h"
+#include "runs/distributed/world.h"
 
 using namespace nns;
 
 int main(int argc, char** argv) {
-  return cli::run_main("train-nnao", [&]() -> int {
+  dist::Session mpi(argc, argv);
+  return mpi.finish(cli::run_main("train-nnao", [&]() -> int {
     cli::Args args(argc, argv, "train-nnao", "Train NNAO (Holden et al. 2016) on EXR G-buffers.");
     nnao::TrainOptions o;
     o.data_dir = args.get_string("--data", "", "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
@@ -37,7 +41,9 @@ int main(int argc, char** argv) {
     o.net.features = args.get_choice("--features", p.features, {"grid", "horizon"},
                                       "grid: the paper's w x w grid of normal/depth differences; horizon: horizon profiles (models/nnao/horizon_features.h)");
     o.epochs = args.get_int("--epochs", p.epochs, "training epochs (the paper: 100)", 0, 100000);
-    o.batch = args.get_int("--batch", 16, "mini-batch size", 1, 65536);
+    o.batch = args.get_int("--batch", 16, "mini-batch size (the global batch under mpirun, whatever the rank count)", 1, 65536);
+    o.accumulate = args.get_int("--accumulate", 1, "micro-batches per step (of --batch / K points; their gradients averaged in a fixed order); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
+    o.bucket_mb = args.get_double("--bucket-mb", 25, "MiB per gradient bucket sent between MPI ranks (0: one bucket, sent after backward)", 0, 1e6);
     o.lr = args.get_double("--lr", 1e-3, "Adam learning rate", 1e-12, 1e9);
     o.net.window = args.get_int("--window", p.window, "grid features: grid size w (w x w samples)", 1, 63);
     o.net.horizon.directions = args.get_int("--directions", p.horizon.directions, "horizon features: screen directions", 1, 64);
@@ -60,9 +66,13 @@ int main(int argc, char** argv) {
     bool sweep = args.get_flag("--sweep", "train the size ladder (grid: w 7/15/23/31 x hidden 4/8/16; horizon: directions 8/16/32 x hidden 8/16/32) and chart error vs ms/frame");
     int sweep_epochs = args.get_int("--sweep-epochs", o.net.features == "horizon" ? 8 : 40,
                                     "epochs per model in --sweep (grid 40: converged on the default data; horizon 8, as the preset; the sweep trains with the preset's or --gamma's gamma)", 1, 100000);
+    if (o.batch % o.accumulate != 0) args.error("--accumulate must divide --batch");
+    if (sweep && dist::size() > 1) args.error("--sweep runs in one process (not under mpirun)");
+    if (o.accumulate < dist::size()) args.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(dist::size()) + ")");
     args.done();
+    o.quiet = !dist::writer();
     set_num_threads(threads);
-    if (o.data_dir.empty()) o.data_dir = data::ensure_default_dataset("nnao", threads);
+    if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return data::ensure_default_dataset("nnao", threads); });
     if (sweep) {
       o.epochs = sweep_epochs;
       // Choose on validation, never test.
@@ -72,6 +82,7 @@ int main(int argc, char** argv) {
     }
     nnao::TrainResult r = nnao::train_nnao(o);
     if (r.exit_code != 0) return r.exit_code;  // the run layer's non-finite stop, already reported
+    if (!dist::writer()) return 0;
     char mse[48] = "not measured (no epoch ran)";
     if (std::isfinite(r.test_mse)) std::snprintf(mse, sizeof mse, "%.5f", r.test_mse);
     std::printf("trained on %lld points (%lld test), %lld steps, %.1f us/step (%.0f samples/s), test MSE %s, "
@@ -82,5 +93,5 @@ int main(int argc, char** argv) {
     std::printf("model: %s/nnao.blob  metrics: %s/metrics.jsonl  chart: %s/loss.svg  report: %s/report.html\n",
                 o.out_dir.c_str(), o.out_dir.c_str(), o.out_dir.c_str(), o.out_dir.c_str());
     return 0;
-  });
+  }));
 }

@@ -18,6 +18,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -57,6 +58,10 @@ struct Node {
   std::function<void(Node<T>&)> backward;
   bool requires_grad = false;
   const char* op = "leaf";
+  // On a leaf (a parameter): called once per backward(), when every op that adds to its
+  // gradient has run, i.e. the gradient is final. Data-parallel training starts sending
+  // a bucket of gradients from here while backward goes on (runs/distributed/grad_sync.h).
+  std::function<void()> grad_final;
 
   Tensor<T>& grad_buffer() {
     if (!grad.defined()) grad = Tensor<T>::zeros(value.shape());
@@ -116,12 +121,22 @@ class Var {
     check_shape(seed, shape(), "backward seed");
     if (!node_->requires_grad) throw std::logic_error("backward(): result does not require grad");
     auto order = topological_order();
+    // Leaves with a grad_final hook: how many ops still have to add to their gradient.
+    std::unordered_map<Node<T>*, int> pending;
+    for (auto& n : order)
+      if (n->backward)
+        for (auto& p : n->parents)
+          if (p && p->requires_grad && !p->backward && p->grad_final) ++pending[p.get()];
     Tensor<T>& g = node_->grad_buffer();
     for (int64_t i = 0; i < g.numel(); ++i) g[i] += seed[i];
     for (auto it = order.rbegin(); it != order.rend(); ++it) {
       Node<T>& n = **it;  // `order` owns every node until the loop ends
       if (!n.backward) continue;  // a leaf: keep its gradient
       if (n.grad.defined()) n.backward(n);
+      if (!pending.empty())
+        for (auto& p : n.parents)
+          if (auto f = p ? pending.find(p.get()) : pending.end(); f != pending.end() && --f->second == 0)
+            p->grad_final();
       // Free what the op saved and its gradient: the graph is used once.
       n.backward = nullptr;
       n.parents.clear();

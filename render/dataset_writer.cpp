@@ -255,7 +255,9 @@ DatasetReport render_dataset(DatasetJob job) {
         std::fprintf(stderr, "render-dataset: held-out family '%s' gets no view (%d holdout views for %zu families)\n",
                      f.c_str(), n_holdout_views, job.holdout_families.size());
   }
-  if (holdout || job.vary_views || job.vary_lighting) write_metadata(job, tasks);
+  if (job.parts < 1 || job.part < 0 || job.part >= job.parts)
+    throw std::invalid_argument("render_dataset: part " + std::to_string(job.part) + " of " + std::to_string(job.parts));
+  if (job.part == 0 && (holdout || job.vary_views || job.vary_lighting)) write_metadata(job, tasks);
   DatasetReport report;
   Progress bar("render " + job.preset, job.views);
   int done = 0;
@@ -296,7 +298,12 @@ DatasetReport render_dataset(DatasetJob job) {
         std::string name = scene.name + (P == 1 ? "-v" + zero_padded(v0, 3)
                                                 : "-p" + zero_padded(v0 / P, 2) + "-f" + zero_padded(int(f), 3));
         // View ids mix the dataset-wide counter with the scene, so no two views share noise.
+        const bool mine = view_counter % uint64_t(job.parts) == uint64_t(job.part);
         uint64_t id = hash_name(scene.name) ^ (view_counter++ * 0x9E3779B97F4A7C15ull);
+        if (!mine) {
+          ++done;
+          continue;
+        }
         if (surround) {
           auto faces = render_surround(rt, cams[f], w, settings, id, false, &stats);
           fs::create_directories(dir / name);

@@ -38,6 +38,10 @@ struct DatasetJob {
   bool vary_lighting = false;
   RenderSettings settings;             // spp, bounces, seed; ao/lighting set by preset
   bool progress = true;                // progress bar on stderr
+  // Render only views i with i % parts == part (mpirun: rank and size). Every part walks
+  // the same scenes and cameras, so a view's bytes never depend on the split; part 0
+  // writes metadata.txt. The parts' views together are the whole dataset.
+  int part = 0, parts = 1;
 };
 
 // The ranges nnao-v2 draws from, per view (per path for camera paths). The image keeps

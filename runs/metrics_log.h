@@ -135,11 +135,14 @@ class MetricsLog {
     write_file_atomic(path_, kept);
   }
 
+  // A log made without a path (an MPI rank other than 0) keeps its records in memory.
   void append(const MetricsRecord& r) {
-    std::ofstream out(path_, std::ios::app);
-    out << format_metrics_line(r) << "\n";
-    out.flush();
-    if (!out) throw std::runtime_error("cannot append to '" + path_ + "' (disk full?)");
+    if (!path_.empty()) {
+      std::ofstream out(path_, std::ios::app);
+      out << format_metrics_line(r) << "\n";
+      out.flush();
+      if (!out) throw std::runtime_error("cannot append to '" + path_ + "' (disk full?)");
+    }
     records_.push_back(r);
   }
 

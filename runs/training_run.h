@@ -9,7 +9,9 @@
 //   - the order of the end-of-epoch writes: outputs first, then the checkpoint, so a
 //     run killed in between redoes the epoch on resume (never an output left behind);
 //   - the non-finite stop (NonFiniteError), summary.json, and report.md / report.html
-//     (runs/run_report.h) for the people who look.
+//     (runs/run_report.h) for the people who look;
+//   - under MPI (runs/distributed/world.h), rank 0 alone writes: the other ranks read the
+//     checkpoint on --resume and keep the log in memory (writes_files() is false).
 //
 //   TrainingRun run(spec, ck);               // folder, log; on resume: ck restored
 //   for (int64_t e = run.epochs_done(); e < epochs; ++e) {
@@ -32,6 +34,7 @@
 #include "core/atomic_file.h"
 #include "core/blob.h"
 #include "optim/checkpoint.h"
+#include "runs/distributed/world.h"
 #include "runs/metrics_log.h"
 #include "runs/non_finite.h"
 #include "runs/run_report.h"
@@ -75,7 +78,7 @@ class TrainingRun {
   TrainingRun(RunSpec spec, Checkpoint<float>& ck, int64_t& step) : spec_(std::move(spec)), ck_(ck), step_(step) {
     namespace fs = std::filesystem;
     fs::create_directories(spec_.out);
-    remove_stale_temporaries(spec_.out);
+    if (writes_files()) remove_stale_temporaries(spec_.out);
     ck_.add_counter("epochs_done", epochs_done_).add_counter("step", step_);
     const std::string ck_path = path(spec_.checkpoint_name);
     if (spec_.resume) {
@@ -91,8 +94,13 @@ class TrainingRun {
                                  "); resume with the same flags, or use a new --out");
       ck_.restore(saved);
     }
-    log_ = MetricsLog(path("metrics.jsonl"), spec_.resume ? step_ : -1);
+    if (writes_files()) log_ = MetricsLog(path("metrics.jsonl"), spec_.resume ? step_ : -1);
+    // Other ranks make their scratch files in the folder only after rank 0 has cleaned it.
+    dist::barrier();
   }
+
+  // False on MPI ranks other than 0: they train in step but write nothing.
+  bool writes_files() const { return dist::writer(); }
 
   int64_t epochs_done() const { return epochs_done_; }
   std::string path(const std::string& name) const { return (std::filesystem::path(spec_.out) / name).string(); }
@@ -101,8 +109,9 @@ class TrainingRun {
 
   // After each epoch: the outputs, then the checkpoint that says the epoch is done.
   void end_epoch(int64_t epochs_done, const std::function<void()>& write_outputs) {
-    if (write_outputs) write_outputs();
+    if (writes_files() && write_outputs) write_outputs();
     epochs_done_ = epochs_done;
+    if (!writes_files()) return;
     Blob meta(spec_.checkpoint_kind);
     for (auto& [k, v] : spec_.config) meta.set_config(k, v);
     ck_.save(path(spec_.checkpoint_name), meta);
@@ -114,6 +123,7 @@ class TrainingRun {
   int finish(const std::string& stop_message, const std::vector<std::pair<std::string, double>>& figures,
              const std::function<void(data::Report&)>& add_to_report = {}) {
     const bool finished = stop_message.empty();
+    if (!writes_files()) return finished ? 0 : 3;
     std::string js = "{\"finished\":" + std::string(finished ? "true" : "false") +
                      ",\"stop\":" + json_string(stop_message) + ",\"epochs_done\":" + std::to_string(epochs_done_) +
                      ",\"steps\":" + std::to_string(step_);

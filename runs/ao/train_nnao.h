@@ -17,6 +17,12 @@
 // epoch, configuration). --resume continues from it: the points are rebuilt from the
 // same seed, so an interrupted-and-resumed run ends bitwise equal to an uninterrupted
 // one. A NaN or Inf loss stops the run (exit 3) with the last good model in place.
+//
+// --accumulate K: each step's batch is K micro-batches of batch/K points, their gradients
+// averaged in micro-batch order (runs/distributed/grad_sync.h); under mpirun the
+// micro-batches are spread over the ranks, with the same numbers for any rank count.
+// Every rank builds the same point files and reads every row of a step (the shuffle is
+// one stream), and computes only its micro-batches.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -41,6 +47,7 @@
 #include "nn/serialize.h"
 #include "optim/adam.h"
 #include "optim/checkpoint.h"
+#include "runs/distributed/grad_sync.h"
 #include "runs/training_run.h"
 
 namespace nns::nnao {
@@ -75,7 +82,9 @@ struct TrainOptions {
   std::string out_dir = "nnao-out";
   NnaoNetConfig net;
   int epochs = 20;
-  int batch = 16;
+  int batch = 16;       // the global batch, whatever the number of MPI ranks
+  int accumulate = 1;   // micro-batches per step (batch / accumulate points each)
+  double bucket_mb = 25;  // MiB per gradient bucket of the MPI exchange (<= 0: one)
   double lr = 1e-3;
   double gamma = 0.01;
   int points_per_view = 1024;
@@ -212,6 +221,8 @@ inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing&
   // Recorded only when not fp32, so checkpoints made before --precision existed still resume
   // (the run layer refuses a key present on one side only: fp32 <-> bf16 is still caught).
   if (o.precision != Precision::fp32) spec.config.emplace_back("precision", precision_name(o.precision));
+  // It changes the rounding; recorded only when used, so older checkpoints still resume.
+  if (o.accumulate != 1) spec.config.emplace_back("accumulate", std::to_string(o.accumulate));
   return spec;
 }
 
@@ -238,6 +249,9 @@ inline TrainResult train_nnao(const TrainOptions& o) {
       o.points_per_view < 1 || !(o.net.dropout >= 0 && o.net.dropout < 1) || o.shuffle_chunk < 1 ||
       !(o.shuffle_buffer_mb > 0))
     throw std::invalid_argument("train-nnao: batch, epochs, window, hidden (1..64), points per view, dropout or shuffle sizes out of range");
+  if (o.accumulate < 1 || o.batch % o.accumulate != 0)
+    throw std::invalid_argument("train-nnao: --accumulate " + std::to_string(o.accumulate) + " must divide --batch " +
+                                std::to_string(o.batch));
   data::require_valid_dataset(o.data_dir, data::Purpose::nnao);
   data::DatasetListing d = data::list_dataset(o.data_dir);
   if (d.flat) d = data::split_flat_by_scene(d, 0.2);
@@ -292,7 +306,11 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   if (steps_per_epoch == 0) throw std::runtime_error("fewer training points than one batch");
   runs::ShuffledRows order(train.rows, o.shuffle_chunk, shuffle_buffer_rows(o));
   auto params = net.parameters();
-  NnaoFastStep fast(net, o.batch);
+  const int K = o.accumulate;
+  NnaoFastStep fast(net, o.batch / K);
+  std::vector<Rng*> rngs;
+  for (auto& [name, r] : net.named_rngs()) rngs.push_back(r);
+  dist::GradSync sync(params, rngs, K, o.bucket_mb);
   std::vector<float> xb(static_cast<size_t>(B * F)), yb(static_cast<size_t>(B));
   Progress bar("train-nnao", (o.epochs - epoch) * steps_per_epoch);
   int64_t done = 0;
@@ -318,8 +336,22 @@ inline TrainResult train_nnao(const TrainOptions& o) {
           to_float(row_features(row), xb.data() + b * F, F);
           yb[size_t(b)] = row_target(row, F);
         }
-        for (auto& prm : params) prm.grad_buffer().zero();
-        const float loss = fast.forward_backward(xb.data(), yb.data(), float(o.gamma));
+        float loss = 0;
+        if (!sync.active()) {
+          for (auto& prm : params) prm.grad_buffer().zero();
+          loss = fast.forward_backward(xb.data(), yb.data(), float(o.gamma));
+        } else {
+          const int64_t mb = B / K;
+          std::vector<std::vector<double>> micro_losses;
+          for (int m = sync.mine().begin; m < sync.mine().end; ++m) {
+            sync.begin_micro(m);
+            for (auto& prm : params) prm.grad_buffer().zero();
+            micro_losses.push_back({fast.forward_backward(xb.data() + m * mb * F, yb.data() + m * mb, float(o.gamma))});
+            sync.end_micro(m);
+          }
+          sync.finish_step();
+          loss = float(sync.mean_over_micro(micro_losses)[0]);
+        }
         // A NaN or Inf loss (a diverging learning rate, a NaN that slipped into the data)
         // stops the run before Adam touches the weights; one isfinite per ~20 us step.
         runs::check_finite(double(loss), step + 1, "training loss");
@@ -344,14 +376,14 @@ inline TrainResult train_nnao(const TrainOptions& o) {
       runs::MetricsRecord rec{step, epoch, {{"train_loss", res.train_loss}, {"test_mse", res.test_mse}}};
       if (valid.count()) rec.values.emplace_back("val_mse", res.val_mse = evaluate_mse(net, valid, st.target_std));
       run.log(rec);
-      write_loss_chart(run);
+      if (run.writes_files()) write_loss_chart(run);
       run.end_epoch(epoch, save_model);
       epoch_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_epoch).count();
       ++epochs_run;
     }
     // Also after a resume that found every epoch done: the model always matches the
     // checkpoint, even if a run was killed between the two writes.
-    save_model();
+    if (run.writes_files()) save_model();
   } catch (const runs::NonFiniteError& e) {
     set_num_threads(threads);
     stop = run.stop_message(e);
@@ -364,13 +396,15 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   res.epoch_seconds = epochs_run ? epoch_seconds / double(epochs_run) : 0;
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   res.stop_message = stop;
-  res.exit_code = run.finish(stop, {{"train_points", double(res.train_points)},
-                                    {"test_points", double(res.test_points)},
-                                    {"test_mse", res.test_mse},
-                                    {"step_microseconds", res.step_microseconds},
-                                    {"build_seconds", res.build_seconds},
-                                    {"epoch_seconds", res.epoch_seconds},
-                                    {"seconds", res.seconds}},
+  std::vector<std::pair<std::string, double>> figures = {{"train_points", double(res.train_points)},
+                                                         {"test_points", double(res.test_points)},
+                                                         {"test_mse", res.test_mse},
+                                                         {"step_microseconds", res.step_microseconds},
+                                                         {"build_seconds", res.build_seconds},
+                                                         {"epoch_seconds", res.epoch_seconds},
+                                                         {"seconds", res.seconds}};
+  dist::add_sync_figures(sync, figures);
+  res.exit_code = run.finish(stop, figures,
                               [&](data::Report& r) {
                                 if (fs::exists(run.path("loss.svg")))
                                   r.chart("loss.svg", "train loss and test MSE per epoch");

@@ -13,6 +13,12 @@
 //   samples/          step<N>_{input,prediction,truth,error,shaded}.png every `sample_every` steps
 //   summary.json      how the run ended (finished | non-finite), D-wins windows, timing
 //   report.md/.html   the run for people: losses, the first and last samples, figures
+//
+// --accumulate K: a step is K samples of the epoch's order, their gradients averaged in
+// order (runs/distributed/grad_sync.h; BatchNorm keeps each image's own statistics, as
+// pix2pix at batch 1); the last n mod K samples of an epoch are left out. Under mpirun
+// the K samples are spread over the ranks, each rank reading only its own, and the
+// weights are those of one process with --accumulate K. Rank 0 alone writes.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +29,7 @@
 
 #include "core/progress.h"
 #include "core/kernels/gemm_precision.h"
+#include "runs/distributed/grad_sync.h"
 #include "runs/gi/gan_trainer.h"
 #include "runs/gi/gi_previews.h"
 #include "runs/gi/gi_train_data.h"
@@ -38,6 +45,8 @@ struct GanRunOptions {
   int64_t poison_step = -1;     // test hook: make this step's input NaN (the NaN-stop test)
   int stop_after_epochs = -1;   // test hook: stop (as if killed) after this many epochs
   bool quiet = false;
+  int accumulate = 1;        // samples (micro-batches of one image) per optimizer step
+  double bucket_mb = 25;     // MiB per gradient bucket of the MPI exchange (<= 0: one)
   std::string data_identity;    // the data's folder and frame counts: a resume must match
   // bf16: every GEMM and convolution of the training takes bf16 inputs (fp32 sums); the
   // weights, Adam's moments, BatchNorm statistics and the losses stay fp32.
@@ -70,8 +79,13 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   // Recorded only when not fp32, so checkpoints made before --precision existed still resume
   // (the run layer refuses a key present on one side only: fp32 <-> bf16 is still caught).
   if (o.precision != Precision::fp32) spec.config.emplace_back("precision", precision_name(o.precision));
+  // It changes the rounding; recorded only when used, so older checkpoints still resume.
+  if (o.accumulate != 1) spec.config.emplace_back("accumulate", std::to_string(o.accumulate));
   runs::TrainingRun run(spec, ck, t.step_counter());
-  std::filesystem::create_directories(o.out + "/samples");
+  if (run.writes_files()) std::filesystem::create_directories(o.out + "/samples");
+  dist::GradSync sync(t.trained_parameters(), t.rngs(), o.accumulate, o.bucket_mb);
+  sync.set_buffers(t.buffers());
+  const int K = o.accumulate;
   const int start_epoch = int(run.epochs_done());
   if (o.resume && !o.quiet)
     std::fprintf(stderr, "train-gan: resuming from %s at epoch %d, step %lld\n", run.path("checkpoint.blob").c_str(),
@@ -81,7 +95,9 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   r.epochs_done = start_epoch;
   const int total = o.train.total_epochs();
   const int64_t n = int64_t(train.size());
-  Progress bar("train-gan " + std::string(loss_name(o.train.loss)), int64_t(total - start_epoch) * n);
+  const int64_t steps_per_epoch = n / K;
+  if (steps_per_epoch == 0) throw std::runtime_error("train-gan: fewer training samples than --accumulate");
+  Progress bar("train-gan " + std::string(loss_name(o.train.loss)), int64_t(total - start_epoch) * steps_per_epoch);
   StepLosses acc;
   int acc_n = 0;
   auto flush_log = [&](int epoch) {
@@ -100,18 +116,42 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
       std::vector<int64_t> order(static_cast<size_t>(n));
       for (int64_t i = 0; i < n; ++i) order[size_t(i)] = i;
       for (int64_t i = n - 1; i > 0; --i) std::swap(order[size_t(i)], order[order_rng.below(uint64_t(i + 1))]);
-      for (int64_t j = 0; j < n; ++j) {
-        const GiSample& s = train.get(size_t(order[size_t(j)]),
-                                      j + 1 < n ? std::optional<size_t>(size_t(order[size_t(j + 1)])) : std::nullopt);
-        GiSample poisoned;
-        const GiSample* use = &s;
-        if (t.step() + 1 == o.poison_step) {
-          poisoned = s;
-          poisoned.input = s.input.clone();
-          poisoned.input[0] = NAN;
-          use = &poisoned;
+      // Sample q of the epoch's order (q: a position in it), reading `next` ahead.
+      auto sample = [&](int64_t q, int64_t next) -> const GiSample& {
+        return train.get(size_t(order[size_t(q)]),
+                         next >= 0 && next < n ? std::optional<size_t>(size_t(order[size_t(next)])) : std::nullopt);
+      };
+      GiSample poisoned;
+      auto maybe_poisoned = [&](const GiSample& s, bool poison) -> const GiSample& {
+        if (!poison) return s;
+        poisoned = s;
+        poisoned.input = s.input.clone();
+        poisoned.input[0] = NAN;
+        return poisoned;
+      };
+      for (int64_t j = 0; j < steps_per_epoch; ++j) {
+        const bool poison = t.step() + 1 == o.poison_step;  // micro-batch 0's input, with --accumulate
+        StepLosses l;
+        const GiSample* shown = nullptr;  // K = 1: the step's sample, for the PNGs
+        if (!sync.active()) {
+          shown = &sample(j, j + 1);
+          l = t.train_step(maybe_poisoned(*shown, poison));
+        } else {
+          const dist::MicroRange mine = sync.mine();
+          std::vector<std::vector<double>> per;
+          for (int m = mine.begin; m < mine.end; ++m) {
+            const int64_t q = j * K + m, next = m + 1 < mine.end ? q + 1 : (j + 1 < steps_per_epoch ? (j + 1) * K + mine.begin : -1);
+            const GiSample& s = sample(q, next);
+            sync.begin_micro(m);
+            const StepLosses lm = t.accumulate_sample(maybe_poisoned(s, poison && m == 0));
+            sync.end_micro(m);
+            per.push_back({lm.d, lm.d_real, lm.d_fake, lm.g_adv, lm.g_rec, lm.g});
+          }
+          sync.finish_step();
+          const std::vector<double> mean = sync.mean_over_micro(per);
+          l = {mean[0], mean[1], mean[2], mean[3], mean[4], mean[5]};
+          t.apply_accumulated(l);
         }
-        StepLosses l = t.train_step(*use);
         if (o.train.loss == GiLoss::gan && t.watch().add(l.d, l.g_adv)) {
           ++r.d_wins_windows;
           if (r.first_d_wins_step < 0) r.first_d_wins_step = t.step();
@@ -124,26 +164,29 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
         acc.g_adv += l.g_adv, acc.g_rec += l.g_rec, acc.g += l.g;
         ++acc_n;
         if (t.step() % o.log_every == 0) flush_log(epoch);
-        if (o.sample_every > 0 && t.step() % o.sample_every == 0)
+        if (run.writes_files() && o.sample_every > 0 && t.step() % o.sample_every == 0) {
+          // The step's first sample (read again when the step read others after it).
+          const GiSample& s = shown ? *shown : sample(j * K, -1);
           write_sample_pngs(o.out + "/samples/step" + std::to_string(t.step()), s,
                             t.predict(s, /*bn_batch_stats=*/true, /*dropout_on=*/false),
                             HdrMapping(o.train.inputs.norm.hdr_scale));
+        }
         if (!o.quiet) {
           char status[96];
           std::snprintf(status, sizeof status, "D %.3f G_adv %.3f rec %.4f", l.d, l.g_adv, l.g_rec);
-          bar.update(int64_t(epoch - start_epoch) * n + j + 1, status);
+          bar.update(int64_t(epoch - start_epoch) * steps_per_epoch + j + 1, status);
         }
       }
       // The epoch's last partial window: a resumed run starts afresh at this step.
       if (acc_n > 0) flush_log(epoch);
-      write_loss_chart(run.metrics(), run.path("loss.svg"));
+      if (run.writes_files()) write_loss_chart(run.metrics(), run.path("loss.svg"));
       run.end_epoch(epoch + 1, [&] { t.save_models(g_blob, d_blob); });
       r.epochs_done = epoch + 1;
       if (epoch + 1 == o.stop_after_epochs) break;
     }
     // Also after a resume that found every epoch done: G.blob always matches the
     // checkpoint, even if a run was killed between writing the two.
-    t.save_models(g_blob, d_blob);
+    if (run.writes_files()) t.save_models(g_blob, d_blob);
     r.finished = true;
   } catch (const NonFiniteError& e) {
     r.stop_message = run.stop_message(e);
@@ -153,9 +196,11 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   r.steps = t.step();
   r.d_wins_windows = t.watch().windows_won();
   r.seconds = bar.elapsed_seconds();
-  run.finish(r.stop_message, {{"seconds", r.seconds}, {"d_wins_windows", double(r.d_wins_windows)},
-                              {"first_d_wins_step", double(r.first_d_wins_step)},
-                              {"g_parameters", double(t.G.parameter_count())}},
+  std::vector<std::pair<std::string, double>> figures = {{"seconds", r.seconds}, {"d_wins_windows", double(r.d_wins_windows)},
+                                                         {"first_d_wins_step", double(r.first_d_wins_step)},
+                                                         {"g_parameters", double(t.G.parameter_count())}};
+  dist::add_sync_figures(sync, figures);
+  run.finish(r.stop_message, figures,
              [&](data::Report& report) {
                if (std::filesystem::exists(run.path("loss.svg"))) report.chart("loss.svg", "D and G losses per step");
                add_sample_comparisons(report, o.out, o.sample_every, t.step());

@@ -149,6 +149,55 @@ class GanTrainer {
   double lr() const { return opt_g_->lr(); }
 
   StepLosses train_step(const GiSample& s) {
+    StepLosses out = forward_backward(s, /*checked=*/true);
+    // Both updates only after every check passed: a failing step changes nothing.
+    if (D) opt_d_->step();
+    opt_g_->step();
+    ++step_;
+    return out;
+  }
+
+  // A step accumulated over micro-batches (runs/distributed/grad_sync.h): each sample's
+  // losses and gradients alone, unchecked (a rank must not stop while the others wait for
+  // its gradients); then apply_accumulated() checks the mean losses and the mean
+  // gradients, the same on every rank, and updates. BatchNorm keeps per-image statistics.
+  StepLosses accumulate_sample(const GiSample& s) { return forward_backward(s, /*checked=*/false); }
+  void apply_accumulated(const StepLosses& mean) {
+    const int64_t k = step_ + 1;
+    if (D && !std::isfinite(mean.d)) throw NonFiniteError(k, "discriminator loss");
+    if (!std::isfinite(mean.g)) throw NonFiniteError(k, "generator loss");
+    if (D) check_gradients(*D, k, "D.");
+    check_gradients(G, k, "G.");
+    if (D) opt_d_->step();
+    opt_g_->step();
+    ++step_;
+  }
+  // What an accumulated step averages, in a fixed order: G's parameters, then D's; and
+  // the dropout generators.
+  std::vector<Var<float>> trained_parameters() {
+    std::vector<Var<float>> p = G.parameters();
+    if (D)
+      for (auto& v : D->parameters()) p.push_back(v);
+    return p;
+  }
+  std::vector<Tensor<float>*> buffers() {
+    std::vector<Tensor<float>*> b;
+    for (auto& [name, t] : G.named_buffers()) b.push_back(t);
+    if (D)
+      for (auto& [name, t] : D->named_buffers()) b.push_back(t);
+    return b;
+  }
+  std::vector<Rng*> rngs() {
+    std::vector<Rng*> r;
+    for (auto& [name, g] : G.named_rngs()) r.push_back(g);
+    if (D)
+      for (auto& [name, g] : D->named_rngs()) r.push_back(g);
+    return r;
+  }
+
+  // The losses of one sample and their gradients (into cleared buffers); `checked`: a
+  // NaN or Inf throws NonFiniteError before any gradient is used.
+  StepLosses forward_backward(const GiSample& s, bool checked) {
     G.train();
     if (D) D->train();
     const int64_t k = step_ + 1;  // 1-based step number in messages
@@ -157,7 +206,7 @@ class GanTrainer {
     Var<float> y(s.target);
     Var<float> fake = generate(G, config.generator(), x);
     Var<float> fake_f = crop2d(fake, s.front);
-    check_finite(fake.value(), k, "generator output");
+    if (checked) check_finite(fake.value(), k, "generator output");
 
     Var<float> x_f;
     if (D) {
@@ -170,10 +219,10 @@ class GanTrainer {
       Var<float> d_fake = bce_with_logits_target(fake_logits, 0.0f);
       Var<float> d_loss = (d_real + d_fake) * 0.5f;
       out.d_real = d_real.value()[0], out.d_fake = d_fake.value()[0], out.d = d_loss.value()[0];
-      if (!std::isfinite(out.d)) throw NonFiniteError(k, "discriminator loss");
+      if (checked && !std::isfinite(out.d)) throw NonFiniteError(k, "discriminator loss");
       opt_d_->zero_grad();
       d_loss.backward();
-      check_gradients(*D, k, "D.");
+      if (checked) check_gradients(*D, k, "D.");
     }
 
     // G step: fool D (its parameters frozen: no gradient is wasted on them) + lambda*L1.
@@ -187,18 +236,19 @@ class GanTrainer {
       Var<float> adv = bce_with_logits_target(D->forward(pair(x_f, fake_f)), 1.0f);
       out.g_adv = adv.value()[0];
       g_loss = adv + g_loss;
-      set_requires_grad(*D, true);
     }
     out.g = g_loss.value()[0];
-    if (!std::isfinite(out.g)) throw NonFiniteError(k, "generator loss");
+    if (checked && !std::isfinite(out.g)) {
+      if (D) set_requires_grad(*D, true);
+      throw NonFiniteError(k, "generator loss");
+    }
     opt_g_->zero_grad();
+    // D stays frozen through this backward: ops ask whether a parent wants a gradient
+    // when backward runs, so unfreezing D before it added the adversarial loss's
+    // gradient to D's (a D step partly towards calling fakes real).
     g_loss.backward();
-    check_gradients(G, k, "G.");
-
-    // Both updates only after every check passed: a failing step changes nothing.
-    if (D) opt_d_->step();
-    opt_g_->step();
-    ++step_;
+    if (D) set_requires_grad(*D, true);
+    if (checked) check_gradients(G, k, "G.");
     return out;
   }
 

@@ -58,3 +58,22 @@ TEST(Autograd, DeepGraphWithoutBackwardIsFreedWithoutRecursion) {
   h = Var<double>();  // must not overflow the stack
   SUCCEED();
 }
+
+// The hook data-parallel training starts a gradient bucket from (grad_final): once per
+// backward, after the last op that adds to that leaf, never before.
+TEST(Autograd, GradFinalRunsOnceWhenTheLastContributionIsIn) {
+  Var<double> w(Tensor<double>::from({1, 1}, {1.0}), true);
+  Var<double> v(Tensor<double>::from({1, 1}, {1.0}), true);
+  Var<double> h(Tensor<double>::from({1, 1}, {1.0}));
+  for (int i = 0; i < 5; ++i) h = linear(h, w);  // w used by 5 ops: 5 contributions
+  h = linear(h, v);
+  int w_calls = 0, v_calls = 0;
+  double w_seen = 0;
+  w.node()->grad_final = [&] { ++w_calls, w_seen = w.grad()[0]; };
+  v.node()->grad_final = [&] { ++v_calls; EXPECT_EQ(w_calls, 0) << "v (used last) is final before w"; };
+  h.backward();
+  EXPECT_EQ(w_calls, 1);
+  EXPECT_EQ(v_calls, 1);
+  EXPECT_DOUBLE_EQ(w_seen, 5.0);  // all five contributions were in when the hook ran
+  EXPECT_DOUBLE_EQ(w.grad()[0], 5.0);
+}
