@@ -17,12 +17,37 @@
 
 namespace nns {
 
+namespace detail {
+
+inline std::runtime_error io_error(const std::string& path, const std::string& what) {
+  return std::runtime_error("cannot write '" + path + "': " + what + ": " + std::strerror(errno));
+}
+
+// The pid keeps two processes writing the same target from sharing a temporary.
+inline std::string temp_name(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
+
+// Renames a finished, fsynced temporary over `path`, then fsyncs the folder.
+inline void rename_into_place(const std::string& tmp, const std::string& path) {
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    auto e = io_error(path, "rename " + tmp);
+    ::unlink(tmp.c_str());
+    throw e;
+  }
+  // Make the rename itself durable; best effort (some filesystems refuse a dir fsync).
+  auto slash = path.find_last_of('/');
+  std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+}  // namespace detail
+
 inline void write_file_atomic(const std::string& path, const std::string& bytes) {
-  auto fail = [&](const std::string& what) {
-    return std::runtime_error("cannot write '" + path + "': " + what + ": " + std::strerror(errno));
-  };
-  // The pid keeps two processes writing the same target from sharing a temporary.
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  auto fail = [&](const std::string& what) { return detail::io_error(path, what); };
+  const std::string tmp = detail::temp_name(path);
   int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw fail("open " + tmp);
   size_t done = 0;
@@ -48,19 +73,31 @@ inline void write_file_atomic(const std::string& path, const std::string& bytes)
     ::unlink(tmp.c_str());
     throw e;
   }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    auto e = fail("rename " + tmp);
+  detail::rename_into_place(tmp, path);
+}
+
+// For a library that writes to a file name itself (OpenImageIO): `write(tmp)` writes
+// the whole file at the temporary name, which is then fsynced and renamed like
+// write_file_atomic's. If `write` throws, the temporary is removed and the error passes
+// on unchanged; the target is never touched.
+template <class WriteToPath>
+void write_path_atomic(const std::string& path, WriteToPath&& write) {
+  const std::string tmp = detail::temp_name(path);
+  try {
+    write(tmp);
+  } catch (...) {
+    ::unlink(tmp.c_str());
+    throw;
+  }
+  int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0 || ::fsync(fd) != 0) {
+    auto e = detail::io_error(path, "fsync " + tmp);
+    if (fd >= 0) ::close(fd);
     ::unlink(tmp.c_str());
     throw e;
   }
-  // Make the rename itself durable; best effort (some filesystems refuse a dir fsync).
-  auto slash = path.find_last_of('/');
-  std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-  int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dfd >= 0) {
-    ::fsync(dfd);
-    ::close(dfd);
-  }
+  ::close(fd);
+  detail::rename_into_place(tmp, path);
 }
 
 // Removes "<name>.tmp.<pid>" files in `dir` whose writer is no longer running (a run
