@@ -100,6 +100,21 @@ void write_path_atomic(const std::string& path, WriteToPath&& write) {
   detail::rename_into_place(tmp, path);
 }
 
+// The pid of a temporary's name "<name>.tmp.<pid>", or -1 for any other name.
+inline int temporary_pid(const std::string& name) {
+  const auto at = name.rfind(".tmp.");
+  if (at == std::string::npos) return -1;
+  const std::string pid = name.substr(at + 5);
+  if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stoi(pid);
+}
+
+// The file a temporary stands for ("x.png.tmp.12" -> "x.png"); other names unchanged.
+// A writer that picks the format by the extension (OpenImageIO) looks at this name.
+inline std::string target_of_temporary(const std::string& name) {
+  return temporary_pid(name) < 0 ? name : name.substr(0, name.rfind(".tmp."));
+}
+
 // Removes "<name>.tmp.<pid>" files in `dir` whose writer is no longer running (a run
 // killed mid-write); returns how many. Another live process's temporaries are kept.
 inline int remove_stale_temporaries(const std::string& dir) {
@@ -108,11 +123,8 @@ inline int remove_stale_temporaries(const std::string& dir) {
   std::error_code ec;
   for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    const auto at = name.rfind(".tmp.");
-    if (at == std::string::npos || !it->is_regular_file()) continue;
-    const std::string pid = name.substr(at + 5);
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    const int p = std::stoi(pid);
+    const int p = temporary_pid(name);
+    if (p < 0 || !it->is_regular_file()) continue;
     if (p == ::getpid() || (::kill(p, 0) == 0 || errno == EPERM)) continue;  // a live writer
     if (fs::remove(it->path(), ec)) ++removed;
   }

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -23,6 +24,21 @@ std::string Image::channel_list() const {
   return s.empty() ? "none" : s;
 }
 
+namespace {
+
+// OpenImageIO's format name for the file name's extension, "" for any other.
+std::string format_of(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".png") return "png";
+  if (ext == ".tif" || ext == ".tiff") return "tiff";
+  if (ext == ".hdr") return "hdr";
+  if (ext == ".exr") return "openexr";
+  return "";
+}
+
+}  // namespace
+
 Image read_image(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw std::runtime_error(path + ": no such file");
@@ -33,16 +49,15 @@ Image read_image(const std::string& path) {
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
   // The reader is chosen by the file name's extension alone, and only among the formats
-  // this reads: OpenImageIO would otherwise try each of its plugins (camera raw, DICOM,
-  // video, ...) on a file its own reader refused, putting every one of those parsers in
-  // front of a user's bytes.
-  auto in = OIIO::ImageInput::create(path, /*do_open=*/false, &config);
-  const std::string format = in ? in->format_name() : "";
-  if (format != "png" && format != "tiff" && format != "hdr" && format != "openexr") {
-    OIIO::geterror();  // clear the thread's pending message
+  // this reads: given a file name, OpenImageIO would sniff the bytes and try each of its
+  // plugins (camera raw, DICOM, video, ...), putting every one of those parsers in front
+  // of a user's bytes. Given a format name it makes that reader and nothing else.
+  const std::string format = format_of(path);
+  if (format.empty())
     throw std::runtime_error(path + ": not a PNG, TIFF, Radiance HDR or OpenEXR file name (.png, .tif, .tiff, "
-                             ".hdr, .exr)" + (format.empty() ? "" : "; OpenImageIO calls it " + format));
-  }
+                             ".hdr, .exr)");
+  auto in = OIIO::ImageInput::create(format, /*do_open=*/false, &config);
+  if (!in) throw std::runtime_error(path + ": OpenImageIO has no " + format + " reader (" + OIIO::geterror() + ")");
   OIIO::ImageSpec opened;
   if (!in->open(path, opened, config))
     throw std::runtime_error(path + ": cannot read it as " + format + " (" + in->geterror() + ")");
@@ -71,8 +86,12 @@ Image read_image(const std::string& path) {
   for (auto& f : spec.channelformats)
     if (f.is_floating_point()) im.integer = false;
   im.pixels.resize(size_t(values));
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, im.pixels.data()))
-    throw std::runtime_error(path + ": cannot decode the pixels, truncated or corrupt (" + in->geterror() + ")");
+  // A TIFF cut short returns success with the failed strips left as they were: the
+  // reader's pending error message is the only sign, so any message is a failure.
+  const bool read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, im.pixels.data());
+  const std::string error = in->geterror();
+  if (!read || !error.empty())
+    throw std::runtime_error(path + ": cannot decode the pixels, truncated or corrupt (" + error + ")");
   in->close();
   return im;
 }

@@ -50,18 +50,22 @@ OIIO::TypeDesc file_type(PixelType t) {
   return OIIO::TypeDesc::FLOAT;
 }
 
-// One path for every file: the format from the final name's extension, the bytes to the
-// temporary name, then core/atomic_file.h's fsync and rename.
+// One path for every file: the format from the final name's extension (a caller's own
+// temporary, "x.png.tmp.<pid>" as gi-infer's, counts as its target x.png), the bytes to
+// the temporary name, then core/atomic_file.h's fsync and rename.
 void write_pixels(const std::string& path, int w, int h, const std::vector<std::string>& channels,
                   OIIO::TypeDesc memory, const void* pixels, OIIO::TypeDesc stored) {
   check_size(path, w, h);
   if (channels.empty()) throw std::invalid_argument(path + ": an image needs at least one channel");
   write_path_atomic(path, [&](const std::string& tmp) {
-    auto out = OIIO::ImageOutput::create(path);
+    auto out = OIIO::ImageOutput::create(target_of_temporary(path));
     if (!out) throw std::runtime_error(path + ": no image format for this file name (" + OIIO::geterror() + ")");
     OIIO::ImageSpec spec(w, h, int(channels.size()), stored);
     spec.channelnames = channels;
-    spec.alpha_channel = -1;  // a 4th channel is data here, not coverage to premultiply
+    // Values stored as given: a 4th channel is data here, and OpenImageIO would otherwise
+    // divide the colour by it ("unassociate") before storing a PNG or TIFF.
+    spec.alpha_channel = -1;
+    spec.attribute("oiio:UnassociatedAlpha", 1);
     if (!out->open(tmp, spec)) throw std::runtime_error(path + ": cannot open for writing (" + out->geterror() + ")");
     const bool wrote = out->write_image(memory, pixels);
     const bool closed = out->close();
