@@ -1,12 +1,15 @@
 // gi-infer: a trained GI generator on one frame without ground truth.
 //
 //   gi-infer --model gan-out/G.blob --in frame7 --out frame7_gi.exr
+//   gi-infer --model G.blob --channel depth=d.exr:Z --channel normal=n.png --channel albedo=a.png \
+//            --channel direct=direct.hdr --fov-y 60 --out f_gi.exr
 // --in is one G-buffer view (front-mode model) or a folder of six faces
 // front/back/left/right/up/down.exr (surround model). Writes OUT.exr (light.*, indirect.*,
 // shaded.*, Z) and OUT_shaded.png, OUT_indirect.png; on any error, nothing. See docs/gan.md.
 #include <cstdio>
 
 #include "apps/args.h"
+#include "apps/image_input_flags.h"
 #include "core/thread_pool.h"
 #include "runs/gi/gi_infer.h"
 
@@ -18,18 +21,24 @@ int main(int argc, char** argv) {
                 "Predict indirect light and the lit image of one G-buffer frame with a trained GI generator.\n"
                 "--in: a view EXR (front-mode model) or a folder with front/back/left/right/up/down.exr\n"
                 "(surround model); needs Z, N.X/Y/Z, albedo.R/G/B, direct.R/G/B (emission, env optional),\n"
-                "no indirect.*. Views larger than the model's face size are box-filtered down by an integer\n"
+                "no indirect.*. Or, for a front-mode model, the frame as your own images: --channel (below).\n"
+                "Views larger than the model's face size are box-filtered down by an integer\n"
                 "factor. Writes OUT.exr (light.*, indirect.* = light - direct - env, signed; shaded.* =\n"
                 "albedo * light + emission; Z), OUT_shaded.png and OUT_indirect.png; on error, nothing.");
     gi::InferOptions o;
     o.model = a.get_string("--model", "", "generator blob (G.blob) from train-gan");
-    o.in = a.get_string("--in", "", "the frame: a view .exr or a folder of six faces");
+    o.in = a.get_string("--in", "", "the frame: a view .exr or a folder of six faces (or --channel)");
+    cli::ImageInputFlags images =
+        cli::image_input_flags(a, "gi-infer", {"depth", "normal", "albedo", "direct"}, {"emission", "env"});
+    o.channels = images.channels;
+    o.images = images.view;
     o.out = a.get_string("--out", "", "output .exr (default: <input name>_gi.exr in the current folder)");
     std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics, as eval-gi");
     std::string drop = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time, as eval-gi");
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
     if (o.model.empty()) a.error("--model is required");
-    if (o.in.empty()) a.error("--in is required");
+    if (o.in.empty() && o.channels.empty()) a.error("--in (or --channel) is required");
+    if (!o.in.empty() && !o.channels.empty()) a.error("--in and --channel are alternatives; give one");
     a.done();
     o.bn_batch_stats = bn == "batch";
     o.dropout_on = drop == "on";

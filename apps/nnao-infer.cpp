@@ -1,5 +1,6 @@
 // nnao-infer: NNAO on one G-buffer view.
 //   nnao-infer --model nnao.blob --in VIEW.exr --out AO.exr [--samples N] [--png AO.png]
+//   nnao-infer --model nnao.blob --channel depth=d.exr:Z --channel normal=n.png --fov-y 60 --out AO.exr
 // --samples 0 runs the exact network (all w*w grid samples); N > 0 the shader-style
 // approximation with N filter samples and the bilateral blur.
 #include <chrono>
@@ -7,9 +8,10 @@
 #include <thread>
 
 #include "apps/args.h"
+#include "apps/image_input_flags.h"
 #include "core/thread_pool.h"
 #include "data/exr_io.h"
-#include "report/png_io.h"
+#include "report/image_write.h"
 #include "models/nnao/nnao_inference.h"
 
 using namespace nns;
@@ -18,21 +20,23 @@ int main(int argc, char** argv) {
   return cli::run_main("nnao-infer", [&]() -> int {
     cli::Args args(argc, argv, "nnao-infer", "Run NNAO on one G-buffer view.");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao");
-    std::string in = args.get_string("--in", "", "input view (EXR with Z, N.X, N.Y, N.Z)");
+    std::string in = args.get_string("--in", "", "input view (EXR with Z, N.X, N.Y, N.Z; or --channel)");
+    cli::ImageInputFlags images = cli::image_input_flags(args, "nnao-infer", {"depth", "normal"});
     std::string out = args.get_string("--out", "", "output EXR (channel AO)");
     std::string png = args.get_string("--png", "", "also write a PNG preview");
     int samples = args.get_int("--samples", 0, "0 = exact; else shader-style filter samples (64, 128, 256, ...)", 0, INT_MAX);
     double radius = args.get_double("--radius", 0, "AO radius (0 = the view's aoRadius, else the model's)", 0, HUGE_VAL);
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
+    if (!in.empty() && !images.channels.empty()) args.error("--in and --channel are alternatives; give one");
     args.done();
-    if (model.empty() || in.empty() || out.empty()) {
-      std::fprintf(stderr, "nnao-infer: error: --model, --in and --out are required\n");
+    if (model.empty() || (in.empty() && images.channels.empty()) || out.empty()) {
+      std::fprintf(stderr, "nnao-infer: error: --model, --in (or --channel) and --out are required\n");
       return 2;
     }
     set_num_threads(threads);
     auto m = nnao::NnaoWeights::load(model);
     if (samples > 0) nnao::check_sample_count(samples, m.input);
-    data::View v = data::read_view(in);
+    data::View v = images.channels.empty() ? data::read_view(in) : data::view_from_images(images.channels, images.view);
     float r = float(radius);
     if (r <= 0 && !v.ao_radius && m.radius > 0) r = m.radius;
     ao::GBuffer g = ao::gbuffer_from_view(v, r);

@@ -17,12 +17,37 @@
 
 namespace nns {
 
+namespace detail {
+
+inline std::runtime_error io_error(const std::string& path, const std::string& what) {
+  return std::runtime_error("cannot write '" + path + "': " + what + ": " + std::strerror(errno));
+}
+
+// The pid keeps two processes writing the same target from sharing a temporary.
+inline std::string temp_name(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
+
+// Renames a finished, fsynced temporary over `path`, then fsyncs the folder.
+inline void rename_into_place(const std::string& tmp, const std::string& path) {
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    auto e = io_error(path, "rename " + tmp);
+    ::unlink(tmp.c_str());
+    throw e;
+  }
+  // Make the rename itself durable; best effort (some filesystems refuse a dir fsync).
+  auto slash = path.find_last_of('/');
+  std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+}  // namespace detail
+
 inline void write_file_atomic(const std::string& path, const std::string& bytes) {
-  auto fail = [&](const std::string& what) {
-    return std::runtime_error("cannot write '" + path + "': " + what + ": " + std::strerror(errno));
-  };
-  // The pid keeps two processes writing the same target from sharing a temporary.
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  auto fail = [&](const std::string& what) { return detail::io_error(path, what); };
+  const std::string tmp = detail::temp_name(path);
   int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw fail("open " + tmp);
   size_t done = 0;
@@ -48,19 +73,46 @@ inline void write_file_atomic(const std::string& path, const std::string& bytes)
     ::unlink(tmp.c_str());
     throw e;
   }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    auto e = fail("rename " + tmp);
+  detail::rename_into_place(tmp, path);
+}
+
+// For a library that writes to a file name itself (OpenImageIO): `write(tmp)` writes
+// the whole file at the temporary name, which is then fsynced and renamed like
+// write_file_atomic's. If `write` throws, the temporary is removed and the error passes
+// on unchanged; the target is never touched.
+template <class WriteToPath>
+void write_path_atomic(const std::string& path, WriteToPath&& write) {
+  const std::string tmp = detail::temp_name(path);
+  try {
+    write(tmp);
+  } catch (...) {
+    ::unlink(tmp.c_str());
+    throw;
+  }
+  int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0 || ::fsync(fd) != 0) {
+    auto e = detail::io_error(path, "fsync " + tmp);
+    if (fd >= 0) ::close(fd);
     ::unlink(tmp.c_str());
     throw e;
   }
-  // Make the rename itself durable; best effort (some filesystems refuse a dir fsync).
-  auto slash = path.find_last_of('/');
-  std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-  int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dfd >= 0) {
-    ::fsync(dfd);
-    ::close(dfd);
-  }
+  ::close(fd);
+  detail::rename_into_place(tmp, path);
+}
+
+// The pid of a temporary's name "<name>.tmp.<pid>", or -1 for any other name.
+inline int temporary_pid(const std::string& name) {
+  const auto at = name.rfind(".tmp.");
+  if (at == std::string::npos) return -1;
+  const std::string pid = name.substr(at + 5);
+  if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stoi(pid);
+}
+
+// The file a temporary stands for ("x.png.tmp.12" -> "x.png"); other names unchanged.
+// A writer that picks the format by the extension (OpenImageIO) looks at this name.
+inline std::string target_of_temporary(const std::string& name) {
+  return temporary_pid(name) < 0 ? name : name.substr(0, name.rfind(".tmp."));
 }
 
 // Removes "<name>.tmp.<pid>" files in `dir` whose writer is no longer running (a run
@@ -71,11 +123,8 @@ inline int remove_stale_temporaries(const std::string& dir) {
   std::error_code ec;
   for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    const auto at = name.rfind(".tmp.");
-    if (at == std::string::npos || !it->is_regular_file()) continue;
-    const std::string pid = name.substr(at + 5);
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    const int p = std::stoi(pid);
+    const int p = temporary_pid(name);
+    if (p < 0 || !it->is_regular_file()) continue;
     if (p == ::getpid() || (::kill(p, 0) == 0 || errno == EPERM)) continue;  // a live writer
     if (fs::remove(it->path(), ec)) ++removed;
   }

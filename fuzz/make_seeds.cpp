@@ -10,11 +10,13 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/atomic_file.h"
 #include "core/blob.h"
 #include "data/exr_io.h"
 #include "nn/linear.h"
 #include "optim/adam.h"
 #include "optim/checkpoint.h"
+#include "report/image_write.h"
 
 using namespace nns;
 namespace fs = std::filesystem;
@@ -135,6 +137,24 @@ int main(int argc, char** argv) {
           "{\"step\":10,\"epoch\":1,\"train_loss\":0.5,\"test_mse\":0.25}\n"
           "{\"step\":20,\"epoch\":2,\"train_loss\":0.125,\"test_mse\":null}\n"
           "{\"step\":30,\"epoch\":3,\"train_loss\":0.001,\"test_m");
-  std::printf("make_seeds: wrote %s/{blob,checkpoint,exr,scene,metrics}\n", dir.c_str());
+  // image: first byte 0 = PNG, 1 = TIFF, 2 = HDR, 3 = EXR (fuzz_image.cpp), the file by
+  // the one image writer: what --channel reads, in each type the formats store.
+  auto image = [&](const std::string& name, char format, std::vector<std::string> channels, data::PixelType t) {
+    const std::string tmp = (dir / ("seed_tmp_" + name)).string();
+    std::vector<float> px(size_t(6 * 4) * channels.size());
+    for (size_t i = 0; i < px.size(); ++i) px[i] = 0.05f + 0.9f * float((i * 37) % 23) / 22.0f;
+    data::write_image(tmp, 6, 4, channels, px.data(), t);
+    put(dir / "image" / name, std::string(1, format) + read_file(tmp));
+    fs::remove(tmp);
+  };
+  image("rgb8.png", 0, {"R", "G", "B"}, data::PixelType::u8);
+  image("grey16.png", 0, {"Y"}, data::PixelType::u16);
+  image("rgba8.png", 0, {"R", "G", "B", "A"}, data::PixelType::u8);
+  image("float.tif", 1, {"R", "G", "B"}, data::PixelType::f32);
+  image("grey16.tif", 1, {"Y"}, data::PixelType::u16);
+  image("light.hdr", 2, {"R", "G", "B"}, data::PixelType::f32);
+  image("names.exr", 3, {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, data::PixelType::f32);
+  image("half.exr", 3, {"Z"}, data::PixelType::f16);
+  std::printf("make_seeds: wrote %s/{blob,checkpoint,exr,scene,metrics,image}\n", dir.c_str());
   return 0;
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -14,6 +15,7 @@
 
 #include "core/atomic_file.h"
 #include "report/html_report.h"
+#include "report/image_write.h"
 
 namespace nns::data {
 namespace {
@@ -142,8 +144,9 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
 
 namespace {
 
-// The PNG through librsvg and cairo, in this process: no user string (the output path)
-// ever reaches a shell, and the file is written atomically like the SVG.
+// librsvg and cairo rasterise the chart in this process (no user string, the output path
+// included, ever reaches a shell); the pixels go through the one image writer, atomically
+// like the SVG.
 std::string svg_to_png(const std::string& svg, int width, int height, const std::string& png_path) {
   GError* error = nullptr;
   RsvgHandle* handle = rsvg_handle_new_from_data(reinterpret_cast<const guint8*>(svg.data()), svg.size(), &error);
@@ -158,20 +161,29 @@ std::string svg_to_png(const std::string& svg, int width, int height, const std:
   cairo_paint(cr);
   RsvgRectangle viewport{0, 0, double(width), double(height)};
   const bool drawn = rsvg_handle_render_document(handle, cr, &viewport, &error);
-  std::string bytes;
-  cairo_status_t st = CAIRO_STATUS_WRITE_ERROR;
-  if (drawn)
-    st = cairo_surface_write_to_png_stream(surface, [](void* out, const unsigned char* data, unsigned int n) {
-      static_cast<std::string*>(out)->append(reinterpret_cast<const char*>(data), n);
-      return CAIRO_STATUS_SUCCESS;
-    }, &bytes);
+  std::vector<uint8_t> rgb;
+  if (drawn) {
+    // ARGB32 is one native-endian uint32 per pixel; on the opaque page alpha is 255, so
+    // the premultiplied channels are the colour itself.
+    cairo_surface_flush(surface);
+    const unsigned char* data = cairo_image_surface_get_data(surface);
+    const int stride = cairo_image_surface_get_stride(surface);
+    rgb.resize(size_t(width) * size_t(height) * 3);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        uint32_t p;
+        std::memcpy(&p, data + size_t(y) * size_t(stride) + 4 * size_t(x), 4);
+        uint8_t* o = &rgb[3 * (size_t(y) * size_t(width) + size_t(x))];
+        o[0] = uint8_t(p >> 16), o[1] = uint8_t(p >> 8), o[2] = uint8_t(p);
+      }
+  }
   std::string why = error ? error->message : "";
   if (error) g_error_free(error);
   cairo_destroy(cr);
   cairo_surface_destroy(surface);
   g_object_unref(handle);
-  if (!drawn || st != CAIRO_STATUS_SUCCESS) return "no PNG for " + png_path + ": librsvg could not draw it " + why;
-  write_file_atomic(png_path, bytes);
+  if (!drawn) return "no PNG for " + png_path + ": librsvg could not draw it " + why;
+  write_png_rgb8(png_path, rgb.data(), width, height);
   return "";
 }
 

@@ -16,7 +16,7 @@
 #include "data/exr_io.h"
 #include "report/html_report.h"
 #include "report/image_metrics.h"
-#include "report/png_io.h"
+#include "report/image_write.h"
 #include "classical_ao/temporal.h"
 #include "screen_space/gbuffer.h"
 

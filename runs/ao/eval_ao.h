@@ -30,7 +30,7 @@
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "report/image_metrics.h"
-#include "report/png_io.h"
+#include "report/image_write.h"
 #include "report/html_report.h"
 #include "runs/ao/ao_previews.h"
 #include "classical_ao/failure_bands.h"

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "data/exr_io.h"
-#include "report/png_io.h"
+#include "report/image_write.h"
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_weights.h"
 #include "core/atomic_file.h"

@@ -9,7 +9,9 @@
 // surround face (docs/dataset-format.md: Z, N.*, albedo.*, direct.*, emission/env
 // optional, no ground truth needed) and is box-filtered to the model's face size by an
 // integer factor exactly as training and eval-gi do (gi_data.h), so the prediction is
-// eval-gi's prediction for the same frame.
+// eval-gi's prediction for the same frame. Instead of a view EXR, a front-mode model
+// also takes the frame as a user's own images (data/image_read.h: --channel), one file
+// per input or several inputs from one file; a surround model needs the six EXR faces.
 //
 // Output, all written to temporary names and renamed only once everything succeeded
 // (an error leaves no output at all):
@@ -34,6 +36,7 @@
 
 #include "data/dataset.h"
 #include "data/exr_io.h"
+#include "data/image_read.h"
 #include "data/validate.h"
 #include "models/gi/gi_model_io.h"
 #include "runs/gi/gi_data.h"
@@ -43,6 +46,9 @@ namespace nns::gi {
 
 struct InferOptions {
   std::string model, in;
+  // Instead of `in`: the frame from a user's images (data/image_read.h); front mode only.
+  std::vector<data::ChannelMapping> channels;
+  data::ImageViewOptions images;
   std::string out;              // "": <name of the input>_gi.exr in the current folder
   bool bn_batch_stats = true;   // test-time BatchNorm, as eval-gi (docs/gan.md)
   bool dropout_on = false;
@@ -129,7 +135,18 @@ inline InferResult infer_gi(const InferOptions& o) {
   namespace fs = std::filesystem;
   using namespace infer_detail;
   InferResult r;
-  r.exr = o.out.empty() ? default_out(o.in) : o.out;
+  const bool from_images = !o.channels.empty();
+  if (from_images == !o.in.empty())
+    throw std::runtime_error("give the frame either as --in or as --channel images, not " +
+                             std::string(from_images ? "both" : "neither"));
+  std::string in = o.in;
+  if (from_images) {
+    // Names the output after the depth image, as after the view otherwise.
+    for (auto& m : o.channels)
+      if (m.target == "depth") in = m.file;
+    if (in.empty()) in = o.channels[0].file;
+  }
+  r.exr = o.out.empty() ? default_out(in) : o.out;
   if (r.exr.size() < 5 || r.exr.compare(r.exr.size() - 4, 4, ".exr") != 0)
     throw std::runtime_error(r.exr + ": the output must be an .exr file name");
   const std::string stem = r.exr.substr(0, r.exr.size() - 4);
@@ -149,12 +166,15 @@ inline InferResult infer_gi(const InferOptions& o) {
   r.mode = mode_name(cfg.mode);
 
   std::error_code ec;
-  if (!fs::exists(o.in, ec)) throw std::runtime_error(o.in + ": no such file or folder");
-  const bool folder = fs::is_directory(o.in, ec);
+  if (!from_images && !fs::exists(o.in, ec)) throw std::runtime_error(o.in + ": no such file or folder");
+  const bool folder = !from_images && fs::is_directory(o.in, ec);
   std::vector<std::string> inputs;  // every file read, so the output cannot overwrite one
   GiSample s;
   data::View front;
   if (cfg.mode == GiMode::surround) {
+    if (from_images)
+      throw std::runtime_error(o.model + ": a surround model needs six faces; --channel gives one view, so it "
+                               "serves front-mode models only: give --in a folder of six view EXRs");
     if (!folder)
       throw std::runtime_error(o.in + ": the model " + o.model + " is a surround model; it needs a folder "
                                "of six faces (front.exr, back.exr, left.exr, right.exr, up.exr, down.exr), "
@@ -189,14 +209,18 @@ inline InferResult infer_gi(const InferOptions& o) {
                                  "the folder has no front.exr");
       r.notes.push_back("front-mode model: using " + path + " (the other faces are not inputs of this model)");
     }
-    data::View v = data::read_view(path);
+    data::View v = from_images ? data::view_from_images(o.channels, o.images) : data::read_view(path);
+    if (from_images) path = v.source;
     check_input(v);
     r.in_width = v.width, r.in_height = v.height;
     r.reduction = reduction_to_model(v, cfg.size, o.model);
     front = downsample_view(v, r.reduction);
     s = assemble_front(front, cfg, /*targets=*/false);
     s.name = path;
-    inputs.push_back(path);
+    if (from_images)
+      for (auto& m : o.channels) inputs.push_back(m.file);
+    else
+      inputs.push_back(path);
     r.front_file = path;
   }
   for (auto& in : inputs)
@@ -209,7 +233,7 @@ inline InferResult infer_gi(const InferOptions& o) {
   try {
     light = predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
   } catch (const std::exception& e) {
-    throw std::runtime_error(o.in + ": the model " + o.model + " cannot run on this " +
+    throw std::runtime_error((from_images ? r.front_file : o.in) + ": the model " + o.model + " cannot run on this " +
                              std::to_string(s.input.size(3)) + "x" + std::to_string(s.input.size(2)) +
                              " input (" + e.what() + ")");
   }

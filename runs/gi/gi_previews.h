@@ -12,7 +12,7 @@
 
 #include "report/chart.h"
 #include "report/html_report.h"
-#include "report/png_io.h"
+#include "report/image_write.h"
 #include "runs/gi/gi_eval.h"
 #include "runs/metrics_log.h"
 #include "models/gi/gi_inputs.h"

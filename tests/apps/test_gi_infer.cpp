@@ -17,6 +17,7 @@
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "models/gi/gi_model_io.h"
+#include "report/image_write.h"
 #include "runs/gi/gi_data.h"
 #include "tests/support/run_command.h"
 #include "tests/support/synthetic_gi_dataset.h"
@@ -182,6 +183,58 @@ TEST_F(GiInfer, FrontModelOnASingleViewAndOnAFolder) {
   ASSERT_EQ(rf.code, 0) << rf.output;
   EXPECT_NE(rf.output.find("using " + frame + "/front.exr"), std::string::npos) << rf.output;
   expect_output_matches(path("out_f") + "/d.exr", light, s);
+}
+
+// The same frame as the user's own float images (data/image_read.h, --channel): one EXR
+// with its own channel names for depth and normals, a float TIFF for albedo, an EXR with
+// other names for direct light, and emission and env where the view has them — the same
+// light, bit for bit, as gi-infer on the view EXR. A surround model refuses --channel.
+TEST_F(GiInfer, FrontModelOnTheFrameAsImagesGivesTheSameLight) {
+  const std::string view = path("img_view0.exr");
+  copy_without_truth(data() + "/test/frame0/front.exr", view);
+  const View v = nns::data::read_view(view);
+  auto write = [&](const std::string& name, std::vector<std::string> names, std::vector<std::string> planes) {
+    const size_t n = size_t(v.width) * size_t(v.height), nc = names.size();
+    std::vector<float> px(n * nc);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t c = 0; c < nc; ++c) px[i * nc + c] = v.channel(planes[c])[i];
+    nns::data::write_image(path(name), v.width, v.height, names, px.data(), nns::data::PixelType::f32);
+    return path(name);
+  };
+  const std::string g = write("img_gbuf.exr", {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, {"Z", "N.X", "N.Y", "N.Z"});
+  std::string flags = " --channel depth=" + g + ":depth.V --channel normal=" + g + ":nrm.x,nrm.y,nrm.z";
+  flags += " --channel albedo=" + write("img_albedo.tif", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"});
+  flags += " --channel direct=" + write("img_direct.exr", {"d.r", "d.g", "d.b"}, {"direct.R", "direct.G", "direct.B"}) +
+           ":d.r,d.g,d.b";
+  int optional = 0;
+  for (const char* t : {"emission", "env"})
+    if (v.has(std::string(t) + ".R")) {
+      const std::string T(t);
+      flags += " --channel " + T + "=" + write("img_" + T + ".tif", {"R", "G", "B"}, {T + ".R", T + ".G", T + ".B"});
+      ++optional;
+    }
+  char fov[32];
+  std::snprintf(fov, sizeof fov, " --fov-y %.9g", double(v.fov_y_deg));
+  fs::create_directories(path("out_img"));
+  auto ref = run_app("gi-infer", "--model " + model("front") + " --in " + view + " --out " + path("out_img") + "/ref.exr");
+  ASSERT_EQ(ref.code, 0) << ref.output;
+  auto r = run_app("gi-infer", "--model " + model("front") + flags + fov + " --out " + path("out_img") + "/img.exr");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const View a = nns::data::read_view(path("out_img") + "/ref.exr"), b = nns::data::read_view(path("out_img") + "/img.exr");
+  for (const char* c : {"light.R", "light.G", "light.B", "shaded.R", "shaded.G", "shaded.B", "Z"})
+    EXPECT_EQ(a.channel(c), b.channel(c)) << c;
+  EXPECT_TRUE(fs::exists(path("out_img") + "/img_shaded.png"));
+  std::printf("gi-infer on the frame as float images (%d optional inputs): same light as on its EXR\n", optional);
+
+  // Without --fov-y; with a surround model.
+  auto no_fov = run_app("gi-infer", "--model " + model("front") + flags + " --out " + path("out_img") + "/nofov.exr");
+  EXPECT_EQ(no_fov.code, 1) << no_fov.output;
+  EXPECT_NE(no_fov.output.find("--fov-y is required"), std::string::npos) << no_fov.output;
+  auto sur = run_app("gi-infer", "--model " + model("surround") + flags + fov + " --out " + path("out_img") + "/s.exr");
+  EXPECT_EQ(sur.code, 1) << sur.output;
+  EXPECT_NE(sur.output.find("surround model needs six faces"), std::string::npos) << sur.output;
+  EXPECT_FALSE(fs::exists(path("out_img") + "/nofov.exr"));
+  EXPECT_FALSE(fs::exists(path("out_img") + "/s.exr"));
 }
 
 // Each refusal names the file and the problem, exits non-zero, and writes nothing: the

@@ -20,7 +20,8 @@
 #include "core/atomic_file.h"
 #include "data/exr_io.h"
 #include "fixtures/synthetic_gbuffer.h"
-#include "report/png_io.h"
+#include "report/image_write.h"
+#include "support/image_bytes.h"
 #include "tests/support/run_command.h"
 #include "tests/support/synthetic_gi_dataset.h"
 
@@ -123,7 +124,7 @@ class ReportHtml : public ::testing::Test {
     const fs::path shot = dir / "report_screenshot.png";
     headless("--screenshot=" + shell_arg(shot) + " --window-size=1280,1600", page);
     int w = 0, h = 0;
-    const std::vector<uint8_t> px = nns::data::read_png_rgb8(shot.string(), &w, &h);
+    const std::vector<uint8_t> px = nns::test::read_rgb8(shot.string(), &w, &h);
     std::map<std::array<uint8_t, 3>, int64_t> colours;
     for (size_t i = 0; i + 2 < px.size(); i += 3) ++colours[{px[i], px[i + 1], px[i + 2]}];
     int64_t most = 0;

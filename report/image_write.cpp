@@ -1,13 +1,12 @@
-#include "report/png_io.h"
+#include "report/image_write.h"
 
-#include <png.h>
-#include <unistd.h>
+#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
 #include <stdexcept>
+
+#include "core/atomic_file.h"
 
 namespace nns::data {
 namespace {
@@ -39,52 +38,50 @@ void heatmap_colour(float t, uint8_t rgb[3]) {
   for (int c = 0; c < 3; ++c) rgb[c] = unit_to_byte(stops[i][c] * (1 - f) + stops[i + 1][c] * f);
 }
 
-void write_png_rgb8(const std::string& path, const uint8_t* rgb, int w, int h) {
-  check_size(path, w, h);
-  const std::string tmp = path + ".partial-" + std::to_string(getpid());
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw std::runtime_error(path + ": cannot open for writing");
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    std::fclose(f);
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": libpng failed while writing");
+namespace {
+
+OIIO::TypeDesc file_type(PixelType t) {
+  switch (t) {
+    case PixelType::u8: return OIIO::TypeDesc::UINT8;
+    case PixelType::u16: return OIIO::TypeDesc::UINT16;
+    case PixelType::f16: return OIIO::TypeDesc::HALF;
+    case PixelType::f32: break;
   }
-  png_init_io(png, f);
-  png_set_IHDR(png, info, png_uint_32(w), png_uint_32(h), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  for (int y = 0; y < h; ++y) png_write_row(png, rgb + size_t(y) * size_t(w) * 3);
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  if (std::fclose(f) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": write failed (disk full?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename the finished file (" + ec.message() + ")");
-  }
+  return OIIO::TypeDesc::FLOAT;
 }
 
-std::vector<uint8_t> read_png_rgb8(const std::string& path, int* width, int* height) {
-  png_image img{};
-  img.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&img, path.c_str()))
-    throw std::runtime_error(path + ": not a readable PNG (" + img.message + ")");
-  img.format = PNG_FORMAT_RGB;
-  std::vector<uint8_t> out(PNG_IMAGE_SIZE(img));
-  if (!png_image_finish_read(&img, nullptr, out.data(), 0, nullptr)) {
-    png_image_free(&img);
-    throw std::runtime_error(path + ": PNG decoding failed (" + img.message + ")");
-  }
-  *width = int(img.width);
-  *height = int(img.height);
-  return out;
+// One path for every file: the format from the final name's extension (a caller's own
+// temporary, "x.png.tmp.<pid>" as gi-infer's, counts as its target x.png), the bytes to
+// the temporary name, then core/atomic_file.h's fsync and rename.
+void write_pixels(const std::string& path, int w, int h, const std::vector<std::string>& channels,
+                  OIIO::TypeDesc memory, const void* pixels, OIIO::TypeDesc stored) {
+  check_size(path, w, h);
+  if (channels.empty()) throw std::invalid_argument(path + ": an image needs at least one channel");
+  write_path_atomic(path, [&](const std::string& tmp) {
+    auto out = OIIO::ImageOutput::create(target_of_temporary(path));
+    if (!out) throw std::runtime_error(path + ": no image format for this file name (" + OIIO::geterror() + ")");
+    OIIO::ImageSpec spec(w, h, int(channels.size()), stored);
+    spec.channelnames = channels;
+    // Values stored as given: a 4th channel is data here, and OpenImageIO would otherwise
+    // divide the colour by it ("unassociate") before storing a PNG or TIFF.
+    spec.alpha_channel = -1;
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (!out->open(tmp, spec)) throw std::runtime_error(path + ": cannot open for writing (" + out->geterror() + ")");
+    const bool wrote = out->write_image(memory, pixels);
+    const bool closed = out->close();
+    if (!wrote || !closed) throw std::runtime_error(path + ": write failed (" + out->geterror() + ")");
+  });
+}
+
+}  // namespace
+
+void write_image(const std::string& path, int w, int h, const std::vector<std::string>& channels,
+                 const float* pixels, PixelType type) {
+  write_pixels(path, w, h, channels, OIIO::TypeDesc::FLOAT, pixels, file_type(type));
+}
+
+void write_png_rgb8(const std::string& path, const uint8_t* rgb, int w, int h) {
+  write_pixels(path, w, h, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, rgb, OIIO::TypeDesc::UINT8);
 }
 
 void write_png_gray(const std::string& path, const float* v, int w, int h, float lo, float hi) {

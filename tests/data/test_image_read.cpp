@@ -1,0 +1,224 @@
+// data/image_read.h: a user's images (PNG 8/16-bit, TIFF, HDR, EXR with its own channel
+// names) into a View, each value decoded as the header documents; and every refusal
+// names the file and the problem. The images are written by the test through the one
+// image writer (report/image_write.h).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "data/image_read.h"
+#include "report/image_write.h"
+
+namespace fs = std::filesystem;
+using namespace nns::data;
+
+namespace {
+
+class ImageRead : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nns_image_read_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // A w x h image whose value (pixel i, channel c) is f(i, c).
+  template <class F>
+  std::string image(const std::string& name, int w, int h, std::vector<std::string> channels, PixelType t, F f) {
+    std::vector<float> px(size_t(w * h) * channels.size());
+    for (size_t i = 0; i < size_t(w * h); ++i)
+      for (size_t c = 0; c < channels.size(); ++c) px[i * channels.size() + c] = f(i, c);
+    write_image(path(name), w, h, channels, px.data(), t);
+    return path(name);
+  }
+  static ImageViewOptions options(std::vector<std::string> targets, std::vector<std::string> optional = {}) {
+    ImageViewOptions o;
+    o.fov_y_deg = 60;
+    o.targets = std::move(targets);
+    o.optional = std::move(optional);
+    o.command = "test";
+    return o;
+  }
+  // The error of view_from_images, "" when it succeeded.
+  static std::string error_of(const std::vector<std::string>& flags, const ImageViewOptions& o) {
+    try {
+      std::vector<ChannelMapping> m;
+      for (auto& f : flags) m.push_back(parse_channel_mapping(f));
+      view_from_images(m, o);
+      return "";
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+  fs::path dir_;
+};
+
+void expect_contains(const std::string& text, std::initializer_list<std::string> parts) {
+  EXPECT_FALSE(text.empty()) << "no error";
+  for (auto& p : parts) EXPECT_NE(text.find(p), std::string::npos) << "'" << p << "' not in: " << text;
+}
+
+}  // namespace
+
+TEST(ChannelMapping, ParsesTargetFileAndChannels) {
+  auto m = parse_channel_mapping("normal=out/n.exr:N.X,N.Y,N.Z");
+  EXPECT_EQ(m.target, "normal");
+  EXPECT_EQ(m.file, "out/n.exr");
+  EXPECT_EQ(m.channels, (std::vector<std::string>{"N.X", "N.Y", "N.Z"}));
+  m = parse_channel_mapping("depth=a=b.png");  // only the first '=' separates
+  EXPECT_EQ(m.file, "a=b.png");
+  EXPECT_TRUE(m.channels.empty());
+  m = parse_channel_mapping("depth=odd:dir/d.png");  // a ':' before a '/' belongs to the path
+  EXPECT_EQ(m.file, "odd:dir/d.png");
+  EXPECT_TRUE(m.channels.empty());
+  for (const char* bad : {"depth", "=d.png", "depth=", "depth=d.png:", "depth=d.png:R,,G", "depth=:R"})
+    EXPECT_THROW(parse_channel_mapping(bad), std::runtime_error) << bad;
+  try {
+    parse_channel_mapping("normal=n.png:R,,B");
+  } catch (const std::exception& e) {
+    expect_contains(e.what(), {"--channel 'normal=n.png:R,,B'", "empty channel name"});
+  }
+}
+
+// 16-bit depth (code 0 = sky, else code/65535 * scale), 8-bit normals (2 code/255 - 1,
+// normalised), 8-bit albedo (sRGB), HDR direct light and EXR emission under their own
+// names (float: as stored), float TIFF env light.
+TEST_F(ImageRead, EachFormatDecodesAsDocumented) {
+  const int w = 4, h = 3;
+  auto code16 = [](size_t i) { return i == 5 ? 0.0f : float(1000 * i + 7); };
+  const std::string depth = image("d.png", w, h, {"Y"}, PixelType::u16, [&](size_t i, size_t) {
+    return code16(i) / 65535.0f;
+  });
+  const uint8_t n8[3] = {200, 30, 128};
+  const std::string normal = image("n.png", w, h, {"R", "G", "B"}, PixelType::u8,
+                                   [&](size_t, size_t c) { return n8[c] / 255.0f; });
+  const std::string albedo = image("a.png", w, h, {"R", "G", "B", "A"}, PixelType::u8,
+                                   [&](size_t i, size_t c) { return c == 3 ? 0.5f : float(i * 20 + c) / 255.0f; });
+  const std::string direct = image("l.hdr", w, h, {"R", "G", "B"}, PixelType::f32,
+                                   [&](size_t i, size_t c) { return 0.5f * float(i + c); });  // RGBE-exact values
+  const std::string emis = image("e.exr", w, h, {"glow.r", "glow.g", "glow.b", "junk"}, PixelType::f32,
+                                 [&](size_t i, size_t c) { return 0.01f * float(i) + float(c) - 7.0f * (c == 3); });
+  const std::string env = image("env.tif", w, h, {"R", "G", "B"}, PixelType::f32,
+                                [&](size_t i, size_t c) { return 1e-3f * float(i * 3 + c); });
+  ImageViewOptions o = options({"depth", "normal", "albedo", "direct"}, {"emission", "env"});
+  o.depth_scale = 20;
+  std::vector<ChannelMapping> m;
+  for (std::string f : {"depth=" + depth, "normal=" + normal, "albedo=" + albedo, "direct=" + direct,
+                        "emission=" + emis + ":glow.r,glow.g,glow.b", "env=" + env})
+    m.push_back(parse_channel_mapping(f));
+  View v = view_from_images(m, o);
+  ASSERT_EQ(v.width, w);
+  ASSERT_EQ(v.height, h);
+  EXPECT_EQ(v.fov_y_deg, 60.0f);
+  EXPECT_EQ(v.scene, "d");
+  auto srgb = [](float s) { return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f); };
+  float nx = 2 * n8[0] / 255.0f - 1, ny = 2 * n8[1] / 255.0f - 1, nz = 2 * n8[2] / 255.0f - 1;
+  const float len = std::sqrt(nx * nx + ny * ny + nz * nz);
+  for (size_t i = 0; i < size_t(w * h); ++i) {
+    if (i == 5) EXPECT_TRUE(std::isinf(v.channel("Z")[i]));
+    else EXPECT_FLOAT_EQ(v.channel("Z")[i], code16(i) / 65535.0f * 20) << i;
+    EXPECT_FLOAT_EQ(v.channel("N.X")[i], nx / len);
+    EXPECT_FLOAT_EQ(v.channel("N.Y")[i], ny / len);
+    EXPECT_FLOAT_EQ(v.channel("N.Z")[i], nz / len);
+    for (size_t c = 0; c < 3; ++c) {
+      const std::string ch(1, "RGB"[c]);
+      EXPECT_NEAR(v.channel("albedo." + ch)[i], srgb(float(i * 20 + c) / 255.0f), 1e-6f) << i;
+      EXPECT_EQ(v.channel("direct." + ch)[i], 0.5f * float(i + c)) << i;
+      EXPECT_EQ(v.channel("emission." + ch)[i], 0.01f * float(i) + float(c)) << i;
+      EXPECT_EQ(v.channel("env." + ch)[i], 1e-3f * float(i * 3 + c)) << i;
+    }
+  }
+  EXPECT_NE(v.source.find(depth), std::string::npos);
+  EXPECT_NE(v.source.find(env), std::string::npos);
+}
+
+// One file may fill several targets, each from its own channels, and is read once.
+TEST_F(ImageRead, OneExrWithItsOwnNamesFillsDepthAndNormals) {
+  const std::string g = image("g.exr", 3, 2, {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, PixelType::f32,
+                              [](size_t i, size_t c) { return c == 0 ? 1.5f + float(i) : (c == 3 ? 1.0f : 0.0f); });
+  View v = view_from_images({parse_channel_mapping("depth=" + g + ":depth.V"),
+                             parse_channel_mapping("normal=" + g + ":nrm.x,nrm.y,nrm.z")},
+                            options({"depth", "normal"}));
+  EXPECT_EQ(v.channel("Z")[4], 5.5f);
+  EXPECT_EQ(v.channel("N.Z")[4], 1.0f);
+  EXPECT_EQ(v.source, g);
+}
+
+TEST_F(ImageRead, RefusalsNameTheFileAndTheProblem) {
+  const auto o = options({"depth", "normal"});
+  const std::string n = image("n.exr", 4, 3, {"N.X", "N.Y", "N.Z"}, PixelType::f32,
+                              [](size_t, size_t c) { return c == 2 ? 1.0f : 0.0f; });
+  const std::string d = image("d.exr", 4, 3, {"Z"}, PixelType::f32, [](size_t, size_t) { return 2.0f; });
+  ASSERT_EQ(error_of({"depth=" + d, "normal=" + n}, o), "");
+
+  // A channel the file does not have: named, with the ones it has.
+  expect_contains(error_of({"depth=" + d, "normal=" + n + ":N.X,N.Y,N.W"}, o),
+                  {n, "no channel 'N.W'", "N.X, N.Y, N.Z"});
+  // Too few channels named for the target.
+  expect_contains(error_of({"depth=" + d, "normal=" + n + ":N.X,N.Y"}, o), {"normal takes 3 channels, 2 given"});
+  // A file with more channels than the target, and none named: which ones is ambiguous.
+  expect_contains(error_of({"depth=" + n, "normal=" + n}, o), {n, "has 3 channels (N.X, N.Y, N.Z) but depth takes 1",
+                                                                 "--channel depth=" + n + ":N.X"});
+  // Sizes that differ.
+  const std::string small = image("small.exr", 2, 3, {"Z"}, PixelType::f32, [](size_t, size_t) { return 2.0f; });
+  expect_contains(error_of({"depth=" + small, "normal=" + n}, o), {n, "is 4x3", small, "2x3"});
+  // NaN, zero or negative depth: the pixel and the file.
+  const std::string nan = image("nan.exr", 4, 3, {"Z"}, PixelType::f32,
+                                [](size_t i, size_t) { return i == 6 ? NAN : 2.0f; });
+  expect_contains(error_of({"depth=" + nan, "normal=" + n}, o), {nan, "depth", "NaN", "x=2, y=1"});
+  const std::string neg = image("neg.exr", 4, 3, {"Z"}, PixelType::f32,
+                                [](size_t i, size_t) { return i == 1 ? -1.0f : 2.0f; });
+  expect_contains(error_of({"depth=" + neg, "normal=" + n}, o), {neg, "x=1, y=0", "depth must be > 0"});
+  // A NaN normal.
+  const std::string nann = image("nann.exr", 4, 3, {"R", "G", "B"}, PixelType::f32,
+                                 [](size_t i, size_t c) { return i == 0 && c == 1 ? NAN : 0.5f; });
+  expect_contains(error_of({"depth=" + d, "normal=" + nann}, o), {nann, "normal", "NaN", "x=0, y=0"});
+  // Integer depth needs a unit.
+  const std::string d16 = image("d16.png", 4, 3, {"Y"}, PixelType::u16, [](size_t, size_t) { return 0.5f; });
+  expect_contains(error_of({"depth=" + d16, "normal=" + n}, o), {d16, "--depth-scale"});
+  // Targets: unknown, twice, missing; no field of view.
+  expect_contains(error_of({"depth=" + d, "normal=" + n, "albedo=" + n}, o),
+                  {"unknown target 'albedo'", "test takes depth, normal"});
+  expect_contains(error_of({"depth=" + d, "depth=" + d, "normal=" + n}, o), {"depth is given twice"});
+  expect_contains(error_of({"depth=" + d}, o), {"no --channel normal=FILE"});
+  auto no_fov = o;
+  no_fov.fov_y_deg = 0;
+  expect_contains(error_of({"depth=" + d, "normal=" + n}, no_fov), {"--fov-y is required"});
+  // Not there, a folder, not an image.
+  expect_contains(error_of({"depth=" + path("none.png"), "normal=" + n}, o), {path("none.png"), "no such file"});
+  expect_contains(error_of({"depth=" + dir_.string(), "normal=" + n}, o), {dir_.string(), "not a regular file"});
+  std::ofstream(path("text.png")) << "not an image at all";
+  expect_contains(error_of({"depth=" + path("text.png"), "normal=" + n}, o), {path("text.png"), "cannot read it as png", "Not a PNG file"});
+  // Only the four formats, by the name: a JPEG (which OpenImageIO reads) is refused.
+  image("j.jpg", 4, 3, {"R", "G", "B"}, PixelType::u8, [](size_t, size_t) { return 0.5f; });
+  expect_contains(error_of({"depth=" + d, "normal=" + path("j.jpg")}, o), {path("j.jpg"), "not a PNG, TIFF"});
+  fs::copy_file(d, path("d.dat"));
+  expect_contains(error_of({"depth=" + path("d.dat"), "normal=" + n}, o), {path("d.dat"), "not a PNG, TIFF"});
+}
+
+// Each format cut off half-way: refused naming the file, never decoded as a partial view.
+TEST_F(ImageRead, TruncatedFilesAreRefused) {
+  const int w = 64, h = 48;
+  auto noise = [](size_t i, size_t c) { return float((i * 7919 + c * 104729) % 1000) / 1000.0f + 0.01f; };
+  const std::vector<std::pair<std::string, PixelType>> files = {
+      {"t8.png", PixelType::u8}, {"t16.png", PixelType::u16}, {"t.tif", PixelType::f32},
+      {"t.hdr", PixelType::f32}, {"t.exr", PixelType::f32}};
+  for (auto& [name, type] : files) {
+    const std::string p = image(name, w, h, {"R", "G", "B"}, type, noise);
+    const auto size = fs::file_size(p);
+    EXPECT_NO_THROW(read_image(p)) << p;
+    fs::resize_file(p, size / 2);
+    try {
+      read_image(p);
+      ADD_FAILURE() << p << ": half of the file was read without an error";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(p + ": ", 0), 0u) << e.what();
+    }
+  }
+}
