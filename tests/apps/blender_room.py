@@ -20,8 +20,10 @@ def box(name, location, half_size):
 
 
 # Floor top at z = 0; the back wall's front face at y = 2.95; the left wall's at x = -2.95.
+# The back wall's top (z = 1.95) is seen by "Front" at 48x32 0.3 px above the centre of
+# pixel row 3: a 1.5 px pixel filter would mix the sky into that row, 0.01 px does not.
 box("floor", (0, 0, -0.05), (4, 4, 0.05))
-box("back_wall", (0, 3, 1), (3, 0.05, 1))
+box("back_wall", (0, 3, 0.975), (3, 0.05, 0.975))
 box("left_wall", (-3, 0, 1), (0.05, 3, 1))
 box("block", (1.5, 1, 0.4), (0.4, 0.4, 0.4))
 bpy.ops.mesh.primitive_uv_sphere_add(location=(-1.5, 1.5, 0.5), radius=0.5)
