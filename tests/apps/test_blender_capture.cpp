@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -181,7 +182,11 @@ TEST(BlenderCapture, SceneToDatasetWithTwoCommands) {
   CommandResult eval = nns::testing::run_app(
       "eval-ao", "--data " + (d / "ds/train") + " --model " + (d / "m.blob") + " --out " + (d / "eval") +
                      " --methods NNAO,SSAO --nnao-samples 16 --previews 0 --repeat 1");
-  EXPECT_EQ(eval.code, 0) << eval.output;
+  ASSERT_EQ(eval.code, 0) << eval.output;
+  std::ifstream csv(d / "eval/results.csv");
+  const std::string results((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+  EXPECT_NE(results.find("\nNNAO,"), std::string::npos) << results;
+  EXPECT_EQ(results.find("nan"), std::string::npos) << results;
 }
 
 TEST(BlenderCapture, RefusesWhatItCannotCapture) {
