@@ -155,6 +155,10 @@ TEST(ImportBlender, ExplainsWhatIsMissing) {
                                                 "\" --out " + (d / "o.exr") + " " + (d / "r.exr"));
   EXPECT_EQ(no_radius.code, 1);
   EXPECT_NE(no_radius.output.find("--ao-radius"), std::string::npos) << no_radius.output;
+  // Where Blender 3.x keeps the distance (the old message sent users to a panel that does not exist).
+  EXPECT_NE(no_radius.output.find("Light Paths > Fast GI Approximation > AO Distance, world.light_settings.distance"),
+            std::string::npos)
+      << no_radius.output;
 
   View two = blender_view("ViewLayer");
   for (auto& [name, plane] : blender_view("Other").channels) two.channels[name] = plane;
