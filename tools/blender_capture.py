@@ -143,6 +143,8 @@ def configure(scene, args):
     c.use_denoising = False          # touches Combined only; Debian's build has no OIDN
     c.filter_width = args.filter_size
     r.pixel_aspect_x = r.pixel_aspect_y = 1
+    r.use_motion_blur = False        # blur would average depth and normals over time
+    r.use_multiview = False          # one pinhole view per file, not a stereo pair
     r.use_stamp = False              # no text burnt into the pixels; metadata only
     r.use_stamp_note = True
     r.use_sequencer = False          # write the render, not a sequencer strip
@@ -214,6 +216,7 @@ def capture(args):
     surround = [by_name[n] for n in args.surround]
     for obj in views + surround:
         check_camera(obj)
+        obj.data.dof.use_dof = False  # the format is a pinhole: depth of field would blur every pass
     if os.path.exists(args.out) and not os.path.isdir(args.out):
         raise CaptureError(f"{args.out}: exists and is not a folder")
     if "#" in args.out:
