@@ -13,18 +13,22 @@
 //    value (1e10), both become +inf (sky).
 //  - DiffCol -> albedo, DiffDir -> direct, DiffInd -> indirect, Emit -> emission
 //    (Cycles' diffuse light passes are already "before multiplying by colour").
-//  - AO (RGB, grey) -> AO, with --ao-radius set to the view layer's AO distance.
+//  - AO (RGB, grey) -> AO, with --ao-radius set to the world's AO distance
+//    (world.light_settings.distance).
+//  - The camera (fovY, worldToCamera, aoRadius, scene) comes from the capture note that
+//    tools/blender_capture.py writes into the header (data/blender_capture_note.h);
+//    flags given by hand override it (with_capture_note()).
 //  - Env is Blender's directly visible background, not sky light on surfaces (Cycles
 //    counts that in DiffDir); it is imported as env only with --keep-env.
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "data/blender_capture_note.h"
 #include "data/exr_io.h"
 #include "data/view.h"
 
@@ -34,28 +38,13 @@ namespace blender {
 
 
 struct ImportSettings {
-  float fov_y = 0;
+  float fov_y = 0;  // 0: from the file's capture note
   std::optional<float> ao_radius;
   std::string scene, layer;
   std::optional<std::array<float, 16>> world_to_camera;
   bool keep_env = false, half = false;
   float sky_depth = 1e9f;
 };
-
-inline std::array<float, 16> parse_matrix(const std::string& s) {
-  std::array<float, 16> m{};
-  std::stringstream ss(s);
-  std::string item;
-  int n = 0;
-  while (std::getline(ss, item, ',')) {
-    if (n == 16) break;
-    size_t pos = 0;
-    m[size_t(n++)] = std::stof(item, &pos);
-  }
-  if (n != 16 || std::getline(ss, item, ','))
-    throw std::invalid_argument("--world-to-camera: expected 16 comma-separated numbers, row by row");
-  return m;
-}
 
 // The view layer: the prefix of "<layer>.Depth.Z" ("" for single-layer files).
 inline std::string find_layer(const View& in, const std::string& wanted) {
@@ -82,7 +71,34 @@ inline std::string find_layer(const View& in, const std::string& wanted) {
   return layers[0];
 }
 
+// The settings for one file: the flags, with what they leave unset taken from the file's
+// capture note. A flag that disagrees with the note wins; `overrides` gets a line saying so.
+inline ImportSettings with_capture_note(const ImportSettings& flags, const std::optional<CaptureNote>& note,
+                                        std::vector<std::string>* overrides = nullptr) {
+  ImportSettings s = flags;
+  if (!note) return s;
+  auto differs = [&](const std::string& what, bool d) {
+    if (d && overrides) overrides->push_back(what + " given by hand overrides the file's capture note");
+  };
+  differs("--fov-y", s.fov_y > 0 && std::abs(s.fov_y - note->fov_y) > 1e-4f * note->fov_y);
+  if (!(s.fov_y > 0)) s.fov_y = note->fov_y;
+  differs("--ao-radius", s.ao_radius && std::abs(*s.ao_radius - note->ao_radius) > 1e-6f * note->ao_radius);
+  if (!s.ao_radius) s.ao_radius = note->ao_radius;
+  differs("--world-to-camera", s.world_to_camera && *s.world_to_camera != note->world_to_camera);
+  if (!s.world_to_camera) s.world_to_camera = note->world_to_camera;
+  differs("--scene", !s.scene.empty() && !note->scene.empty() && s.scene != note->scene);
+  if (s.scene.empty()) s.scene = note->scene;
+  return s;
+}
+
+inline void require_fov(const ImportSettings& s, const std::string& file) {
+  if (!(s.fov_y > 0 && s.fov_y < 180))
+    throw std::runtime_error(file + ": no field of view: render with tools/blender_capture.py (it writes the "
+                             "camera into the file) or give --fov-y (docs/blender.md)");
+}
+
 inline View convert(const View& in, const ImportSettings& s) {
+  require_fov(s, in.source);
   const std::string layer = find_layer(in, s.layer);
   auto pass = [&](const std::string& p) { return layer.empty() ? p : layer + "." + p; };
   View out;
@@ -100,8 +116,8 @@ inline View convert(const View& in, const ImportSettings& s) {
 
   if (in.has(pass("Normal.X"))) {
     if (!out.world_to_camera)
-      throw std::runtime_error(in.source + ": world-space normals need the camera: pass --world-to-camera "
-                               "(see docs/blender.md) or write a worldToCamera attribute");
+      throw std::runtime_error(in.source + ": world-space normals need the camera: render with "
+                               "tools/blender_capture.py, or pass --world-to-camera (docs/blender.md)");
     const auto& m = *out.world_to_camera;
     const auto &wx = in.channel(pass("Normal.X")), &wy = in.channel(pass("Normal.Y")), &wz = in.channel(pass("Normal.Z"));
     auto &nx = out.add_channel("N.X"), &ny = out.add_channel("N.Y"), &nz = out.add_channel("N.Z");
@@ -125,8 +141,9 @@ inline View convert(const View& in, const ImportSettings& s) {
   for (const char* ao : {"AO.R", "AO.X", "AO.V"})
     if (in.has(pass(ao))) {
       if (!s.ao_radius)
-        throw std::runtime_error(in.source + ": has an AO pass; give its distance with --ao-radius "
-                                 "(View Layer > Light > AO distance / World > Ambient Occlusion)");
+        throw std::runtime_error(in.source + ": has an AO pass; give its distance with --ao-radius (Blender 3.x: "
+                                 "Render Properties > Light Paths > Fast GI Approximation > AO Distance, "
+                                 "world.light_settings.distance, default 10), or render with tools/blender_capture.py");
       out.add_channel("AO") = in.channel(pass(ao));
       out.ao_radius = s.ao_radius;
       break;

@@ -106,6 +106,8 @@ View read_view(const std::string& path, const ReadOptions& options, ExrInfo* inf
     local.has_ao_radius = radius.has_value();
     local.has_scene = scene != nullptr;
     local.has_world_to_camera = v.world_to_camera.has_value();
+    for (auto it = h.begin(); it != h.end(); ++it)
+      if (auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) local.strings[it.name()] = text->value();
     if (fov) v.fov_y_deg = *fov;
     v.ao_radius = radius;
     if (scene) v.scene = scene->value();

@@ -9,6 +9,7 @@
 // Reading accepts what OpenEXR reads: scanline or tiled, HALF/FLOAT/UINT channels, any
 // compression, a data window anywhere (pixel (0,0) of the View is its top-left corner).
 // Deep and multi-part files are refused with a message saying so.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct ExrInfo {
   bool tiled = false;
   std::string compression;
   bool has_fov_y = false, has_ao_radius = false, has_scene = false, has_world_to_camera = false;
+  // Every string attribute of the header, e.g. Blender's render stamp "Note" that
+  // tools/blender_capture.py fills with the camera (data/blender_capture_note.h).
+  std::map<std::string, std::string> strings;
 };
 
 View read_view(const std::string& path, const ReadOptions& options = {}, ExrInfo* info = nullptr);

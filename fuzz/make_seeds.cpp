@@ -4,6 +4,7 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTiledOutputFile.h>
 
 #include <cmath>
@@ -69,6 +70,26 @@ void raw_exr(const fs::path& p, Imf::Compression c, bool tiled, Imf::PixelType t
     out.writePixels(h);
   }
 }
+
+// A render as tools/blender_capture.py leaves it: Blender's pass names and the capture
+// note in the header's "Note" (data/blender_capture_note.h), for import-blender's path.
+void blender_exr(const fs::path& p) {
+  const int w = 4, h = 4;
+  Imf::Header hd(w, h);
+  hd.insert("Note", Imf::StringAttribute("nnshade-camera 1\nfovY=40\nworldToCamera=1,0,0,0,0,0,1,-1,0,-1,0,2,0,0,0,1\n"
+                                         "aoRadius=1\nscene=room\ncamera=Front"));
+  std::vector<float> plane(size_t(w * h), 0.5f);
+  Imf::FrameBuffer fb;
+  for (const char* c : {"ViewLayer.Depth.Z", "ViewLayer.Normal.X", "ViewLayer.Normal.Y", "ViewLayer.Normal.Z",
+                        "ViewLayer.AO.R", "ViewLayer.AO.G", "ViewLayer.AO.B"}) {
+    hd.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    fb.insert(c, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(plane.data()), 4, 4 * w));
+  }
+  fs::create_directories(p.parent_path());
+  Imf::OutputFile out(p.c_str(), hd);
+  out.setFrameBuffer(fb);
+  out.writePixels(h);
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -113,6 +134,7 @@ int main(int argc, char** argv) {
   raw_exr(dir / "exr" / "pxr24.exr", Imf::PXR24_COMPRESSION, false, Imf::FLOAT);
   raw_exr(dir / "exr" / "b44.exr", Imf::B44_COMPRESSION, false, Imf::HALF);
   raw_exr(dir / "exr" / "dwaa.exr", Imf::DWAA_COMPRESSION, false, Imf::HALF);
+  blender_exr(dir / "exr" / "blender.exr");
 
   // scene: first byte 0 = OBJ, 1 = glTF, 2 = GLB (fuzz_scene.cpp).
   put(dir / "scene" / "quad.obj",

@@ -7,6 +7,12 @@
 #include <cmath>
 #include <filesystem>
 
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+
 #include "data/exr_io.h"
 #include "tests/support/run_command.h"
 
@@ -53,6 +59,27 @@ View blender_view(const std::string& layer) {
   z[3] = 0;
   nx[3] = 0;
   return v;
+}
+
+// As Blender writes it: no nnshade attributes, the render stamp "Note" as a string.
+void write_with_note(const std::string& path, const View& v, const std::string& note) {
+  Imf::Header h(v.width, v.height);
+  h.insert("Note", Imf::StringAttribute(note));
+  Imf::FrameBuffer fb;
+  for (auto& [name, plane] : v.channels) {
+    h.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(plane.data())), 4,
+                               4 * size_t(v.width)));
+  }
+  Imf::OutputFile out(path.c_str(), h);
+  out.setFrameBuffer(fb);
+  out.writePixels(v.height);
+}
+
+// What tools/blender_capture.py writes for the kWorldToCamera camera.
+std::string capture_note(const std::string& extra = "") {
+  return std::string("nnshade-camera 1\nfovY=33.5\nworldToCamera=") + kWorldToCamera +
+         "\naoRadius=0.75\nscene=room\ncamera=Cam" + extra;
 }
 
 struct Dir {
@@ -115,8 +142,10 @@ TEST(ImportBlender, ExplainsWhatIsMissing) {
   Dir d;
   write_view(d / "r.exr", blender_view("ViewLayer"));
   Outcome no_fov = run("import-blender", "--out " + (d / "o.exr") + " " + (d / "r.exr"));
-  EXPECT_EQ(no_fov.code, 2);
-  EXPECT_NE(no_fov.output.find("--fov-y: required"), std::string::npos) << no_fov.output;
+  EXPECT_EQ(no_fov.code, 1);
+  EXPECT_NE(no_fov.output.find(d / "r.exr" + ": no field of view: render with tools/blender_capture.py"),
+            std::string::npos)
+      << no_fov.output;
 
   Outcome no_cam = run("import-blender", "--fov-y 40 --ao-radius 1 --out " + (d / "o.exr") + " " + (d / "r.exr"));
   EXPECT_EQ(no_cam.code, 1);
@@ -126,6 +155,10 @@ TEST(ImportBlender, ExplainsWhatIsMissing) {
                                                 "\" --out " + (d / "o.exr") + " " + (d / "r.exr"));
   EXPECT_EQ(no_radius.code, 1);
   EXPECT_NE(no_radius.output.find("--ao-radius"), std::string::npos) << no_radius.output;
+  // Where Blender 3.x keeps the distance (the old message sent users to a panel that does not exist).
+  EXPECT_NE(no_radius.output.find("Light Paths > Fast GI Approximation > AO Distance, world.light_settings.distance"),
+            std::string::npos)
+      << no_radius.output;
 
   View two = blender_view("ViewLayer");
   for (auto& [name, plane] : blender_view("Other").channels) two.channels[name] = plane;
@@ -135,4 +168,62 @@ TEST(ImportBlender, ExplainsWhatIsMissing) {
   EXPECT_NE(layers.output.find("several view layers (Other, ViewLayer); choose one with --layer"), std::string::npos)
       << layers.output;
   EXPECT_FALSE(fs::exists(d / "o.exr"));
+}
+
+TEST(ImportBlender, TakesTheCameraFromTheCaptureNote) {
+  Dir d;
+  fs::create_directories(d / "capture/Cam-surround");
+  write_with_note(d / "capture/Cam.exr", blender_view("ViewLayer"), capture_note());
+  write_with_note(d / "capture/Cam-surround/front.exr", blender_view("ViewLayer"), capture_note());
+  // No camera flags: a folder input is converted whole, sub-folders kept.
+  Outcome r = run("import-blender", "--out " + (d / "ds/train") + " " + (d / "capture"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* name : {"ds/train/Cam.exr", "ds/train/Cam-surround/front.exr"}) {
+    View v = read_view(d / name);
+    EXPECT_FLOAT_EQ(v.fov_y_deg, 33.5f) << name;
+    EXPECT_EQ(v.scene, "room") << name;
+    ASSERT_TRUE(v.ao_radius.has_value());
+    EXPECT_FLOAT_EQ(*v.ao_radius, 0.75f);
+    EXPECT_NEAR(v.at("N.Z", 2, 0), 1, 1e-6) << name;  // the note's matrix rotated the normals
+  }
+  // A flag given by hand wins, and says so.
+  Outcome over = run("import-blender", "--fov-y 50 --out " + (d / "o.exr") + " " + (d / "capture/Cam.exr"));
+  ASSERT_EQ(over.code, 0) << over.output;
+  EXPECT_NE(over.output.find("--fov-y given by hand overrides the file's capture note"), std::string::npos) << over.output;
+  EXPECT_FLOAT_EQ(read_view(d / "o.exr").fov_y_deg, 50.0f);
+}
+
+TEST(ImportBlender, RefusesAMalformedCaptureNoteNamingTheFile) {
+  Dir d;
+  const std::string good_matrix = std::string("worldToCamera=") + kWorldToCamera;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"nnshade-camera 2\nfovY=40", "is not 'nnshade-camera 1'"},
+      {"nnshade-camera 1\nfovY=40\naoRadius=1", "needs fovY, worldToCamera and aoRadius"},
+      {"nnshade-camera 1\nfovY=nan\naoRadius=1\n" + good_matrix, "fovY must be degrees in (0, 180)"},
+      {"nnshade-camera 1\nfovY=200\naoRadius=1\n" + good_matrix, "fovY must be degrees"},
+      {"nnshade-camera 1\nfovY=40\naoRadius=-1\n" + good_matrix, "aoRadius must be a positive number"},
+      {"nnshade-camera 1\nfovY=40\naoRadius=1\nworldToCamera=1,2,3", "expected 16 comma-separated finite numbers"},
+      {"nnshade-camera 1\nfovY=40\naoRadius=1\nworldToCamera=1x,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1", "expected 16"},
+      {"nnshade-camera 1\nfovY=40\nfovY=41\naoRadius=1\n" + good_matrix, "'fovY' given twice"},
+      {"nnshade-camera 1\nfovY 40", "line without '='"},
+  };
+  for (auto& [note, message] : cases) {
+    write_with_note(d / "r.exr", blender_view("ViewLayer"), note);
+    Outcome r = run("import-blender", "--out " + (d / "out") + " " + (d / "r.exr"));
+    EXPECT_EQ(r.code, 1) << note;
+    EXPECT_NE(r.output.find(d / "r.exr" + ": Note (written by tools/blender_capture.py): "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << note << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(d / "out/r.exr"));
+  }
+  // Someone's own note is not a capture note: the flags are needed, as without one.
+  write_with_note(d / "r.exr", blender_view("ViewLayer"), "lit by the window");
+  Outcome own = run("import-blender", "--out " + (d / "out") + " " + (d / "r.exr"));
+  EXPECT_EQ(own.code, 1);
+  EXPECT_NE(own.output.find("no field of view"), std::string::npos) << own.output;
+  // Hand-given matrices are as strict as the note's.
+  Outcome junk = run("import-blender", "--fov-y 40 --world-to-camera \"1x,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1\" --out " +
+                                           (d / "out") + " " + (d / "r.exr"));
+  EXPECT_EQ(junk.code, 1);
+  EXPECT_NE(junk.output.find("--world-to-camera: expected 16 comma-separated finite numbers"), std::string::npos)
+      << junk.output;
 }
