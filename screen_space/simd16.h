@@ -47,6 +47,9 @@ inline VF max(VF a, VF b) { return {_mm512_max_ps(a.v, b.v)}; }
 inline VF abs(VF a) { return {_mm512_abs_ps(a.v)}; }
 inline VF floor(VF a) { return {_mm512_roundscale_ps(a.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)}; }
 inline VI to_int(VF a) { return {_mm512_cvttps_epi32(a.v)}; }  // truncates, as int(float)
+// int(floor(a)) in one instruction (the conversion rounds down): what to_int(floor(a))
+// gives, for every float (out of range and NaN: INT_MIN from both).
+inline VI floor_to_int(VF a) { return {_mm512_cvt_roundps_epi32(a.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)}; }
 inline VF to_float(VI a) { return {_mm512_cvtepi32_ps(a.v)}; }
 inline VI operator+(VI a, VI b) { return {_mm512_add_epi32(a.v, b.v)}; }
 inline VI operator*(VI a, VI b) { return {_mm512_mullo_epi32(a.v, b.v)}; }
@@ -86,6 +89,7 @@ inline VF max(VF a, VF b) { NNS_LANES a.v[l] = b.v[l] > a.v[l] ? b.v[l] : a.v[l]
 inline VF abs(VF a) { NNS_LANES a.v[l] = std::fabs(a.v[l]); return a; }
 inline VF floor(VF a) { NNS_LANES a.v[l] = std::floor(a.v[l]); return a; }
 inline VI to_int(VF a) { VI r; NNS_LANES r.v[l] = int32_t(a.v[l]); return r; }
+inline VI floor_to_int(VF a) { VI r; NNS_LANES r.v[l] = int32_t(std::floor(a.v[l])); return r; }
 inline VF to_float(VI a) { VF r; NNS_LANES r.v[l] = float(a.v[l]); return r; }
 inline VI operator+(VI a, VI b) { NNS_LANES a.v[l] += b.v[l]; return a; }
 inline VI operator*(VI a, VI b) { NNS_LANES a.v[l] *= b.v[l]; return a; }
@@ -159,8 +163,8 @@ inline void project(const GBuffer& g, VF x, VF y, VF d, VF& px, VF& py) {
 
 // GBuffer::clamped_pixel: nearest pixel (half up), clamped to the screen.
 inline void clamped_pixel(const GBuffer& g, VF px, VF py, VI& ix, VI& iy) {
-  ix = clamp(to_int(floor(px + splat(0.5f))), 0, g.width - 1);
-  iy = clamp(to_int(floor(py + splat(0.5f))), 0, g.height - 1);
+  ix = clamp(floor_to_int(px + splat(0.5f)), 0, g.width - 1);
+  iy = clamp(floor_to_int(py + splat(0.5f)), 0, g.height - 1);
 }
 inline VI pixel_index(const GBuffer& g, VI ix, VI iy) { return iy * splat_i(g.width) + ix; }
 

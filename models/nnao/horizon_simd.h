@@ -35,8 +35,13 @@ inline VF horizon_march(const NnaoWeights& m, const ao::GBuffer& g, const Block&
   const VF sxn = nx, syn = zero - ny, sl = sqrt(sxn * sxn + syn * syn);
   const Mask tilted = gt(sl, splat(1e-4f));
   const VF c0 = select(tilted, sxn / sl, one), s0 = select(tilted, syn / sl, zero);
-  VF occluded[64];  // bands <= 64 (HorizonLayout::problem)
+  VF occluded[64], t[64];  // bands, steps <= 64 (HorizonLayout::problem)
   for (int band = 0; band < L.bands; ++band) occluded[band] = zero;
+  // Step s's distance in pixels: the same for every direction.
+  for (int s = 0; s < L.steps; ++s) {
+    const float fs = (float(s) + 0.5f) / float(L.steps);
+    t[s] = one + splat(fs * fs) * R_px;
+  }
   for (int k = 0; k < L.directions; ++k) {
     const float a = 6.2831853f * float(k) / float(L.directions);
     const float ca = std::cos(a), sa = std::sin(a);
@@ -45,10 +50,8 @@ inline VF horizon_march(const NnaoWeights& m, const ao::GBuffer& g, const Block&
     Mask alive = b.live;
     for (int s = 0; s < L.steps; ++s) {
       if (alive) {
-        const float fs = (float(s) + 0.5f) / float(L.steps);
-        const VF t = one + splat(fs * fs) * R_px;
         VF dx, dy, dz;
-        Mask hit = b.sample(g, b.X + ox * t, b.Y + oy * t, alive, dx, dy, dz);
+        Mask hit = b.sample(g, b.X + ox * t[s], b.Y + oy * t[s], alive, dx, dy, dz);
         const VF d2 = dx * dx + dy * dy + dz * dz;
         hit &= gt(d2, zero) & le(d2, splat(r2));
         if (hit) {
