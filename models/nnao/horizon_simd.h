@@ -24,8 +24,13 @@ namespace detail {
 
 // The march: writes the features of the 16 lanes to f[q] (q as in horizon_features.h)
 // and returns the base (the last band's visibility). Only for blocks with a live lane.
-inline VF horizon_march(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, VF* f) {
-  const HorizonLayout& L = m.input.horizon;
+inline VF horizon_march(const NnaoWeights& m, const ao::GBuffer& g_in, const Block& b_in, VF* f) {
+  // Local copies: a store through f (a vector type, which may alias anything) would
+  // otherwise make the compiler reload the frame's sizes and the block's planes, and
+  // redo their conversions, at every step.
+  const ao::GBuffer g = g_in;
+  const Block b = b_in;
+  const HorizonLayout L = m.input.horizon;
   const int per_band = L.steps / L.bands;
   const VF zero = splat(0.0f), one = splat(1.0f);
   VF nx, ny, nz;
@@ -48,7 +53,7 @@ inline VF horizon_march(const NnaoWeights& m, const ao::GBuffer& g, const Block&
     const VF ox = c0 * splat(ca) - s0 * splat(sa), oy = s0 * splat(ca) + c0 * splat(sa);
     VF horizon = zero;
     Mask alive = b.live;
-    for (int s = 0; s < L.steps; ++s) {
+    for (int s = 0, band = 0, in_band = 0; s < L.steps; ++s) {
       if (alive) {
         VF dx, dy, dz;
         Mask hit = b.sample(g, b.X + ox * t[s], b.Y + oy * t[s], alive, dx, dy, dz);
@@ -59,10 +64,10 @@ inline VF horizon_march(const NnaoWeights& m, const ao::GBuffer& g, const Block&
           horizon = select(hit, max(horizon, e), horizon);
         }
       }
-      if ((s + 1) % per_band == 0) {
-        const int band = (s + 1) / per_band - 1;
+      if (++in_band == per_band) {  // the band ends: its running maximum is a feature
         f[k * L.bands + band] = horizon;
         occluded[band] = occluded[band] + horizon * horizon;
+        ++band, in_band = 0;
       }
     }
   }
