@@ -66,6 +66,11 @@ inline VF gather(const float* base, VI idx, Mask m, float fill) {
   return {_mm512_mask_i32gather_ps(_mm512_set1_ps(fill), __mmask16(m), idx.v, base, 4)};
 }
 inline VF scale2(VF a, VF n) { return {_mm512_scalef_ps(a.v, n.v)}; }  // a * 2^n, n integral
+// PReLU with beta (the NNAO head): x > 0 ? beta x : alpha x.
+inline VF prelu(VF x, VF alpha, VF beta) {
+  return {_mm512_mask_blend_ps(_mm512_cmp_ps_mask(x.v, _mm512_setzero_ps(), _CMP_GT_OQ), _mm512_mul_ps(alpha.v, x.v),
+                               _mm512_mul_ps(beta.v, x.v))};
+}
 #else
 struct VF {
   float v[kLanes];
@@ -104,6 +109,9 @@ inline VF gather(const float* base, VI idx, Mask m, float fill) {
   VF r; NNS_LANES r.v[l] = (m >> l & 1) ? base[idx.v[l]] : fill; return r;
 }
 inline VF scale2(VF a, VF n) { NNS_LANES a.v[l] = std::ldexp(a.v[l], int(n.v[l])); return a; }
+// A per-lane choice, not a bit mask and a blend: the compiler vectorises it (with
+// select(gt(..)) the portable head built and tested a mask bit by bit).
+inline VF prelu(VF x, VF alpha, VF beta) { NNS_LANES x.v[l] = x.v[l] > 0 ? beta.v[l] * x.v[l] : alpha.v[l] * x.v[l]; return x; }
 #undef NNS_LANES
 #endif
 
