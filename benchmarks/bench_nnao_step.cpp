@@ -1,14 +1,19 @@
 // NNAO training step (forward, loss with the L1 penalty, backward, Adam) at the paper's
 // batch of 16 on pre-computed standardised features, as train-nnao runs it; plus the
 // per-frame inference paths, vectorised and scalar, next to the classical baselines on
-// the same 320x180 frame (one thread: CPU time per frame without thread-pool effects).
+// the same 320x180 frame (one thread: CPU time per frame without thread-pool effects);
+// and the default horizon NNAO's per-sample cost against HBAO-64's, interleaved.
 // Counters: samples/s (training points per second).
 //   bench_nnao_step --benchmark_filter=Step
 //   bench_nnao_step --benchmark_filter='Frame/.*/1$'   (per-frame times, one thread)
+//   bench_nnao_step --benchmark_filter=PerSample         (horizon NNAO vs HBAO-64, target)
 // Paper scale = 500,000 points x 100 epochs = 50M samples: minutes = 50M / samples_per_s / 60.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "core/rng.h"
@@ -153,5 +158,54 @@ BENCHMARK(BM_ClassicalAoFrame)->ArgNames({"method", "samples", "vec"})
     ->Args({0, 32, 1})->Args({0, 32, 0})->Args({1, 32, 1})->Args({1, 32, 0})
     ->Args({2, 64, 1})->Args({2, 64, 0})->Args({3, 32, 1})->Args({3, 32, 0})
     ->Unit(benchmark::kMillisecond);
+
+// The default NNAO (horizon features, 16 x 8 = 128 depth samples, hidden 16, exact with
+// its blur) against HBAO-64 and GTAO-32 on the same 320x180 frame, the three run in
+// turn in every iteration so that other jobs on the machine slow them alike; one
+// thread. The iteration time is NNAO's; the counters are each method's median ms and
+// NNAO's cost per depth sample over HBAO-64's (median of the per-iteration ratios).
+// Target (issue 11, section 5: per-sample cost close to HBAO's): at most
+// kHorizonPerSampleTarget x HBAO-64's; above it the benchmark reports an error.
+constexpr double kHorizonPerSampleTarget = 1.4;
+static void BM_HorizonVsHbaoPerSample(benchmark::State& state) {
+  set_num_threads(1);
+  auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(0, 16, 7, false, {16, 8, 4}));
+  static data::View v = nns::fixtures::synthetic_view(320, 180, 1, 1);
+  auto g = ao::gbuffer_from_view(v);
+  std::vector<float> out(size_t(g.pixels())), ref(out.size());
+  nnao::infer_exact(m, g, out.data());
+  nnao::infer_exact_reference(m, g, ref.data());
+  for (size_t i = 0; i < out.size(); ++i)
+    if (!(std::abs(out[i] - ref[i]) <= 1e-5f)) {
+      state.SkipWithError("vectorised and scalar horizon inference differ");
+      return;
+    }
+  auto ms = [&](auto&& run) {
+    const auto t0 = std::chrono::steady_clock::now();
+    run();
+    benchmark::DoNotOptimize(out.data());
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  std::vector<double> nnao_ms, hbao_ms, gtao_ms, ratio;
+  for (auto _ : state) {
+    nnao_ms.push_back(ms([&] { nnao::infer_exact(m, g, out.data()); }));
+    hbao_ms.push_back(ms([&] { ao::hbao(g, 64, out.data()); }));
+    gtao_ms.push_back(ms([&] { ao::gtao(g, 32, out.data()); }));
+    ratio.push_back((nnao_ms.back() / m.input.samples()) / (hbao_ms.back() / 64));
+    state.SetIterationTime(nnao_ms.back() / 1000);
+  }
+  auto median = [](std::vector<double> x) {
+    std::sort(x.begin(), x.end());
+    return x[x.size() / 2];
+  };
+  state.counters["nnao_ms"] = median(nnao_ms);
+  state.counters["hbao64_ms"] = median(hbao_ms);
+  state.counters["gtao32_ms"] = median(gtao_ms);
+  state.counters["per_sample_vs_hbao64"] = median(ratio);
+  if (median(ratio) > kHorizonPerSampleTarget)
+    state.SkipWithError(("NNAO costs " + std::to_string(median(ratio)) + "x HBAO-64 per depth sample, above the " +
+                         std::to_string(kHorizonPerSampleTarget) + "x target").c_str());
+}
+BENCHMARK(BM_HorizonVsHbaoPerSample)->UseManualTime()->MinTime(2.0)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -47,6 +47,9 @@ inline VF max(VF a, VF b) { return {_mm512_max_ps(a.v, b.v)}; }
 inline VF abs(VF a) { return {_mm512_abs_ps(a.v)}; }
 inline VF floor(VF a) { return {_mm512_roundscale_ps(a.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)}; }
 inline VI to_int(VF a) { return {_mm512_cvttps_epi32(a.v)}; }  // truncates, as int(float)
+// int(floor(a)) in one instruction (the conversion rounds down): what to_int(floor(a))
+// gives, for every float (out of range and NaN: INT_MIN from both).
+inline VI floor_to_int(VF a) { return {_mm512_cvt_roundps_epi32(a.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)}; }
 inline VF to_float(VI a) { return {_mm512_cvtepi32_ps(a.v)}; }
 inline VI operator+(VI a, VI b) { return {_mm512_add_epi32(a.v, b.v)}; }
 inline VI operator*(VI a, VI b) { return {_mm512_mullo_epi32(a.v, b.v)}; }
@@ -63,6 +66,11 @@ inline VF gather(const float* base, VI idx, Mask m, float fill) {
   return {_mm512_mask_i32gather_ps(_mm512_set1_ps(fill), __mmask16(m), idx.v, base, 4)};
 }
 inline VF scale2(VF a, VF n) { return {_mm512_scalef_ps(a.v, n.v)}; }  // a * 2^n, n integral
+// PReLU with beta (the NNAO head): x > 0 ? beta x : alpha x.
+inline VF prelu(VF x, VF alpha, VF beta) {
+  return {_mm512_mask_blend_ps(_mm512_cmp_ps_mask(x.v, _mm512_setzero_ps(), _CMP_GT_OQ), _mm512_mul_ps(alpha.v, x.v),
+                               _mm512_mul_ps(beta.v, x.v))};
+}
 #else
 struct VF {
   float v[kLanes];
@@ -86,6 +94,7 @@ inline VF max(VF a, VF b) { NNS_LANES a.v[l] = b.v[l] > a.v[l] ? b.v[l] : a.v[l]
 inline VF abs(VF a) { NNS_LANES a.v[l] = std::fabs(a.v[l]); return a; }
 inline VF floor(VF a) { NNS_LANES a.v[l] = std::floor(a.v[l]); return a; }
 inline VI to_int(VF a) { VI r; NNS_LANES r.v[l] = int32_t(a.v[l]); return r; }
+inline VI floor_to_int(VF a) { VI r; NNS_LANES r.v[l] = int32_t(std::floor(a.v[l])); return r; }
 inline VF to_float(VI a) { VF r; NNS_LANES r.v[l] = float(a.v[l]); return r; }
 inline VI operator+(VI a, VI b) { NNS_LANES a.v[l] += b.v[l]; return a; }
 inline VI operator*(VI a, VI b) { NNS_LANES a.v[l] *= b.v[l]; return a; }
@@ -100,6 +109,9 @@ inline VF gather(const float* base, VI idx, Mask m, float fill) {
   VF r; NNS_LANES r.v[l] = (m >> l & 1) ? base[idx.v[l]] : fill; return r;
 }
 inline VF scale2(VF a, VF n) { NNS_LANES a.v[l] = std::ldexp(a.v[l], int(n.v[l])); return a; }
+// A per-lane choice, not a bit mask and a blend: the compiler vectorises it (with
+// select(gt(..)) the portable head built and tested a mask bit by bit).
+inline VF prelu(VF x, VF alpha, VF beta) { NNS_LANES x.v[l] = x.v[l] > 0 ? beta.v[l] * x.v[l] : alpha.v[l] * x.v[l]; return x; }
 #undef NNS_LANES
 #endif
 
@@ -159,8 +171,8 @@ inline void project(const GBuffer& g, VF x, VF y, VF d, VF& px, VF& py) {
 
 // GBuffer::clamped_pixel: nearest pixel (half up), clamped to the screen.
 inline void clamped_pixel(const GBuffer& g, VF px, VF py, VI& ix, VI& iy) {
-  ix = clamp(to_int(floor(px + splat(0.5f))), 0, g.width - 1);
-  iy = clamp(to_int(floor(py + splat(0.5f))), 0, g.height - 1);
+  ix = clamp(floor_to_int(px + splat(0.5f)), 0, g.width - 1);
+  iy = clamp(floor_to_int(py + splat(0.5f)), 0, g.height - 1);
 }
 inline VI pixel_index(const GBuffer& g, VI ix, VI iy) { return iy * splat_i(g.width) + ix; }
 

@@ -159,7 +159,7 @@ void exact_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, con
       }
     }
   }
-  finish_block(m, b, h, 1.0f, false, out);
+  finish_block<HS>(m, b, h, 1.0f, false, out);
 }
 
 }  // namespace detail

@@ -186,11 +186,12 @@ TEST(NnaoInference, VectorisedPathsMatchScalarReferences) {
 // (horizon_simd.h, infer_exact) against the per-pixel loop + scalar blur, that loop
 // against the network in double from the raw tensors plus the visibility base, and
 // both thread counts alike. Layouts
-// with an odd number of directions and 3 bands, hidden 4 and 6, a 2-pixel tail block.
+// with an odd number of directions and 3 bands; hidden 4, 8 and 16 (the widths
+// horizon_simd.h compiles in) and 6 (the runtime width); a 2-pixel tail block.
 TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
   const nns::fixtures::HorizonShape shapes[2] = {{8, 8, 4}, {5, 6, 3}};
   for (const auto& sh : shapes)
-    for (int H : {4, 6}) {
+    for (int H : {4, 6, 8, 16}) {
       Blob blob = nns::fixtures::random_nnao_blob(0, H, 21 + H, false, sh);
       auto m = nnao::NnaoWeights::from_blob(blob);
       ASSERT_TRUE(m.input.is_horizon());
