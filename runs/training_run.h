@@ -55,6 +55,10 @@ struct RunSpec {
   // Keys a resume may change: more epochs extend a finished run; threads never change
   // the numbers (determinism).
   std::vector<std::string> may_change = {"epochs", "epochs_decay", "threads"};
+  // Keys added after checkpoints existed, with the value a checkpoint that lacks them was
+  // made with ("precision" -> "fp32"): such a checkpoint still resumes at that value, and
+  // one that records another value is caught whichever way the flag changed.
+  RunConfig unrecorded_means = {{"precision", "fp32"}, {"accumulate", "1"}};
 };
 
 // Every key of `now` whose value differs from the checkpoint's (or that the checkpoint
@@ -65,7 +69,13 @@ inline std::string config_changes(const Blob& saved, const RunSpec& spec) {
     bool free = false;
     for (auto& k : spec.may_change) free |= k == key;
     if (free) continue;
-    std::string was = saved.has_config(key) ? saved.config_string(key) : "(not recorded)";
+    std::string was = "(not recorded)";
+    if (saved.has_config(key)) {
+      was = saved.config_string(key);
+    } else {
+      for (auto& [k, v] : spec.unrecorded_means)
+        if (k == key) was = v;
+    }
     if (was != value) changes += (changes.empty() ? "" : "; ") + key + ": was " + was + ", now " + value;
   }
   return changes;

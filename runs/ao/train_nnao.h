@@ -218,11 +218,10 @@ inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing&
   std::string fams;
   for (auto& f : o.validation_families) fams += (fams.empty() ? "" : ",") + f;
   spec.config.emplace_back("validation_families", fams);
-  // Recorded only when not fp32, so checkpoints made before --precision existed still resume
-  // (the run layer refuses a key present on one side only: fp32 <-> bf16 is still caught).
-  if (o.precision != Precision::fp32) spec.config.emplace_back("precision", precision_name(o.precision));
-  // It changes the rounding; recorded only when used, so older checkpoints still resume.
-  if (o.accumulate != 1) spec.config.emplace_back("accumulate", std::to_string(o.accumulate));
+  // Checkpoints made before --precision existed lack it: RunSpec::unrecorded_means.
+  spec.config.emplace_back("precision", precision_name(o.precision));
+  // It changes the rounding; checkpoints older than --accumulate lack it (RunSpec::unrecorded_means).
+  spec.config.emplace_back("accumulate", std::to_string(o.accumulate));
   return spec;
 }
 

@@ -76,11 +76,10 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   spec.resume = o.resume;
   spec.config = t.run_config();
   spec.config.emplace_back("data", o.data_identity);
-  // Recorded only when not fp32, so checkpoints made before --precision existed still resume
-  // (the run layer refuses a key present on one side only: fp32 <-> bf16 is still caught).
-  if (o.precision != Precision::fp32) spec.config.emplace_back("precision", precision_name(o.precision));
-  // It changes the rounding; recorded only when used, so older checkpoints still resume.
-  if (o.accumulate != 1) spec.config.emplace_back("accumulate", std::to_string(o.accumulate));
+  // Checkpoints made before --precision existed lack it: RunSpec::unrecorded_means.
+  spec.config.emplace_back("precision", precision_name(o.precision));
+  // It changes the rounding; checkpoints older than --accumulate lack it (RunSpec::unrecorded_means).
+  spec.config.emplace_back("accumulate", std::to_string(o.accumulate));
   runs::TrainingRun run(spec, ck, t.step_counter());
   if (run.writes_files()) std::filesystem::create_directories(o.out + "/samples");
   dist::GradSync sync(t.trained_parameters(), t.rngs(), o.accumulate, o.bucket_mb);

@@ -110,6 +110,25 @@ TEST(TrainingRun, ResumeRefusesAnotherConfigurationNamingWhatChanged) {
   fs::remove_all(d);
 }
 
+// A key added after checkpoints existed ("precision"): a checkpoint that lacks it resumes
+// at the value it was made with (fp32), and one made with another value is refused.
+TEST(TrainingRun, AKeyACheckpointPredatesMeansItsOldValue) {
+  Blob old_ck("checkpoint");
+  old_ck.set_config("lr", "0.001");
+  RunSpec spec;
+  spec.config = {{"lr", "0.001"}, {"precision", "fp32"}};
+  EXPECT_EQ(config_changes(old_ck, spec), "");
+  spec.config = {{"lr", "0.001"}, {"precision", "bf16"}};
+  EXPECT_EQ(config_changes(old_ck, spec), "precision: was fp32, now bf16");
+  Blob bf16_ck("checkpoint");
+  bf16_ck.set_config("lr", "0.001");
+  bf16_ck.set_config("precision", "bf16");
+  spec.config = {{"lr", "0.001"}, {"precision", "fp32"}};
+  EXPECT_EQ(config_changes(bf16_ck, spec), "precision: was bf16, now fp32");
+  spec.config = {{"lr", "0.001"}, {"other", "1"}};  // no old value declared for it
+  EXPECT_EQ(config_changes(old_ck, spec), "other: was (not recorded), now 1");
+}
+
 TEST(TrainingRun, ResumeWithoutACheckpointIsRefused) {
   fs::path d = temp_dir("nock");
   Checkpoint<float> ck;
