@@ -146,7 +146,7 @@ void batch_norm_forward_train(T* out, T* mean, T* var, T* rstd, const T* inp, co
           auto sums_of = [&](int64_t c, double& s1, double& s2) {  // alone: a task's first channel
             for (int64_t n = 0; n < N; ++n) {
               const float* x = inp + (n * C + c) * S;
-              Sums p(double(inp[c * S]));
+              Sums p{double(inp[c * S])};  // braces: with parentheses clang reads a function declaration
               detail::slice_pass<false, false, true>(nullptr, nullptr, nullptr, 0, 0, 0, 0, nullptr, x, S, p);
               p.finish(nullptr, x + S / 32 * 32, S % 32, s1, s2);
             }
@@ -261,7 +261,7 @@ void batch_norm_backward(T* dinp, T* dgamma, T* dbeta, const T* dout, const T* i
             for (int64_t n = 0; n < N; ++n) {
               const float* x = inp + (n * C + c) * S;
               const float* g = dout + (n * C + c) * S;
-              Sums p(double(mean[c]));
+              Sums p{double(mean[c])};
               detail::slice_pass<true, false, true>(nullptr, nullptr, nullptr, 0, 0, 0, 0, g, x, S, p);
               p.finish(g + S / 32 * 32, x + S / 32 * 32, S % 32, sg, sgx);
             }
