@@ -132,11 +132,14 @@ struct TrainResult {
 // in rounds of N (each rank builds its one view of the round, then the round's rows are
 // broadcast in view order), so a rank holds at most N views' rows. A view that fails on
 // its owner throws there; the failing rank's Session::finish calls MPI_Abort, which ends
-// the ranks waiting for that view in the broadcast (no hang). `views_built` counts the
-// views this rank built itself.
+// the ranks waiting for that view in the broadcast (no hang).
+struct BuildShare {
+  int64_t views_built = 0;      // by this rank itself
+  double exchange_seconds = 0;  // in the broadcasts, waiting for the owners included
+};
 inline PointFile build_points(const std::vector<std::string>& paths, const TrainOptions& o, int per_view,
                               uint64_t stream, const std::string& name, StandardizerSums* sums,
-                              int64_t& views_built) {
+                              BuildShare& share) {
   PointFile pf;
   pf.input = o.net.input();
   pf.features = pf.input.count();
@@ -157,9 +160,11 @@ inline PointFile build_points(const std::vector<std::string>& paths, const Train
       data::View v = data::read_view(paths[i]);
       Rng rng = base.fork(i);
       view_points(v, pf.input, per_view, o.radius, rng, round[me]);
-      ++views_built;
+      ++share.views_built;
     }
+    const auto t0 = std::chrono::steady_clock::now();
     for (size_t i = first; i < end; ++i) dist::broadcast_bytes(round[i - first], int(i - first));
+    share.exchange_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (size_t i = first; i < end; ++i) {
       const std::vector<char>& rows = round[i - first];
       const int64_t n = int64_t(rows.size()) / R;
@@ -319,14 +324,15 @@ inline TrainResult train_nnao(const TrainOptions& o) {
       o.net.features + " features each, in files in " + o.out_dir);
   const auto t_build = std::chrono::steady_clock::now();
   StandardizerSums sums(o.net.inputs());
-  int64_t views_built = 0;
-  PointFile train = build_points(d.train.views, o, o.points_per_view, 1, "train-points", &sums, views_built);
-  PointFile test = build_points(d.test.views, o, o.test_points_per_view, 2, "test-points", nullptr, views_built);
-  PointFile valid = build_points(val.views, o, o.test_points_per_view, 3, "val-points", nullptr, views_built);
+  BuildShare share;
+  PointFile train = build_points(d.train.views, o, o.points_per_view, 1, "train-points", &sums, share);
+  PointFile test = build_points(d.test.views, o, o.test_points_per_view, 2, "test-points", nullptr, share);
+  PointFile valid = build_points(val.views, o, o.test_points_per_view, 3, "val-points", nullptr, share);
   const int64_t views = int64_t(d.train.views.size() + d.test.views.size() + val.views.size());
   if (dist::size() > 1)
-    say("rank " + std::to_string(dist::rank()) + " built " + std::to_string(views_built) + " of " +
-        std::to_string(views) + " views' points");
+    say("rank " + std::to_string(dist::rank()) + " built " + std::to_string(share.views_built) + " of " +
+        std::to_string(views) + " views' points; " + std::to_string(share.exchange_seconds) +
+        " s in the exchange (waiting for the other ranks included)");
   const Standardizer st = sums.finish();
   standardize_file(train, st);
   standardize_file(test, st);
@@ -439,7 +445,7 @@ inline TrainResult train_nnao(const TrainOptions& o) {
                                                          {"build_seconds", res.build_seconds},
                                                          // The sharding of the build (about 1/N under mpirun -np N).
                                                          {"point_views", double(views)},
-                                                         {"point_views_read_by_rank_0", double(views_built)},
+                                                         {"point_views_read_by_rank_0", double(share.views_built)},
                                                          {"epoch_seconds", res.epoch_seconds},
                                                          {"seconds", res.seconds}};
   dist::add_sync_figures(sync, figures);
