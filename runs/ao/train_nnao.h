@@ -156,7 +156,8 @@ inline PointFile build_points(const std::vector<std::string>& paths, const Train
     // first is a multiple of N, so view i of the round is round[i % N], built by rank i % N.
     if (first + me < end) {
       const size_t i = first + me;
-      if (fail && std::filesystem::path(paths[i]).filename() == fail) throw std::runtime_error(paths[i] + ": NNSHADE_TEST_FAIL_POINT_VIEW");
+      if (fail && std::filesystem::path(paths[i]).filename() == fail)
+        throw std::runtime_error(paths[i] + ": NNSHADE_TEST_FAIL_POINT_VIEW");
       data::View v = data::read_view(paths[i]);
       Rng rng = base.fork(i);
       view_points(v, pf.input, per_view, o.radius, rng, round[me]);
