@@ -21,10 +21,14 @@
 // --accumulate K: each step's batch is K micro-batches of batch/K points, their gradients
 // averaged in micro-batch order (runs/distributed/grad_sync.h); under mpirun the
 // micro-batches are spread over the ranks, with the same numbers for any rank count.
-// Every rank builds the same point files and reads every row of a step (the shuffle is
-// one stream), and computes only its micro-batches.
+// The point building is sharded: view i is read and its features computed by rank
+// i % N only, its rows then broadcast (build_points), so every rank ends with the same
+// point files as one process, bitwise, for 1/N of the feature work. Every rank reads
+// every row of a step (the shuffle is one stream), and computes only its micro-batches.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -48,6 +52,7 @@
 #include "optim/adam.h"
 #include "optim/checkpoint.h"
 #include "runs/distributed/grad_sync.h"
+#include "runs/distributed/world.h"
 #include "runs/training_run.h"
 
 namespace nns::nnao {
@@ -117,23 +122,56 @@ struct TrainResult {
   int exit_code = 0;             // 0 finished, 3 stopped on a non-finite value
 };
 
-// Reads the views of a split one at a time and appends their points to a file in the
-// output folder; `sums` (if any) accumulates the standardiser's statistics on the way.
-// One Rng stream per view, so a view's points do not depend on the views before it.
+// Reads the views of a split and appends their points to a file in the output folder, in
+// view order; `sums` (if any) accumulates the standardiser's statistics on the way. One
+// Rng stream per view, so a view's points do not depend on the views before it.
+//
+// Under mpirun the reading and the features (the cost: minutes, against seconds per
+// epoch) are shared out: view i is built by rank i % N alone, then its rows are
+// broadcast, so every rank ends with the same file, bitwise, as one process. The views go
+// in rounds of N (each rank builds its one view of the round, then the round's rows are
+// broadcast in view order), so a rank holds at most N views' rows. A view that fails on
+// its owner throws there; the failing rank's Session::finish calls MPI_Abort, which ends
+// the ranks waiting for that view in the broadcast (no hang).
+struct BuildShare {
+  int64_t views_built = 0;      // by this rank itself
+  double exchange_seconds = 0;  // in the broadcasts, waiting for the owners included
+};
 inline PointFile build_points(const std::vector<std::string>& paths, const TrainOptions& o, int per_view,
-                              uint64_t stream, const std::string& name, StandardizerSums* sums) {
+                              uint64_t stream, const std::string& name, StandardizerSums* sums,
+                              BuildShare& share) {
   PointFile pf;
   pf.input = o.net.input();
   pf.features = pf.input.count();
-  pf.rows = runs::RowFile(o.out_dir, name, point_row_bytes(pf.features));
+  const int64_t R = point_row_bytes(pf.features);
+  pf.rows = runs::RowFile(o.out_dir, name, R);
   Rng base(o.seed ^ (0x9E37ull * stream));
-  std::vector<char> rows;
-  for (size_t i = 0; i < paths.size(); ++i) {
-    data::View v = data::read_view(paths[i]);
-    Rng rng = base.fork(i);
-    const int64_t n = view_points(v, pf.input, per_view, o.radius, rng, rows);
-    if (sums) sums->add(rows.data(), n);
-    pf.rows.append(rows.data(), n);
+  const size_t ranks = size_t(dist::size()), me = size_t(dist::rank());
+  // For the failing-owner test (tests/distributed): the view of this file name fails on
+  // its owner alone, after the dataset check every rank passed.
+  const char* fail = std::getenv("NNSHADE_TEST_FAIL_POINT_VIEW");
+  std::vector<std::vector<char>> round(ranks);  // round[r]: the rows of rank r's view
+  for (size_t first = 0; first < paths.size(); first += ranks) {
+    const size_t end = std::min(paths.size(), first + ranks);
+    // first is a multiple of N, so view i of the round is round[i % N], built by rank i % N.
+    if (first + me < end) {
+      const size_t i = first + me;
+      if (fail && std::filesystem::path(paths[i]).filename() == fail)
+        throw std::runtime_error(paths[i] + ": NNSHADE_TEST_FAIL_POINT_VIEW");
+      data::View v = data::read_view(paths[i]);
+      Rng rng = base.fork(i);
+      view_points(v, pf.input, per_view, o.radius, rng, round[me]);
+      ++share.views_built;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    for (size_t i = first; i < end; ++i) dist::broadcast_bytes(round[i - first], int(i - first));
+    share.exchange_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (size_t i = first; i < end; ++i) {
+      const std::vector<char>& rows = round[i - first];
+      const int64_t n = int64_t(rows.size()) / R;
+      if (sums) sums->add(rows.data(), n);
+      pf.rows.append(rows.data(), n);
+    }
   }
   return pf;
 }
@@ -287,9 +325,15 @@ inline TrainResult train_nnao(const TrainOptions& o) {
       o.net.features + " features each, in files in " + o.out_dir);
   const auto t_build = std::chrono::steady_clock::now();
   StandardizerSums sums(o.net.inputs());
-  PointFile train = build_points(d.train.views, o, o.points_per_view, 1, "train-points", &sums);
-  PointFile test = build_points(d.test.views, o, o.test_points_per_view, 2, "test-points", nullptr);
-  PointFile valid = build_points(val.views, o, o.test_points_per_view, 3, "val-points", nullptr);
+  BuildShare share;
+  PointFile train = build_points(d.train.views, o, o.points_per_view, 1, "train-points", &sums, share);
+  PointFile test = build_points(d.test.views, o, o.test_points_per_view, 2, "test-points", nullptr, share);
+  PointFile valid = build_points(val.views, o, o.test_points_per_view, 3, "val-points", nullptr, share);
+  const int64_t views = int64_t(d.train.views.size() + d.test.views.size() + val.views.size());
+  if (dist::size() > 1)
+    say("rank " + std::to_string(dist::rank()) + " built " + std::to_string(share.views_built) + " of " +
+        std::to_string(views) + " views' points; " + std::to_string(share.exchange_seconds) +
+        " s in the exchange (waiting for the other ranks included)");
   const Standardizer st = sums.finish();
   standardize_file(train, st);
   standardize_file(test, st);
@@ -400,6 +444,9 @@ inline TrainResult train_nnao(const TrainOptions& o) {
                                                          {"test_mse", res.test_mse},
                                                          {"step_microseconds", res.step_microseconds},
                                                          {"build_seconds", res.build_seconds},
+                                                         // The sharding of the build (about 1/N under mpirun -np N).
+                                                         {"point_views", double(views)},
+                                                         {"point_views_read_by_rank_0", double(share.views_built)},
                                                          {"epoch_seconds", res.epoch_seconds},
                                                          {"seconds", res.seconds}};
   dist::add_sync_figures(sync, figures);

@@ -69,6 +69,26 @@ inline void sum_over_ranks(std::vector<double>& values) {
 #endif
 }
 
+// Sends `bytes` of rank `root` to every rank (the byte count, then the bytes): each other
+// rank's `bytes` is replaced by root's. For data one rank computes and all need (the NNAO
+// point rows, runs/ao/train_nnao.h). A no-op for one rank and without MPI.
+inline void broadcast_bytes(std::vector<char>& bytes, int root) {
+#ifdef NNSHADE_MPI
+  if (world().size > 1) {
+    long long n = (long long)bytes.size();
+    MPI_Bcast(&n, 1, MPI_LONG_LONG, root, MPI_COMM_WORLD);
+    bytes.resize(size_t(n));
+    // MPI counts are int: a message of more than 2 GiB goes in pieces.
+    constexpr long long kPiece = 1ll << 30;
+    for (long long at = 0; at < n; at += kPiece)
+      MPI_Bcast(bytes.data() + at, int(std::min(kPiece, n - at)), MPI_CHAR, root, MPI_COMM_WORLD);
+  }
+#else
+  (void)bytes;
+  (void)root;
+#endif
+}
+
 // Runs f on rank 0, then on the other ranks: for a shared cache (the default dataset)
 // that rank 0 fills and the others then find in place.
 template <class F>

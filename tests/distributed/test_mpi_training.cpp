@@ -5,7 +5,9 @@
 //    --accumulate 3: the reduction order does not depend on the rank count. The GAN has
 //    BatchNorm: each image keeps its own statistics on whichever rank computes it.
 //  - a run interrupted under 2 ranks and resumed under 3 ends where the one-process run does;
+//  - the point files are built sharded (view i by rank i % N);
 //  - a rank that dies mid-run (SIGKILL) ends the job with a non-zero exit, no hang;
+//  - an unreadable view ends the job naming the file, no hang;
 //  - fewer micro-batches than ranks is refused;
 //  - render-dataset under `mpirun -np 3` writes the one-process dataset byte for byte.
 // Every mpirun is under `timeout`, so a hang fails the test instead of the CI job.
@@ -96,6 +98,13 @@ TEST_F(MpiTraining, NnaoWeightsAreBitwiseEqualForOneTwoAndThreeRanks) {
     must_run(mpirun(n) + nnao("ranks" + std::to_string(n)));
     expect_same("one-process", "ranks" + std::to_string(n), {"nnao.blob", "checkpoint.blob", "metrics.jsonl"});
   }
+  // The points were built sharded: view i by rank i % N (3 train + 2 test views; rank 0
+  // of 3 builds train view 0 and test view 0), and every rank ended with the same files.
+  EXPECT_NE(bytes(root / "one-process" / "summary.json").find("\"point_views_read_by_rank_0\":5"), std::string::npos);
+  EXPECT_NE(bytes(root / "ranks2" / "summary.json").find("\"point_views_read_by_rank_0\":3"), std::string::npos)
+      << bytes(root / "ranks2" / "summary.json");
+  EXPECT_NE(bytes(root / "ranks3" / "summary.json").find("\"point_views_read_by_rank_0\":2"), std::string::npos)
+      << bytes(root / "ranks3" / "summary.json");
   // The accumulation is what they agree on: one batch of 12 is another computation.
   must_run(nnao("plain", "--accumulate 1"));
   EXPECT_NE(bytes(root / "plain" / "nnao.blob"), bytes(root / "one-process" / "nnao.blob"));
@@ -121,6 +130,29 @@ TEST_F(MpiTraining, ADeadRankEndsTheJobWithAnErrorInsteadOfAHang) {
   EXPECT_NE(r.code, 124) << "timeout: the job hung after a rank died\n" << r.output;
   EXPECT_LT(seconds, kTimeout) << r.output;
   EXPECT_NE(r.output.find("killing myself at step 5"), std::string::npos) << r.output;
+}
+
+// A view that cannot be read ends the job with its file named and no hang, both when
+// every rank finds it (a corrupt EXR: the dataset check before the points) and when only
+// its owner does while the other rank waits for its rows in the broadcast.
+TEST_F(MpiTraining, AnUnreadableViewEndsTheJobNamingTheFileInsteadOfAHang) {
+  fs::copy(root / "ao", root / "ao-corrupt", fs::copy_options::recursive);
+  const fs::path corrupt = root / "ao-corrupt" / "train" / "v2.exr";
+  fs::resize_file(corrupt, fs::file_size(corrupt) / 2);
+  std::string corrupt_run = nnao("corrupt");
+  const std::string ao = "--data " + (root / "ao").string() + " ";
+  corrupt_run.replace(corrupt_run.find(ao), ao.size(), "--data " + (root / "ao-corrupt").string() + " ");
+  // Train view 1 (v2.exr) belongs to rank 1 of 2: rank 0 builds view 0, then waits for view 1.
+  const std::string owner_fails = mpirun(2, "NNSHADE_TEST_FAIL_POINT_VIEW=v2.exr") + nnao("owner-fails");
+  for (const std::string& cmd : {mpirun(2) + corrupt_run, owner_fails}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto r = nns::testing::run_command(cmd);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_NE(r.code, 0) << cmd << "\n" << r.output;
+    EXPECT_NE(r.code, 124) << "timeout: the job hung\n" << r.output;
+    EXPECT_LT(seconds, kTimeout) << r.output;
+    EXPECT_NE(r.output.find("train/v2.exr"), std::string::npos) << cmd << "\n" << r.output;
+  }
 }
 
 TEST_F(MpiTraining, FewerMicroBatchesThanRanksIsRefused) {
