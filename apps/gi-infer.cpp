@@ -3,6 +3,8 @@
 //   gi-infer --model gan-out/G.blob --in frame7 --out frame7_gi.exr
 //   gi-infer --model G.blob --channel depth=d.exr:Z --channel normal=n.png --channel albedo=a.png \
 //            --channel direct=direct.hdr --fov-y 60 --out f_gi.exr
+//   gi-infer --model G.blob --channel front.depth=f_d.exr:Z --channel front.normal=f_n.png ... \
+//            --channel down.direct=d_direct.exr --out f_gi.exr      (surround: six faces, 90 degrees)
 // --in is one G-buffer view (front-mode model) or a folder of six faces
 // front/back/left/right/up/down.exr (surround model). Writes OUT.exr (light.*, indirect.*,
 // shaded.*, Z) and OUT_shaded.png, OUT_indirect.png; on any error, nothing. See docs/gan.md.
@@ -21,7 +23,8 @@ int main(int argc, char** argv) {
                 "Predict indirect light and the lit image of one G-buffer frame with a trained GI generator.\n"
                 "--in: a view EXR (front-mode model) or a folder with front/back/left/right/up/down.exr\n"
                 "(surround model); needs Z, N.X/Y/Z, albedo.R/G/B, direct.R/G/B (emission, env optional),\n"
-                "no indirect.*. Or, for a front-mode model, the frame as your own images: --channel (below).\n"
+                "no indirect.*. Or the frame as your own images, --channel (below): TARGET=FILE for a\n"
+                "front-mode model, FACE.TARGET=FILE on each of the six faces for a surround model.\n"
                 "Views larger than the model's face size are box-filtered down by an integer\n"
                 "factor. Writes OUT.exr (light.*, indirect.* = light - direct - env, signed; shaded.* =\n"
                 "albedo * light + emission; Z), OUT_shaded.png and OUT_indirect.png; on error, nothing.");
@@ -29,7 +32,8 @@ int main(int argc, char** argv) {
     o.model = a.get_string("--model", "", "generator blob (G.blob) from train-gan");
     o.in = a.get_string("--in", "", "the frame: a view .exr or a folder of six faces (or --channel)");
     cli::ImageInputFlags images =
-        cli::image_input_flags(a, "gi-infer", {"depth", "normal", "albedo", "direct"}, {"emission", "env"});
+        cli::image_input_flags(a, "gi-infer", {"depth", "normal", "albedo", "direct"}, {"emission", "env"},
+                                                           /*surround=*/true);
     o.channels = images.channels;
     o.images = images.view;
     o.out = a.get_string("--out", "", "output .exr (default: <input name>_gi.exr in the current folder)");

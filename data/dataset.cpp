@@ -142,17 +142,21 @@ std::array<View, 6> read_frame(const FrameEntry& frame) {
   if (!frame.complete())
     throw std::runtime_error(frame.dir + ": surround frame misses face '" + frame.missing.front() + "'");
   std::array<View, 6> faces;
+  for (size_t i = 0; i < 6; ++i) faces[i] = read_view(frame.faces[i]);
+  check_frame_sizes(faces);
+  return faces;
+}
+
+void check_frame_sizes(const std::array<View, 6>& faces) {
   for (size_t i = 0; i < 6; ++i) {
-    faces[i] = read_view(frame.faces[i]);
     if (faces[i].width != faces[i].height)
-      throw std::runtime_error(frame.faces[i] + ": a surround face must be square, got " +
+      throw std::runtime_error(faces[i].source + ": a surround face must be square, got " +
                                std::to_string(faces[i].width) + "x" + std::to_string(faces[i].height));
     if (faces[i].width != faces[0].width)
-      throw std::runtime_error(frame.faces[i] + ": face is " + std::to_string(faces[i].width) + "x" +
+      throw std::runtime_error(faces[i].source + ": face is " + std::to_string(faces[i].width) + "x" +
                                std::to_string(faces[i].height) + " but front is " +
                                std::to_string(faces[0].width) + "x" + std::to_string(faces[0].height));
   }
-  return faces;
 }
 
 }  // namespace nns::data

@@ -56,6 +56,9 @@ DatasetListing split_flat_by_scene(const DatasetListing& flat, double test_fract
 // The six faces of a complete frame in Face order. Throws "<file>: ..." on a missing
 // face, an unreadable file, or faces that are not square or not all the same size.
 std::array<View, 6> read_frame(const FrameEntry& frame);
+// The size rule of a frame, however it was read: throws "<face's source>: ..." unless
+// every face is square and the size of the front face.
+void check_frame_sizes(const std::array<View, 6>& faces);
 
 // The scene of a view or frame (front face), read from the header alone; "" if none.
 std::string scene_of(const std::string& view_path);

@@ -150,6 +150,13 @@ float srgb_decode(float s) {
   return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
 }
 
+// The target as the user wrote it, for hints to copy: "back.normal" for a face of a
+// surround frame (data/frame_images.h passes the target without the face).
+std::string given_target(const ChannelMapping& m) {
+  const auto eq = m.text.find('=');
+  return eq == std::string::npos ? m.target : m.text.substr(0, eq);
+}
+
 // The file's channels that fill `target`, by the rules of image_read.h.
 std::vector<int> pick_channels(const Image& im, const ChannelMapping& m, size_t want) {
   std::vector<int> idx;
@@ -161,7 +168,7 @@ std::vector<int> pick_channels(const Image& im, const ChannelMapping& m, size_t 
     for (auto& name : m.channels) {
       const int i = im.channel_index(name);
       if (i < 0)
-        throw std::runtime_error(im.source + ": no channel '" + name + "' for " + m.target + " (the file has " +
+        throw std::runtime_error(im.source + ": no channel '" + name + "' for " + given_target(m) + " (the file has " +
                                  im.channel_list() + ")");
       idx.push_back(i);
     }
@@ -171,8 +178,8 @@ std::vector<int> pick_channels(const Image& im, const ChannelMapping& m, size_t 
   const bool rgba = want == 3 && n == 4 && im.channels[3] == "A";
   if (n != want && !rgba)
     throw std::runtime_error(im.source + ": has " + std::to_string(n) + (n == 1 ? " channel" : " channels") + " (" +
-                             im.channel_list() + ") but " + m.target + " takes " + std::to_string(want) +
-                             "; name them: --channel " + m.target + "=" + m.file + ":" +
+                             im.channel_list() + ") but " + given_target(m) + " takes " + std::to_string(want) +
+                             "; name them: --channel " + given_target(m) + "=" + m.file + ":" +
                              (want == 1 ? im.channels[0] : "CH1,CH2,CH3"));
   for (size_t c = 0; c < want; ++c) idx.push_back(int(c));
   return idx;

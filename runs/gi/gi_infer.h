@@ -9,9 +9,12 @@
 // surround face (docs/dataset-format.md: Z, N.*, albedo.*, direct.*, emission/env
 // optional, no ground truth needed) and is box-filtered to the model's face size by an
 // integer factor exactly as training and eval-gi do (gi_data.h), so the prediction is
-// eval-gi's prediction for the same frame. Instead of a view EXR, a front-mode model
-// also takes the frame as a user's own images (data/image_read.h: --channel), one file
-// per input or several inputs from one file; a surround model needs the six EXR faces.
+// eval-gi's prediction for the same frame. Instead of view EXRs, the frame can be a
+// user's own images (--channel), one file per input or several inputs from one file: for
+// a front-mode model one view (data/image_read.h: depth=FILE ...), for a surround model
+// six faces (data/frame_images.h: front.depth=FILE, back.normal=FILE, ...; 90 degrees).
+// The faces from images take the very path of the folder's faces (sizes, check_input,
+// downsample_view, assemble_surround), so the prediction is the same for the same data.
 //
 // Output, all written to temporary names and renamed only once everything succeeded
 // (an error leaves no output at all):
@@ -26,6 +29,7 @@
 // so light = direct + env + indirect holds and the shortfall stays visible; the PNG
 // clamps it at 0; InferResult counts the geometry pixels where it happened.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -36,6 +40,7 @@
 
 #include "data/dataset.h"
 #include "data/exr_io.h"
+#include "data/frame_images.h"
 #include "data/image_read.h"
 #include "data/validate.h"
 #include "models/gi/gi_model_io.h"
@@ -46,7 +51,8 @@ namespace nns::gi {
 
 struct InferOptions {
   std::string model, in;
-  // Instead of `in`: the frame from a user's images (data/image_read.h); front mode only.
+  // Instead of `in`: the frame from a user's images; targets FACE.TARGET for a surround
+  // model (data/frame_images.h), TARGET for a front-mode one (data/image_read.h).
   std::vector<data::ChannelMapping> channels;
   data::ImageViewOptions images;
   std::string out;              // "": <name of the input>_gi.exr in the current folder
@@ -143,7 +149,7 @@ inline InferResult infer_gi(const InferOptions& o) {
   if (from_images) {
     // Names the output after the depth image, as after the view otherwise.
     for (auto& m : o.channels)
-      if (m.target == "depth") in = m.file;
+      if (m.target == "depth" || m.target == "front.depth") in = m.file;
     if (in.empty()) in = o.channels[0].file;
   }
   r.exr = o.out.empty() ? default_out(in) : o.out;
@@ -172,35 +178,49 @@ inline InferResult infer_gi(const InferOptions& o) {
   GiSample s;
   data::View front;
   if (cfg.mode == GiMode::surround) {
-    if (from_images)
-      throw std::runtime_error(o.model + ": a surround model needs six faces; --channel gives one view, so it "
-                               "serves front-mode models only: give --in a folder of six view EXRs");
-    if (!folder)
-      throw std::runtime_error(o.in + ": the model " + o.model + " is a surround model; it needs a folder "
-                               "of six faces (front.exr, back.exr, left.exr, right.exr, up.exr, down.exr), "
-                               "not a single view");
-    data::FrameEntry e;
-    e.dir = o.in;
-    for (size_t f = 0; f < 6; ++f) {
-      const std::string p = (fs::path(o.in) / (std::string(data::kFaceNames[f]) + ".exr")).string();
-      if (fs::is_regular_file(p, ec)) e.faces[f] = p;
-      else e.missing.push_back(data::kFaceNames[f]);
+    std::array<data::View, 6> faces;
+    std::string frame_name = o.in;
+    if (from_images) {
+      try {
+        faces = data::frame_from_images(o.channels, o.images);  // sizes checked as read_frame's
+      } catch (const std::exception& e) {
+        throw std::runtime_error(o.model + " is a surround model: " + e.what());
+      }
+      for (auto& m : o.channels) inputs.push_back(m.file);
+      frame_name = r.front_file = faces[0].source;
+    } else {
+      if (!folder)
+        throw std::runtime_error(o.in + ": the model " + o.model + " is a surround model; it needs a folder "
+                                 "of six faces (front.exr, back.exr, left.exr, right.exr, up.exr, down.exr), "
+                                 "not a single view, or the faces as images: --channel FACE.TARGET=FILE");
+      data::FrameEntry e;
+      e.dir = o.in;
+      for (size_t f = 0; f < 6; ++f) {
+        const std::string p = (fs::path(o.in) / (std::string(data::kFaceNames[f]) + ".exr")).string();
+        if (fs::is_regular_file(p, ec)) e.faces[f] = p;
+        else e.missing.push_back(data::kFaceNames[f]);
+      }
+      if (!e.complete()) {
+        std::string names;
+        for (auto& m : e.missing) names += (names.empty() ? "" : ", ") + m + ".exr";
+        throw std::runtime_error(o.in + ": a surround frame needs six faces; missing " + names);
+      }
+      faces = data::read_frame(e);  // same size, square, or an error naming the face
+      inputs.assign(e.faces.begin(), e.faces.end());
+      r.front_file = e.faces[0];
     }
-    if (!e.complete()) {
-      std::string names;
-      for (auto& m : e.missing) names += (names.empty() ? "" : ", ") + m + ".exr";
-      throw std::runtime_error(o.in + ": a surround frame needs six faces; missing " + names);
-    }
-    auto faces = data::read_frame(e);  // same size, square, or an error naming the face
     for (auto& f : faces) check_input(f);
     r.in_width = faces[0].width, r.in_height = faces[0].height;
     r.reduction = reduction_to_model(faces[0], cfg.size, o.model);
     for (auto& f : faces) f = downsample_view(f, r.reduction);
-    s = assemble_surround(faces, cfg, o.in, /*targets=*/false);
+    s = assemble_surround(faces, cfg, frame_name, /*targets=*/false);
     front = faces[0];
-    inputs.assign(e.faces.begin(), e.faces.end());
-    r.front_file = e.faces[0];
   } else {
+    for (auto& m : o.channels)
+      if (data::face_prefixed(m))
+        throw std::runtime_error("--channel '" + m.text + "': the model " + o.model + " is a front-mode model "
+                                 "and reads one view; give its targets without a face (--channel depth=FILE, "
+                                 "normal=FILE, ...): FACE.TARGET is for surround models");
     std::string path = o.in;
     if (folder) {
       path = (fs::path(o.in) / "front.exr").string();

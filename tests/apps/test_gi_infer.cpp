@@ -7,9 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -125,6 +127,18 @@ class GiInfer : public ::testing::Test {
     EXPECT_FALSE(o.has("direct.R"));  // the outputs only, no input planes copied
   }
 
+  // Planes of `v` as one image file (report/image_write.h), channels named `names`.
+  static std::string write_planes(const View& v, const std::string& file, std::vector<std::string> names,
+                                  std::vector<std::string> planes,
+                                  nns::data::PixelType type = nns::data::PixelType::f32) {
+    const size_t n = size_t(v.width) * size_t(v.height), nc = names.size();
+    std::vector<float> px(n * nc);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t c = 0; c < nc; ++c) px[i * nc + c] = v.channel(planes[c])[i];
+    nns::data::write_image(file, v.width, v.height, names, px.data(), type);
+    return file;
+  }
+
   static inline fs::path root_;
 };
 
@@ -194,12 +208,7 @@ TEST_F(GiInfer, FrontModelOnTheFrameAsImagesGivesTheSameLight) {
   copy_without_truth(data() + "/test/frame0/front.exr", view);
   const View v = nns::data::read_view(view);
   auto write = [&](const std::string& name, std::vector<std::string> names, std::vector<std::string> planes) {
-    const size_t n = size_t(v.width) * size_t(v.height), nc = names.size();
-    std::vector<float> px(n * nc);
-    for (size_t i = 0; i < n; ++i)
-      for (size_t c = 0; c < nc; ++c) px[i * nc + c] = v.channel(planes[c])[i];
-    nns::data::write_image(path(name), v.width, v.height, names, px.data(), nns::data::PixelType::f32);
-    return path(name);
+    return write_planes(v, path(name), names, planes);
   };
   const std::string g = write("img_gbuf.exr", {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, {"Z", "N.X", "N.Y", "N.Z"});
   std::string flags = " --channel depth=" + g + ":depth.V --channel normal=" + g + ":nrm.x,nrm.y,nrm.z";
@@ -232,7 +241,8 @@ TEST_F(GiInfer, FrontModelOnTheFrameAsImagesGivesTheSameLight) {
   EXPECT_NE(no_fov.output.find("--fov-y is required"), std::string::npos) << no_fov.output;
   auto sur = run_app("gi-infer", "--model " + model("surround") + flags + fov + " --out " + path("out_img") + "/s.exr");
   EXPECT_EQ(sur.code, 1) << sur.output;
-  EXPECT_NE(sur.output.find("surround model needs six faces"), std::string::npos) << sur.output;
+  EXPECT_NE(sur.output.find("--channel without faces gives one view"), std::string::npos) << sur.output;
+  EXPECT_NE(sur.output.find("FACE.TARGET=FILE"), std::string::npos) << sur.output;
   EXPECT_FALSE(fs::exists(path("out_img") + "/nofov.exr"));
   EXPECT_FALSE(fs::exists(path("out_img") + "/s.exr"));
 }
@@ -309,4 +319,159 @@ TEST_F(GiInfer, RefusesBadInputNamingTheFileAndLeavesNoOutput) {
   EXPECT_EQ(help.code, 0);
   EXPECT_NE(help.output.find("--model"), std::string::npos);
   EXPECT_NE(help.output.find("front/back/left/right/up/down.exr"), std::string::npos);
+}
+
+// A surround frame as the user's own images, six faces by --channel FACE.TARGET=FILE.
+// `images(face, prefix)` writes one face's files and returns its flags.
+namespace {
+
+float srgb_encode_float(float x) {  // IEC 61966-2-1, the inverse of image_read's decode
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1 / 2.4f) - 0.055f;
+}
+
+// One face's files: depth and normals in one EXR with its own channel names, albedo a
+// float TIFF, direct an EXR with other names, env a TIFF (where the face has it); with
+// `png16`, normals and albedo as 16-bit PNGs instead (normal (n+1)/2, albedo sRGB).
+std::string face_flags(const View& v, const std::string& face, const std::string& dir, bool png16,
+                       const std::function<std::string(const View&, const std::string&, std::vector<std::string>,
+                                                       std::vector<std::string>, nns::data::PixelType)>& write) {
+  using nns::data::PixelType;
+  const std::string p = dir + "/" + face;
+  std::string f;
+  if (png16) {
+    f += " --channel " + face + ".depth=" + write(v, p + "_z.exr", {"depth.V"}, {"Z"}, PixelType::f32);
+    View enc = v;
+    for (const char* c : {"N.X", "N.Y", "N.Z"})
+      for (auto& x : enc.channels[c]) x = (x + 1) / 2;
+    for (const char* c : {"albedo.R", "albedo.G", "albedo.B"})
+      for (auto& x : enc.channels[c]) x = srgb_encode_float(x);
+    f += " --channel " + face + ".normal=" + write(enc, p + "_n.png", {"R", "G", "B"}, {"N.X", "N.Y", "N.Z"}, PixelType::u16);
+    f += " --channel " + face + ".albedo=" +
+         write(enc, p + "_a.png", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"}, PixelType::u16);
+  } else {
+    const std::string g = write(v, p + "_gbuf.exr", {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, {"Z", "N.X", "N.Y", "N.Z"},
+                                PixelType::f32);
+    f += " --channel " + face + ".depth=" + g + ":depth.V --channel " + face + ".normal=" + g + ":nrm.x,nrm.y,nrm.z";
+    f += " --channel " + face + ".albedo=" +
+         write(v, p + "_albedo.tif", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"}, PixelType::f32);
+  }
+  f += " --channel " + face + ".direct=" +
+       write(v, p + "_direct.exr", {"d.r", "d.g", "d.b"}, {"direct.R", "direct.G", "direct.B"}, PixelType::f32) +
+       ":d.r,d.g,d.b";
+  for (const char* t : {"emission", "env"})
+    if (v.has(std::string(t) + ".R")) {
+      const std::string T(t);
+      f += " --channel " + face + "." + T + "=" +
+           write(v, p + "_" + T + ".tif", {"R", "G", "B"}, {T + ".R", T + ".G", T + ".B"}, PixelType::f32);
+    }
+  return f;
+}
+
+}  // namespace
+
+TEST_F(GiInfer, SurroundModelOnTheFrameAsImages) {
+  const std::string frame = path("img_sframe1");
+  copy_without_truth(data() + "/test/frame1", frame);
+  const std::string dir = path("img_s"), out = path("out_simg");
+  fs::create_directories(dir);
+  fs::create_directories(dir + "16");
+  fs::create_directories(out);
+  const auto write = &GiInfer::write_planes;
+  std::string flags, flags16;
+  std::array<View, 6> faces;
+  for (size_t f = 0; f < 6; ++f) {
+    const std::string face = nns::data::kFaceNames[f];
+    faces[f] = nns::data::read_view(frame + "/" + face + ".exr");
+    flags += face_flags(faces[f], face, dir, false, write);
+    flags16 += face_flags(faces[f], face, dir + "16", true, write);
+  }
+  auto ref = run_app("gi-infer", "--model " + model("surround") + " --in " + frame + " --out " + out + "/ref.exr");
+  ASSERT_EQ(ref.code, 0) << ref.output;
+  const View a = nns::data::read_view(out + "/ref.exr");
+
+  // Float EXR and TIFF faces: the folder's prediction, bit for bit (with and without --fov-y 90).
+  for (const char* fov : {"", " --fov-y 90"}) {
+    auto r = run_app("gi-infer", "--model " + model("surround") + flags + fov + " --out " + out + "/img.exr");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("surround model, front face ("), std::string::npos) << r.output;
+    const View b = nns::data::read_view(out + "/img.exr");
+    for (const char* c : {"light.R", "light.G", "light.B", "shaded.R", "shaded.G", "shaded.B", "Z"})
+      EXPECT_EQ(a.channel(c), b.channel(c)) << c << fov;
+    EXPECT_EQ(b.fov_y_deg, 90.0f);
+  }
+
+  // 16-bit PNG normals and albedo: rounded to the nearest of 65536 codes, so a normal
+  // component moves by at most 1/65535 (then renormalised) and an albedo by at most
+  // 0.5/65535 times the sRGB decode's largest slope (2.28), 1.8e-5. Measured over the
+  // 16x16 front: the light moved by at most 3.6e-6, the lit image (albedo * light, its
+  // error about 1.8e-5 * light) by 2.5e-5; the bounds are 10x those. A wrong decode
+  // (albedo not sRGB-decoded, normals not remapped) moves them by 1e-1 or so.
+  auto r16 = run_app("gi-infer", "--model " + model("surround") + flags16 + " --out " + out + "/png16.exr");
+  ASSERT_EQ(r16.code, 0) << r16.output;
+  const View c = nns::data::read_view(out + "/png16.exr");
+  double light_diff = 0, shaded_diff = 0;
+  for (const char* ch : {"R", "G", "B"})
+    for (size_t i = 0; i < a.channel("Z").size(); ++i) {
+      light_diff = std::max(light_diff, double(std::abs(a.channel(std::string("light.") + ch)[i] -
+                                                        c.channel(std::string("light.") + ch)[i])));
+      shaded_diff = std::max(shaded_diff, double(std::abs(a.channel(std::string("shaded.") + ch)[i] -
+                                                          c.channel(std::string("shaded.") + ch)[i])));
+    }
+  std::printf("gi-infer, surround frame with 16-bit PNG normals and albedo: max |light diff| %.3g, "
+              "max |shaded diff| %.3g\n", light_diff, shaded_diff);
+  EXPECT_LT(light_diff, 3.6e-5);
+  EXPECT_LT(shaded_diff, 2.5e-4);
+  EXPECT_EQ(a.channel("Z"), c.channel("Z"));
+}
+
+// Every refusal of --channel for a surround frame: non-zero exit, a message naming the
+// problem (and the face or file), and no output.
+TEST_F(GiInfer, SurroundImagesRefusalsNameTheProblemAndWriteNothing) {
+  const std::string frame = path("img_rframe0");
+  copy_without_truth(data() + "/test/frame0", frame);
+  const std::string dir = path("img_r"), out_dir = path("out_rimg"), out = out_dir + "/o.exr";
+  fs::create_directories(dir);
+  fs::create_directories(out_dir);
+  const auto write = &GiInfer::write_planes;
+  std::array<std::string, 6> face;  // each face's flags
+  std::string all;
+  for (size_t f = 0; f < 6; ++f) {
+    const std::string name = nns::data::kFaceNames[f];
+    face[f] = face_flags(nns::data::read_view(frame + "/" + name + ".exr"), name, dir, false, write);
+    all += face[f];
+  }
+  auto expect_refused = [&](const std::string& model_name, const std::string& flags,
+                            const std::vector<std::string>& needles) {
+    auto r = run_app("gi-infer", "--model " + model(model_name) + flags + " --out " + out);
+    EXPECT_NE(r.code, 0) << flags << "\n" << r.output;
+    for (auto& s : needles) EXPECT_NE(r.output.find(s), std::string::npos) << "'" << s << "' not in: " << r.output;
+    EXPECT_TRUE(files_in(out_dir).empty()) << r.output;
+  };
+  auto without = [](std::string flags, const std::string& target) {  // drops " --channel TARGET=..."
+    const auto at = flags.find(" --channel " + target + "=");
+    return flags.erase(at, flags.find(" --channel", at + 1) - at);
+  };
+  // Missing faces and targets, all in one message.
+  expect_refused("surround", face[0] + without(face[1], "back.depth") + face[2] + face[3] +
+                                 without(face[4], "up.normal"),
+                 {"missing: back.depth, up.normal, down (all of depth, normal, albedo, direct)"});
+  expect_refused("surround", all + " --channel sideways.depth=" + dir + "/front_gbuf.exr:depth.V",
+                 {"sideways.depth", "unknown face 'sideways'", "front, back, left, right, up, down"});
+  expect_refused("surround", all + " --channel front.colour=" + dir + "/front_albedo.tif",
+                 {"front.colour", "unknown target 'colour'"});
+  expect_refused("surround", all + " --channel depth=" + dir + "/front_gbuf.exr:depth.V",
+                 {"'depth=" + dir + "/front_gbuf.exr:depth.V' names no face", "FACE.TARGET=FILE"});
+  expect_refused("front", all + " --fov-y 90", {"--channel 'front.depth=", "front-mode model", "without a face"});
+  expect_refused("surround", all + " --fov-y 60", {"--fov-y 60", "90-degree", "--fov-y 90 or leave it out"});
+  // A face of another size, named with its files.
+  {
+    View small = nns::testing::make_face(16, 0, 2, false, 9);
+    fs::create_directories(dir + "/small");
+    std::string flags = face[0] + face[1] + face_flags(small, "left", dir + "/small", false, write) + face[3] +
+                        face[4] + face[5];
+    expect_refused("surround", flags, {"left face (", dir + "/small/left_", "16x16 but front is 32x32"});
+  }
+  // A hint names the face-prefixed target to copy.
+  expect_refused("surround", without(all, "back.normal") + " --channel back.normal=" + dir + "/back_gbuf.exr",
+                 {dir + "/back_gbuf.exr", "has 4 channels", "--channel back.normal=" + dir + "/back_gbuf.exr:"});
 }
