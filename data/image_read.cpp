@@ -138,13 +138,13 @@ const std::vector<ChannelTarget>& channel_targets() {
   return t;
 }
 
-namespace {
-
-std::string join(const std::vector<std::string>& v) {
+std::string comma_list(const std::vector<std::string>& v) {
   std::string s;
   for (auto& x : v) s += (s.empty() ? "" : ", ") + x;
   return s;
 }
+
+namespace {
 
 float srgb_decode(float s) {
   return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
@@ -232,7 +232,7 @@ void fill_target(View& v, const ChannelTarget& t, const Image& im, const std::ve
 View view_from_images(const std::vector<ChannelMapping>& mappings, const ImageViewOptions& o) {
   const std::string cmd = o.command.empty() ? std::string("this command") : o.command;
   auto takes = [&] {
-    return cmd + " takes " + join(o.targets) + (o.optional.empty() ? "" : "; optional: " + join(o.optional));
+    return cmd + " takes " + comma_list(o.targets) + (o.optional.empty() ? "" : "; optional: " + comma_list(o.optional));
   };
   auto listed = [](const std::vector<std::string>& v, const std::string& x) {
     return std::find(v.begin(), v.end(), x) != v.end();

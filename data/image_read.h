@@ -75,6 +75,9 @@ struct ImageViewOptions {
   std::string command;                // for messages ("nnao-infer")
 };
 
+// "a, b, c": target and channel lists in messages (here and data/frame_images.cpp).
+std::string comma_list(const std::vector<std::string>& v);
+
 // Reads every mapped file once and assembles the View (fovY from the options, scene =
 // the depth file's stem, source = the files). Throws naming the file and the problem.
 View view_from_images(const std::vector<ChannelMapping>& mappings, const ImageViewOptions& options);
