@@ -29,19 +29,8 @@ SplitListing list_split(const fs::path& dir, std::vector<std::string>& notes) {
   s.dir = dir.string();
   for (auto& p : sorted_entries(dir)) {
     if (fs::is_directory(p)) {
-      FrameEntry f;
-      f.dir = p.string();
-      bool any = false;
-      for (size_t i = 0; i < kFaceNames.size(); ++i) {
-        fs::path face = p / (std::string(kFaceNames[i]) + ".exr");
-        if (fs::is_regular_file(face)) {
-          f.faces[i] = face.string();
-          any = true;
-        } else {
-          f.missing.push_back(kFaceNames[i]);
-        }
-      }
-      if (any) s.frames.push_back(std::move(f));
+      FrameEntry f = frame_entry(p.string());
+      if (f.missing.size() < kFaceNames.size()) s.frames.push_back(std::move(f));
       else notes.push_back(p.string() + ": folder without face files (front.exr ...), ignored");
     } else if (is_exr(p) && p.filename().string().find(".partial-") == std::string::npos) {
       s.views.push_back(p.string());
@@ -136,6 +125,18 @@ DatasetListing split_flat_by_scene(const DatasetListing& flat, double test_fract
   if (scenes.size() < 2)
     d.notes.push_back(flat.root + ": a single scene; cannot hold out a test scene, everything is train");
   return d;
+}
+
+FrameEntry frame_entry(const std::string& dir) {
+  FrameEntry f;
+  f.dir = dir;
+  for (size_t i = 0; i < kFaceNames.size(); ++i) {
+    fs::path face = fs::path(dir) / (std::string(kFaceNames[i]) + ".exr");
+    std::error_code ec;  // unreadable counts as missing, as for a file that is not there
+    if (fs::is_regular_file(face, ec)) f.faces[i] = face.string();
+    else f.missing.push_back(kFaceNames[i]);
+  }
+  return f;
 }
 
 std::array<View, 6> read_frame(const FrameEntry& frame) {

@@ -53,6 +53,8 @@ DatasetListing list_dataset(const std::string& root);
 // file order. With a single scene everything stays in train and a note says so.
 DatasetListing split_flat_by_scene(const DatasetListing& flat, double test_fraction);
 
+// The frame in folder `dir`: the <face>.exr files present, the names of those missing.
+FrameEntry frame_entry(const std::string& dir);
 // The six faces of a complete frame in Face order. Throws "<file>: ..." on a missing
 // face, an unreadable file, or faces that are not square or not all the same size.
 std::array<View, 6> read_frame(const FrameEntry& frame);

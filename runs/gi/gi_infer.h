@@ -193,13 +193,7 @@ inline InferResult infer_gi(const InferOptions& o) {
         throw std::runtime_error(o.in + ": the model " + o.model + " is a surround model; it needs a folder "
                                  "of six faces (front.exr, back.exr, left.exr, right.exr, up.exr, down.exr), "
                                  "not a single view, or the faces as images: --channel FACE.TARGET=FILE");
-      data::FrameEntry e;
-      e.dir = o.in;
-      for (size_t f = 0; f < 6; ++f) {
-        const std::string p = (fs::path(o.in) / (std::string(data::kFaceNames[f]) + ".exr")).string();
-        if (fs::is_regular_file(p, ec)) e.faces[f] = p;
-        else e.missing.push_back(data::kFaceNames[f]);
-      }
+      data::FrameEntry e = data::frame_entry(o.in);
       if (!e.complete()) {
         std::string names;
         for (auto& m : e.missing) names += (names.empty() ? "" : ", ") + m + ".exr";
