@@ -78,10 +78,47 @@ inline void pair_bf16(uint32_t* dst, const float* src, int W, int64_t kc) {
   bf16_detail::pair_bf16_scalar(dst, src, W, kc);
 }
 
-// dst[i * cols + j] = round_to_bf16(src[i * ld + j]).
-inline void round_copy_bf16(float* dst, const float* src, int64_t rows, int64_t cols, int64_t ld) {
-  for (int64_t i = 0; i < rows; ++i)
-    for (int64_t j = 0; j < cols; ++j) dst[i * cols + j] = round_to_bf16(src[i * ld + j]);
+// x, or x rounded to bf16 when kRound: for kernels instantiated for both precisions.
+template <bool kRound>
+inline float maybe_round_to_bf16(float x) {
+  if constexpr (kRound) return round_to_bf16(x);
+  return x;
+}
+
+// The 16 floats of v rounded to bf16 (round_to_bf16 on each lane).
+__attribute__((target("avx512f"))) inline __m512 round_to_bf16_ps(__m512 v) {
+  return _mm512_castsi512_ps(_mm512_slli_epi32(bf16_detail::bf16_bits16(v), 16));
+}
+template <bool kRound>
+__attribute__((target("avx512f"))) inline __m512 maybe_round_to_bf16_ps(__m512 v) {
+  if constexpr (kRound) return round_to_bf16_ps(v);
+  return v;
+}
+
+namespace bf16_detail {
+__attribute__((target("avx512f"))) inline void round_row_avx512(float* __restrict dst,
+                                                               const float* __restrict src,
+                                                               int64_t cols) {
+  for (int64_t j = 0; j < cols; j += 16) {
+    const __mmask16 m = cols - j >= 16 ? __mmask16(0xffff) : __mmask16((1u << (cols - j)) - 1u);
+    _mm512_mask_storeu_ps(dst + j, m, round_to_bf16_ps(_mm512_maskz_loadu_ps(m, src + j)));
+  }
+}
+}  // namespace bf16_detail
+
+// dst[i * ldd + j] = round_to_bf16(src[i * ld + j]) for i < rows, j < cols (ldd = cols
+// unless given).
+inline void round_copy_bf16(float* dst, const float* src, int64_t rows, int64_t cols, int64_t ld,
+                            int64_t ldd = -1) {
+  if (ldd < 0) ldd = cols;
+  const bool vec = cpu_features().avx512f;
+  for (int64_t i = 0; i < rows; ++i) {
+    if (vec) {
+      bf16_detail::round_row_avx512(dst + i * ldd, src + i * ld, cols);
+      continue;
+    }
+    for (int64_t j = 0; j < cols; ++j) dst[i * ldd + j] = round_to_bf16(src[i * ld + j]);
+  }
 }
 
 }  // namespace nns

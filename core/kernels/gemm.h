@@ -123,6 +123,25 @@ inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N
   const int64_t a_rows = trans_a ? K : M, a_cols = trans_a ? M : K;
   const int64_t b_rows = trans_b ? N : K, b_cols = trans_b ? K : N;
   CachingAllocator& heap = CachingAllocator::instance();
+  // The skinny paths (taken in sgemm's order) stream a large A, a weight matrix, for a few
+  // columns of C: they round A themselves (gemm_skinny.h), and only the small B is copied.
+  // Same bits as the copies below (the paths' sums do not depend on lda). Copying all of
+  // A cost as much as the products: the U-Net's innermost layers took 86 ms per pix2pix
+  // iteration in bf16 (41 of them copying) against ~40 in fp32; 38 ms now (1 thread,
+  // Ice Lake VM).
+  const bool nn_skinny = use_gemm_nn_skinny(trans_a, trans_b, M, N, K);
+  if (!use_gemm_dot(trans_a, trans_b, M, N, K) && !use_gemm_rows(trans_b, M, N, K) &&
+      (nn_skinny || use_gemm_tn_skinny(trans_a, trans_b, M, N, K))) {
+    const size_t b_bytes = size_t(b_rows * b_cols) * sizeof(float);
+    float* b = static_cast<float*>(heap.allocate(b_bytes));
+    round_copy_bf16(b, B, b_rows, b_cols, ldb);
+    if (nn_skinny)
+      gemm_nn_skinny<true>(M, N, K, alpha, A, lda, b, b_cols, beta, C, ldc, kParallelMinMacs);
+    else
+      gemm_tn_skinny<true>(M, N, K, alpha, A, lda, b, b_cols, beta, C, ldc, kParallelMinMacs);
+    heap.release(b, b_bytes);
+    return;
+  }
   const size_t a_bytes = size_t(a_rows * a_cols) * sizeof(float);
   const size_t b_bytes = size_t(b_rows * b_cols) * sizeof(float);
   float* a = static_cast<float*>(heap.allocate(a_bytes));
@@ -145,26 +164,37 @@ inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N
 // multiply() gives the same bits as gemm() with the same operands (same K blocks, same
 // micro-kernel, same split between threads). The packing is only done when the product
 // shape given to the constructor takes the packed kernel; otherwise multiply() is gemm().
+// The products run in the precision set when the object was made (gemm_precision()): in
+// bf16 the panels are kept in pair_bf16's layout only, converted once here instead of
+// once per product and per thread (the same words gemm_packed_loops would pair).
 class GemmPackedA {
  public:
   GemmPackedA(bool trans_a, int64_t M, int64_t K, const float* A, int64_t lda, int64_t typical_n)
-      : trans_a_(trans_a), M_(M), K_(K), A_(A), lda_(lda) {
+      : trans_a_(trans_a), M_(M), K_(K), A_(A), lda_(lda), precision_(gemm_precision()) {
     using namespace gemm_detail;
     if (!takes_packed_path(trans_a, false, M, typical_n, K) ||
         !takes_packed_path(trans_a, true, M, typical_n, K))
       return;
     kb_ = k_block(K);
     mpad_ = (M + kMR - 1) / kMR * kMR;
-    bytes_ = size_t(mpad_ * K) * sizeof(float);
-    data_ = static_cast<float*>(CachingAllocator::instance().allocate(bytes_));
-    // Units = (K block, MC block of rows): the layout gemm_packed_loops reads back.
+    const bool bf16 = precision_ == Precision::bf16;
     const int64_t kblocks = (K + kb_ - 1) / kb_, mblocks = (M + kMC - 1) / kMC;
+    // fp32: kc x mpad_ floats per K block; bf16: ceil(kc / 2) x mpad_ words.
+    bytes_ = size_t(bf16 ? kblocks * ((kb_ + 1) / 2) * mpad_ : mpad_ * K) * sizeof(float);
+    data_ = CachingAllocator::instance().allocate(bytes_);
+    // Units = (K block, MC block of rows): the layout gemm_packed_loops reads back.
     const MatView a{A, lda, trans_a};
     parallel_for(kblocks * mblocks, [&](int64_t u0, int64_t u1) {
       for (int64_t u = u0; u < u1; ++u) {
         const int64_t pc = u / mblocks * kb_, ic = u % mblocks * kMC;
         const int64_t kc = std::min(kb_, K - pc), mc = std::min(kMC, M - ic);
-        pack_a<kMR>(data_ + pc * mpad_ + ic * kc, a, ic, mc, pc, kc);
+        if (!bf16) {
+          pack_a<kMR>(fp32_block(pc, kc, ic), a, ic, mc, pc, kc);
+          continue;
+        }
+        float* scratch = thread_pack(Pack::a).get(size_t(kc * kMC));
+        pack_a<kMR>(scratch, a, ic, mc, pc, kc);
+        pair_panels_bf16_to(bf16_block(pc, kc, ic), scratch, kMR, mc, kc);
       }
     });
   }
@@ -179,7 +209,8 @@ class GemmPackedA {
                 float* C, int64_t ldc) const {
     using namespace gemm_detail;
     if (!data_ || alpha == 0.0f || !takes_packed_path(trans_a_, trans_b, M_, N, K_))
-      return sgemm(trans_a_, trans_b, M_, N, K_, alpha, A_, lda_, B, ldb, beta, C, ldc);
+      return sgemm(trans_a_, trans_b, M_, N, K_, alpha, A_, lda_, B, ldb, beta, C, ldc,
+                   precision_);
     multiply_packing_b(N, alpha, packer_b(MatView{B, ldb, trans_b}), beta, C, ldc);
   }
 
@@ -194,29 +225,45 @@ class GemmPackedA {
   void multiply_packing_b(int64_t N, float alpha, PackB&& pack_b, float beta, float* C,
                           int64_t ldc) const {
     using namespace gemm_detail;
-    const Precision precision = gemm_precision();
     split_packed(M_, N, K_, [&](int64_t m0, int64_t m1, int64_t n0, int64_t n1) {
-      gemm_packed_loops(
-          [&](int64_t pc, int64_t kc, int64_t ic, int64_t) {
-            return static_cast<const float*>(data_ + pc * mpad_ + (m0 + ic) * kc);
-          },
-          [&](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) {
-            pack_b(dst, pc, kc, n0 + jc, nc);
-          },
-          m1 - m0, n1 - n0, K_, alpha, beta, C + m0 * ldc + n0, ldc, precision);
+      auto pack_b_block = [&](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) {
+        pack_b(dst, pc, kc, n0 + jc, nc);
+      };
+      auto* c = C + m0 * ldc + n0;
+      if (precision_ == Precision::bf16)
+        gemm_packed_loops(
+            [](int64_t, int64_t, int64_t, int64_t) -> const float* { return nullptr; },
+            pack_b_block, m1 - m0, n1 - n0, K_, alpha, beta, c, ldc, precision_,
+            [&](int64_t pc, int64_t kc, int64_t ic, int64_t) -> const uint32_t* {
+              return bf16_block(pc, kc, m0 + ic);
+            });
+      else
+        gemm_packed_loops(
+            [&](int64_t pc, int64_t kc, int64_t ic, int64_t) -> const float* {
+              return fp32_block(pc, kc, m0 + ic);
+            },
+            pack_b_block, m1 - m0, n1 - n0, K_, alpha, beta, c, ldc, precision_);
     });
   }
 
  private:
+  // Rows [ic, ...) of the K block starting at pc (kc deep), a multiple of kMR rows in.
+  float* fp32_block(int64_t pc, int64_t kc, int64_t ic) const {
+    return static_cast<float*>(data_) + pc * mpad_ + ic * kc;
+  }
+  uint32_t* bf16_block(int64_t pc, int64_t kc, int64_t ic) const {
+    return static_cast<uint32_t*>(data_) + pc / kb_ * ((kb_ + 1) / 2) * mpad_ + ic * ((kc + 1) / 2);
+  }
+
   bool trans_a_;
   int64_t M_, K_;
   const float* A_;
   int64_t lda_;
+  Precision precision_;
   int64_t kb_ = 0, mpad_ = 0;
-  float* data_ = nullptr;
+  void* data_ = nullptr;
   size_t bytes_ = 0;
 };
-
 
 template <class T>
 void gemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, T alpha, const T* A,

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <memory>
 #include <new>
+#include <type_traits>
 
 #include "core/kernels/bf16.h"
 #include "core/kernels/gemm_arch.h"
@@ -58,14 +59,24 @@ inline Bf16KernelFn bf16_kernel() {
   return &GenericBf16Kernel<kMR, kNR>::run;
 }
 
-// Converts the ceil(extent / W) panels of kc steps of W floats at src to pair_bf16's layout.
+// Converts the ceil(extent / W) panels of kc steps of W floats at src to pair_bf16's
+// layout at dst (ceil(extent / W) * ceil(kc / 2) * W words).
+inline void pair_panels_bf16_to(uint32_t* dst, const float* src, int W, int64_t extent,
+                                int64_t kc) {
+  const int64_t panels = (extent + W - 1) / W, kp = (kc + 1) / 2;
+  for (int64_t p = 0; p < panels; ++p) pair_bf16(dst + p * kp * W, src + p * kc * W, W, kc);
+}
 inline uint32_t* pair_panels_bf16(PackBuffer& buf, const float* src, int W, int64_t extent,
                                   int64_t kc) {
   const int64_t panels = (extent + W - 1) / W, kp = (kc + 1) / 2;
   uint32_t* dst = reinterpret_cast<uint32_t*>(buf.get(size_t(panels * kp * W)));
-  for (int64_t p = 0; p < panels; ++p) pair_bf16(dst + p * kp * W, src + p * kc * W, W, kc);
+  pair_panels_bf16_to(dst, src, W, extent, kc);
   return dst;
 }
+
+// gemm_packed_loops' default for bf16: op(A)'s panels come from packed_a in fp32 and are
+// paired to bf16 right there. GemmPackedA passes its own bf16 panels instead.
+struct PairPackedA {};
 
 // K is cut into equal blocks of at most kKC so no block is a sliver.
 inline int64_t k_block(int64_t K) {
@@ -81,11 +92,13 @@ inline int64_t k_block(int64_t K) {
 // With Precision::bf16 the packed fp32 panels are rounded to bf16 pairs (pair_bf16) just
 // after packing, while still in cache, and the bf16 micro-kernel of bf16_isa() runs: every
 // packer serves both precisions, and the loops, blocking and thread split are the same,
-// so 1 and 2 threads give the same bits in either mode.
-template <class PackedA, class PackB>
+// so 1 and 2 threads give the same bits in either mode. packed_a_bf16(pc, kc, ic, mc), if
+// given, returns op(A)'s block already in pair_bf16's layout (packed_a is then not called
+// in bf16).
+template <class PackedA, class PackB, class PackedABf16 = PairPackedA>
 void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int64_t N, int64_t K,
                        float alpha, float beta, float* C, int64_t ldc,
-                       Precision precision = Precision::fp32) {
+                       Precision precision = Precision::fp32, PackedABf16 packed_a_bf16 = {}) {
   const bool bf16 = precision == Precision::bf16;
   const Bf16KernelFn bf16_run = bf16 ? bf16_kernel() : nullptr;
   const uint32_t* bbf = nullptr;
@@ -110,9 +123,16 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
       }
       for (int64_t ic = 0; ic < M; ic += kMC) {
         const int64_t mc = std::min(kMC, M - ic);
-        const float* apack = packed_a(pc, kc, ic, mc);
-        const uint32_t* abf =
-            bf16 ? pair_panels_bf16(thread_pack(Pack::a_bf16), apack, kMR, mc, kc) : nullptr;
+        const float* apack = nullptr;
+        const uint32_t* abf = nullptr;
+        if constexpr (std::is_same_v<PackedABf16, PairPackedA>) {
+          apack = packed_a(pc, kc, ic, mc);
+          if (bf16) abf = pair_panels_bf16(thread_pack(Pack::a_bf16), apack, kMR, mc, kc);
+        } else if (bf16) {
+          abf = packed_a_bf16(pc, kc, ic, mc);
+        } else {
+          apack = packed_a(pc, kc, ic, mc);
+        }
         for (int64_t jr = 0; jr < nc; jr += kNR) {
           const int n = int(std::min<int64_t>(kNR, nc - jr));
           if (panel_at_a_time) {

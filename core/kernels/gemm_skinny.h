@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/kernels/bf16.h"
 #include "core/kernels/gemm_small.h"
 #include "core/thread_pool.h"
 
@@ -80,22 +81,67 @@ void gemm_tn_skinny_rows(int64_t m0, int64_t m1, int64_t N, int64_t K, float alp
   }
 }
 
+// dst[k * W + i] = round_to_bf16(A[k * lda + i]) for k < K, i < w <= W: a strip of A's
+// columns for gemm_tn_skinny's bf16 path. The rows are a page or more apart (a TLB miss
+// each): prefetching kAhead rows ahead keeps several in flight.
+template <int W>
+inline void round_strip_bf16(float* __restrict dst, const float* __restrict A, int64_t lda,
+                             int64_t K, int w) {
+#if defined(__AVX512F__)
+  constexpr int64_t kAhead = 8;
+  static_assert(W % 16 == 0, "whole vectors");
+  __mmask16 mask[W / 16];
+  for (int v = 0; v < W / 16; ++v) mask[v] = w - 16 * v <= 0 ? 0 : tail_mask(w - 16 * v);
+  for (int64_t k = 0; k < K; ++k) {
+    const float* a = A + k * lda;
+    if (k + kAhead < K)
+      for (int v = 0; v < W / 16; ++v)
+        _mm_prefetch(reinterpret_cast<const char*>(a + kAhead * lda + 16 * v), _MM_HINT_T0);
+    for (int v = 0; v < W / 16; ++v)
+      _mm512_storeu_ps(dst + k * W + 16 * v,
+                      round_to_bf16_ps(_mm512_maskz_loadu_ps(mask[v], a + 16 * v)));
+  }
+#else
+  for (int64_t k = 0; k < K; ++k)
+    for (int i = 0; i < w; ++i) dst[k * W + i] = round_to_bf16(A[k * lda + i]);
+#endif
+}
+
+// kRoundA: A's values are rounded to bf16 (gemm.h's bf16 path for these shapes: A is the
+// large operand, and a rounded copy of all of it cost more than the product), one strip
+// of 64 of its columns at a time into an L2-sized scratch that the column groups then
+// read. Rounding in the loads instead measured 2x the fp32 time (Ice Lake VM): the extra
+// instructions between the loads, a TLB miss each, left fewer of them in flight.
+template <bool kRoundA = false>
 inline void gemm_tn_skinny(int64_t M, int64_t N, int64_t K, float alpha, const float* A,
                            int64_t lda, const float* B, int64_t ldb, float beta, float* C,
                            int64_t ldc, int64_t min_macs) {
+  constexpr int64_t kStrip = 64;
   parallel_for(
       M,
       [&](int64_t m0, int64_t m1) {
+        std::vector<float> strip(kRoundA ? size_t(K * kStrip) : 0);
         // Groups of 4 columns; past the first the rows of A come from L2 (measured 1.3x
         // the packed kernel at N = 16, 2-2.6x at N <= 4).
-        for (int64_t i0 = m0; i0 < m1; i0 += 64)
+        for (int64_t i0 = m0; i0 < m1; i0 += kStrip) {
+          const int64_t i1 = std::min(m1, i0 + kStrip);
+          if constexpr (kRoundA) {
+            round_strip_bf16<kStrip>(strip.data(), A + i0, lda, K, int(i1 - i0));
+            for (int64_t j0 = 0; j0 < N; j0 += 4)
+              gemm_tn_skinny_rows<4, 4>(0, i1 - i0, std::min<int64_t>(4, N - j0), K, alpha,
+                                        strip.data(), kStrip, B + j0, ldb, beta,
+                                        C + i0 * ldc + j0, ldc);
+            continue;
+          }
           for (int64_t j0 = 0; j0 < N; j0 += 4)
-            gemm_tn_skinny_rows<4, 4>(i0, std::min(m1, i0 + 64), std::min<int64_t>(4, N - j0), K,
-                                      alpha, A, lda, B + j0, ldb, beta, C + j0, ldc);
+            gemm_tn_skinny_rows<4, 4>(i0, i1, std::min<int64_t>(4, N - j0), K, alpha, A, lda,
+                                      B + j0, ldb, beta, C + j0, ldc);
+        }
       },
-      std::max<int64_t>(64, min_macs / std::max<int64_t>(1, N * K)), 64);
+      std::max<int64_t>(kStrip, min_macs / std::max<int64_t>(1, N * K)), kStrip);
 }
 
+template <bool kRoundA = false>
 inline void gemm_nn_skinny(int64_t M, int64_t N, int64_t K, float alpha, const float* A,
                            int64_t lda, const float* B, int64_t ldb, float beta, float* C,
                            int64_t ldc, int64_t min_macs) {
@@ -105,7 +151,7 @@ inline void gemm_nn_skinny(int64_t M, int64_t N, int64_t K, float alpha, const f
   parallel_for(
       M,
       [&](int64_t m0, int64_t m1) {
-        gemm_dot(m1 - m0, N, K, alpha, A + m0 * lda, lda, bt.data(), K, beta, C + m0 * ldc, ldc);
+        gemm_dot<kRoundA>(m1 - m0, N, K, alpha, A + m0 * lda, lda, bt.data(), K, beta, C + m0 * ldc, ldc);
       },
       std::max<int64_t>(16, min_macs / std::max<int64_t>(1, N * K)), 16);
 }

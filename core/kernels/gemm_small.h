@@ -7,6 +7,9 @@
 // Both paths are single-threaded (the work is a few microseconds, less than waking a
 // worker) and their summation order depends only on the shape, never on threads.
 #include <cstdint>
+#include <vector>
+
+#include "core/kernels/bf16.h"
 
 #if defined(__AVX512F__)
 #include "core/kernels/gemm_small_avx512.h"
@@ -17,15 +20,22 @@ namespace nns::gemm_detail {
 inline constexpr int kLanes = 16;
 
 // C := alpha * A B^T + beta * C with A (M x K) and B (N x K) both read along K.
-// 16 partial sums per dot product, folded in a fixed order.
+// 16 partial sums per dot product, folded in a fixed order. kRoundA: A's values are
+// rounded to bf16 as they are read (gemm.h's bf16 skinny path).
+template <bool kRoundA = false>
 inline void gemm_dot(int64_t M, int64_t N, int64_t K, float alpha, const float* A, int64_t lda,
                      const float* B, int64_t ldb, float beta, float* C, int64_t ldc) {
 #if defined(__AVX512F__)
-  return gemm_dot_avx512(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
+  return gemm_dot_avx512<kRoundA>(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
 #endif
   const int64_t Kv = K / kLanes * kLanes;
+  std::vector<float> rounded(kRoundA ? size_t(K) : 0);
   for (int64_t i = 0; i < M; ++i) {
     const float* a = A + i * lda;
+    if constexpr (kRoundA) {
+      for (int64_t k = 0; k < K; ++k) rounded[size_t(k)] = round_to_bf16(a[k]);
+      a = rounded.data();
+    }
     int64_t j = 0;
     // Four columns at a time so each load of A feeds four dot products.
     for (; j + 4 <= N; j += 4) {

@@ -4,6 +4,8 @@
 
 #include <cstdint>
 
+#include "core/kernels/bf16.h"
+
 namespace nns::gemm_detail {
 
 inline __mmask16 tail_mask(int64_t n) {
@@ -16,6 +18,8 @@ inline void store_scaled(float* c, float value, float alpha, float beta) {
 
 // Dot products A B^T: two rows of A by four rows of B per pass, 8 vector accumulators
 // (enough to cover the FMA latency), lanes folded by _mm512_reduce_add_ps at the end.
+// kRoundA: A's values are rounded to bf16 as they are loaded (gemm.h's bf16 skinny path).
+template <bool kRoundA = false>
 inline void gemm_dot_avx512(int64_t M, int64_t N, int64_t K, float alpha, const float* A,
                             int64_t lda, const float* B, int64_t ldb, float beta, float* C,
                             int64_t ldc) {
@@ -32,7 +36,8 @@ inline void gemm_dot_avx512(int64_t M, int64_t N, int64_t K, float alpha, const 
         for (int q = 0; q < 4; ++q) s[r][q] = _mm512_setzero_ps();
       for (int64_t k = 0; k < K; k += 16) {
         const __mmask16 m = tail_mask(K - k);
-        const __m512 x0 = _mm512_maskz_loadu_ps(m, a0 + k), x1 = _mm512_maskz_loadu_ps(m, a1 + k);
+        const __m512 x0 = maybe_round_to_bf16_ps<kRoundA>(_mm512_maskz_loadu_ps(m, a0 + k));
+        const __m512 x1 = maybe_round_to_bf16_ps<kRoundA>(_mm512_maskz_loadu_ps(m, a1 + k));
 #pragma GCC unroll 4
         for (int q = 0; q < 4; ++q) {
           const __m512 y = _mm512_maskz_loadu_ps(m, b[q] + k);

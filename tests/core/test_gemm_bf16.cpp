@@ -260,4 +260,74 @@ TEST(GemmBf16, OneAndTwoThreadsBitwiseEqual) {
   set_num_threads(saved);
 }
 
+// Weights packed once (GemmPackedA) in bf16 keep only their bf16 panels, converted when
+// packed: bitwise the product gemm() gives in bf16 (which pairs the fp32 panels per call),
+// with edge panels, several K and MC blocks, an odd last K block, both transposes, a
+// narrower B and B given only through a packer, on 1 and 2 threads.
+TEST(GemmBf16, PackedAGivesTheBitsOfGemm) {
+  const int saved = num_threads();
+  for (Bf16Isa isa : available_isas()) {
+    IsaGuard guard(isa);
+    for (int threads : {1, 2}) {
+      set_num_threads(threads);
+      for (bool ta : {false, true})
+        for (bool tb : {false, true}) {
+          const Case c{ta, tb, 701, 203, 601, 1.0f, 0.5f};
+          SCOPED_TRACE(std::string(isa_name(isa)) + " " + c.str() + " threads=" +
+                       std::to_string(threads));
+          Rng rng(41);
+          const Problem p = make_problem(c, rng);
+          const ScopedGemmPrecision bf16(Precision::bf16);
+          const GemmPackedA packed(ta, c.M, c.K, p.A.data(), p.lda, c.N);
+          ASSERT_TRUE(packed.packs_for(c.N));
+          for (int64_t n : {c.N, int64_t(61)}) {
+            std::vector<float> want = p.C0, got = p.C0, through_packer = p.C0;
+            gemm<float>(ta, tb, c.M, n, c.K, 1.0f, p.A.data(), p.lda, p.B.data(), p.ldb, 0.5f,
+                        want.data(), p.ldc);
+            packed.multiply(tb, n, 1.0f, p.B.data(), p.ldb, 0.5f, got.data(), p.ldc);
+            packed.multiply_packing_b(n, 1.0f,
+                                      gemm_detail::packer_b(gemm_detail::MatView{p.B.data(), p.ldb, tb}),
+                                      0.5f, through_packer.data(), p.ldc);
+            EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0);
+            EXPECT_EQ(std::memcmp(want.data(), through_packer.data(), want.size() * sizeof(float)), 0);
+          }
+        }
+    }
+  }
+  set_num_threads(saved);
+}
+
+// The skinny shapes (a few columns of C, a long A) round A as they load it instead of
+// through a copy: bitwise the fp32 product of the bf16-rounded operands on the same path.
+TEST(GemmBf16, SkinnyPathsGiveTheBitsOfRoundedOperands) {
+  const int saved = num_threads();
+  for (const Case& c : std::vector<Case>{{false, false, 300, 4, 1100, 1.0f, 0.0f},
+                                         {false, false, 37, 1, 700, -0.5f, 1.0f},
+                                         {true, false, 1000, 16, 300, 1.0f, 0.5f},
+                                         {true, false, 333, 3, 17, 2.0f, 0.0f}}) {
+    ASSERT_TRUE(gemm_detail::use_gemm_nn_skinny(c.ta, c.tb, c.M, c.N, c.K) ||
+                gemm_detail::use_gemm_tn_skinny(c.ta, c.tb, c.M, c.N, c.K));
+    Rng rng(43);
+    Problem p = make_problem(c, rng);
+    // Ties, denormals and NaN among the inputs, so a rounding that differs shows.
+    p.A[1] = std::bit_cast<float>(0x3f818000u);
+    p.A[2] = std::bit_cast<float>(0x007fffffu);
+    p.A[size_t(p.lda)] = std::bit_cast<float>(0x3f808000u);
+    Problem rounded = p;
+    for (auto& x : rounded.A) x = round_to_bf16(x);
+    for (auto& x : rounded.B) x = round_to_bf16(x);
+    for (int threads : {1, 2}) {
+      set_num_threads(threads);
+      SCOPED_TRACE(c.str() + " threads=" + std::to_string(threads));
+      std::vector<float> want = p.C0;  // as run() starts it: C's padding columns compare too
+      if (c.beta == 0.0f) std::fill(want.begin(), want.end(), std::numeric_limits<float>::quiet_NaN());
+      gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, rounded.A.data(), p.lda, rounded.B.data(),
+                  p.ldb, c.beta, want.data(), p.ldc);
+      const std::vector<float> got = run(c, p);
+      EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0);
+    }
+  }
+  set_num_threads(saved);
+}
+
 }  // namespace
