@@ -72,6 +72,12 @@ TEST(Bf16Rounding, VectorPackingGivesTheScalarBits) {
       bf16_detail::pair_bf16_avx512(vec.data(), src.data(), W, kc);
       bf16_detail::pair_bf16_scalar(sca.data(), src.data(), W, kc);
       EXPECT_EQ(vec, sca) << "W=" << W << " kc=" << kc;
+      // round_copy_bf16 (vector rows with a masked tail) against round_to_bf16.
+      std::vector<float> rounded(src.size());
+      round_copy_bf16(rounded.data(), src.data(), kc, W, W);
+      for (size_t i = 0; i < src.size(); ++i)
+        ASSERT_EQ(std::bit_cast<uint32_t>(rounded[i]), std::bit_cast<uint32_t>(round_to_bf16(src[i])))
+            << std::hex << std::bit_cast<uint32_t>(src[i]);
     }
   }
 }
