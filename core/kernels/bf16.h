@@ -81,18 +81,12 @@ inline void pair_bf16(uint32_t* dst, const float* src, int W, int64_t kc) {
   bf16_detail::pair_bf16_scalar(dst, src, W, kc);
 }
 
-// x, or x rounded to bf16 when kRound: for kernels instantiated for both precisions.
-template <bool kRound>
-inline float maybe_round_to_bf16(float x) {
-  if constexpr (kRound) return round_to_bf16(x);
-  return x;
-}
-
 // The 16 floats of v rounded to bf16 (round_to_bf16 on each lane).
 __attribute__((target("avx512f"))) inline __m512 round_to_bf16_ps(__m512 v) {
   return _mm512_castsi512_ps(
       _mm512_and_si512(bf16_detail::bf16_high16(v), _mm512_set1_epi32(int(0xffff0000u))));
 }
+// v, or v rounded when kRound: for kernels instantiated for both precisions.
 template <bool kRound>
 __attribute__((target("avx512f"))) inline __m512 maybe_round_to_bf16_ps(__m512 v) {
   if constexpr (kRound) return round_to_bf16_ps(v);
