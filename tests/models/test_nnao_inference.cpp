@@ -232,6 +232,34 @@ TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
     }
 }
 
+// blur_passes N: the exact inference is the march, then the blur N times (vector and
+// scalar alike); absent means 1; outside 1..16 the blob is refused.
+TEST(NnaoInference, HorizonModelBlursBlurPassesTimes) {
+  Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 31, false, {8, 8, 4}), 10, -0.3f);
+  ASSERT_EQ(nnao::NnaoWeights::from_blob(blob).blur_passes, 1);
+  blob.set_config("blur_passes", 3);
+  const auto m = nnao::NnaoWeights::from_blob(blob);
+  ASSERT_EQ(m.blur_passes, 3);
+  const auto view = nns::fixtures::synthetic_view(50, 30, 3, 1);  // g points into it
+  auto g = ao::gbuffer_from_view(view);
+  std::vector<float> raw(size_t(g.pixels())), once(raw.size()), expect(raw.size()), got(raw.size()), ref(raw.size());
+  nnao::infer_horizon(m, g, raw.data());
+  for (int p = 0; p < 3; ++p) {
+    nnao::bilateral_blur(g, raw.data(), expect.data());
+    if (p == 0) once = expect;
+    raw = expect;
+  }
+  nnao::infer_exact(m, g, got.data());
+  EXPECT_EQ(got, expect);
+  EXPECT_NE(got, once);  // the passes change the image
+  nnao::infer_exact_reference(m, g, ref.data());
+  expect_close_to_reference(got, ref, "exact, 3 blur passes");
+  for (int bad : {0, 17}) {
+    blob.set_config("blur_passes", bad);
+    EXPECT_THROW(nnao::NnaoWeights::from_blob(blob), std::runtime_error) << bad;
+  }
+}
+
 TEST(NnaoInference, HorizonBlobWithBadLayoutIsRejected) {
   for (auto [d, s, b] : {std::tuple{8, 8, 3}, std::tuple{0, 8, 4}, std::tuple{8, 100, 4}}) {
     Blob blob = nns::fixtures::random_nnao_blob(0, 4, 3, false, {8, 8, 4});
