@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
     o.net.horizon.directions = args.get_int("--directions", p.horizon.directions, "horizon features: screen directions", 1, 64);
     o.net.horizon.steps = args.get_int("--steps", p.horizon.steps, "horizon features: samples per direction", 1, 64);
     o.net.horizon.bands = args.get_int("--bands", p.horizon.bands, "horizon features: distance bands (must divide --steps)", 1, 64);
+    o.blur_passes = args.get_int("--blur-passes", p.blur_passes, "horizon features: bilateral blur passes of the exact inference (recorded in the blob)", 1, 16);
     o.net.hidden = args.get_int("--hidden", p.hidden, "hidden units per layer", 1, 64);
     o.radius = float(args.get_double("--radius", 0, "AO radius (0 = each view's aoRadius)", 0, HUGE_VAL));
     o.net.dropout = args.get_double("--dropout", p.dropout, "dropout on the input", 0, 0.99);

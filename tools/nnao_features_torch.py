@@ -134,12 +134,13 @@ def features(config, g):
 
 def infer_image(net, config, depth, normal, fov_y_deg, radius, blur=None):
     """nnao-infer's exact AO image: the network on every non-sky pixel's inputs, 1 on sky,
-    then the blur for a horizon model (blur=None) or as asked."""
+    then the blur for a horizon model (blur=None: the blob's blur_passes times) or once as asked."""
     g = GBuffer(depth, normal, fov_y_deg, radius)
     f = features(config, g)
     with torch.no_grad():
         ao = net(f.reshape(-1, f.shape[-1])).reshape(g.h, g.w)
     ao = torch.where(g.sky, torch.ones_like(ao), ao)
     if blur if blur is not None else config.get("features") == "horizon":
-        ao = bilateral_blur(g, ao)
+        for _ in range(int(config.get("blur_passes", 1)) if blur is None else 1):
+            ao = bilateral_blur(g, ao)
     return ao

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -34,7 +35,9 @@ class NnaoGlPasses {
     glGenFramebuffers(1, &fbo_);
     const std::string ao_file = (fs::path(export_dir) / "nnao.frag").string();
     ao_program_ = program(ao_file);
-    blur_program_ = program((fs::path(export_dir) / "nnao_blur.frag").string());
+    const std::string blur_file = (fs::path(export_dir) / "nnao_blur.frag").string();
+    blur_program_ = program(blur_file);
+    blur_pairs_ = blur_pairs(blur_file);
     if (glGetUniformLocation(ao_program_, "uFilters") >= 0) {
       const std::string atlas = (fs::path(export_dir) / "nnao_filters.exr").string();
       if (!fs::exists(atlas)) throw std::runtime_error(ao_file + " samples filters, but " + atlas + " is missing");
@@ -106,17 +109,32 @@ class NnaoGlPasses {
     if (GLint u = glGetUniformLocation(ao_program_, "uFrame"); u >= 0) glUniform1ui(u, f.index);
     draw_into(ao_);
   }
-  // Horizontal into tmp_, then vertical into out_, as the CPU's separable blur.
+  // Horizontal into tmp_, then vertical into out_, as the CPU's separable blur; the
+  // pair blur_pairs_ times, each after the first on out_.
   void draw_blur() {
     glUseProgram(blur_program_);
     bind_gbuffer(blur_program_);
     const GLint step = glGetUniformLocation(blur_program_, "uStep");
-    bind(blur_program_, "uAO", 2, ao_);
-    glUniform2i(step, 1, 0);
-    draw_into(tmp_);
-    bind(blur_program_, "uAO", 2, tmp_);
-    glUniform2i(step, 0, 1);
-    draw_into(out_);
+    for (int pair = 0; pair < blur_pairs_; ++pair) {
+      bind(blur_program_, "uAO", 2, pair == 0 ? ao_ : out_);
+      glUniform2i(step, 1, 0);
+      draw_into(tmp_);
+      bind(blur_program_, "uAO", 2, tmp_);
+      glUniform2i(step, 0, 1);
+      draw_into(out_);
+    }
+  }
+  // The shader's "#define NNAO_BLUR_PAIRS N" (export-nnao writes it; 1 without it).
+  static int blur_pairs(const std::string& frag_file) {
+    std::ifstream in(frag_file);
+    const std::string key = "#define NNAO_BLUR_PAIRS ";
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind(key, 0) == 0) {
+        const int n = std::atoi(line.c_str() + key.size());
+        if (n < 1 || n > 16) throw std::runtime_error(frag_file + ": NNAO_BLUR_PAIRS must be 1..16, not '" + line.substr(key.size()) + "'");
+        return n;
+      }
+    return 1;
   }
   void bind_gbuffer(GLuint prog) {
     bind(prog, "uDepth", 0, depth_);
@@ -213,6 +231,7 @@ class NnaoGlPasses {
 
   ao::GBuffer g_;
   GLuint vao_ = 0, fbo_ = 0, ao_program_ = 0, blur_program_ = 0;
+  int blur_pairs_ = 1;
   GLuint filters_ = 0, depth_ = 0, normal_ = 0, ao_ = 0, tmp_ = 0, out_ = 0;
 };
 

@@ -59,11 +59,15 @@ inline void bilateral_blur_reference(const ao::GBuffer& g, const float* in, floa
 }
 
 // The exact form: the per-pixel loop (of either input kind, nnao_exact_per_pixel.h),
-// then for a horizon model the blur infer_exact applies.
+// then for a horizon model the blur infer_exact applies (m.blur_passes times).
 inline void infer_exact_reference(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
   if (!m.input.is_horizon()) return infer_exact_per_pixel(m, g, out);
   std::vector<float> raw(size_t(g.pixels()));
   infer_exact_per_pixel(m, g, raw.data());
+  for (int p = 1; p < m.blur_passes; ++p) {
+    bilateral_blur_reference(g, raw.data(), out);
+    std::copy(out, out + g.pixels(), raw.data());
+  }
   bilateral_blur_reference(g, raw.data(), out);
 }
 

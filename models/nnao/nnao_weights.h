@@ -6,7 +6,8 @@
 //   config: window, hidden, radius (training radius; 0 = each view's aoRadius),
 //           dropout, gamma, target ("ao": 1 = unoccluded; "ao-minus-horizon-visibility":
 //           the output is added to the horizons' visibility, nnao_inputs.h),
-//           features ("grid" when absent, or "horizon" with directions, steps, bands)
+//           features ("grid" when absent, or "horizon" with directions, steps, bands,
+//           and blur_passes: 1 when absent)
 //   fc0.weight (H, F)  fc0.bias (H)  act0.alpha (H)  act0.beta (H)   (F: nnao_inputs.h)
 //   fc1.weight (H, H) ...  fc2 ...       fc3.weight (1, H) fc3.bias (1) act3.alpha/beta (1)
 //   feature_mean (F)  feature_std (F)  target_stats (2: mean, std)
@@ -30,6 +31,9 @@ struct NnaoWeights {
   int hidden = 4;
   InputSpec input;  // what layer 0 reads: the grid (input.window) or horizon profiles
   float radius = 0;  // 0: each view's own aoRadius
+  // Horizon models: how many times the exact inference applies the bilateral blur
+  // (nnao_inference.h), chosen on validation families (docs/nnao.md, "Flicker").
+  int blur_passes = 1;
   std::vector<float> w0;              // (hidden, F) with the standardisation folded in
   std::vector<float> b0;              // (hidden)
   std::vector<float> w[3], b[3];      // layers 1..3: (hidden, hidden), (hidden, hidden), (1, hidden)
@@ -77,6 +81,12 @@ struct NnaoWeights {
       };
       if (m.input.is_horizon())
         m.input.horizon = {layout_int("directions"), layout_int("steps"), layout_int("bands")};
+        // Absent in the first horizon models' blobs: one pass.
+        if (blob.has_config("blur_passes")) {
+          const int64_t p = blob.config_int("blur_passes");
+          if (p < 1 || p > 16) throw blob.error("blur_passes " + std::to_string(p) + " out of range 1..16");
+          m.blur_passes = int(p);
+        }
     }
     if (const std::string p = m.input.problem(); !p.empty()) throw blob.error(p);
     const int64_t F = m.features(), H = m.hidden;

@@ -3,7 +3,7 @@
 //  * nnao.frag: the NNAO pass, a GLSL 330 fragment shader with the network embedded:
 //    for a grid model the shader-style inference (nnao_glsl_grid.h), for a horizon
 //    model its march (nnao_glsl_horizon.h); nnao_blur.frag: the bilateral blur that
-//    follows it in nnao-infer (nnao_glsl_blur.h), drawn twice. docs/nnao.md says how
+//    follows it in nnao-infer (nnao_glsl_blur.h), drawn as NNAO_BLUR_PAIRS pairs. docs/nnao.md says how
 //    an engine draws them; examples/nnao_gl runs them.
 //  * grid models only: the first layer's weights as H filter images (the paper's
 //    Figure 2): filter k is a w x w RGBA image, channels = weights of the (Nx, Ny, Nz,
@@ -99,7 +99,7 @@ inline std::vector<std::string> write_export(const NnaoWeights& m, const std::st
     files.push_back("nnao_filters.exr");
     files.push_back("filter<k>.exr/.png");
   }
-  write_file_atomic((fs::path(dir) / "nnao_blur.frag").string(), glsl_blur_pass());
+  write_file_atomic((fs::path(dir) / "nnao_blur.frag").string(), glsl_blur_pass(m.input.is_horizon() ? m.blur_passes : 1));
   return files;
 }
 

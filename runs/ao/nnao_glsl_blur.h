@@ -13,11 +13,15 @@
 
 namespace nns::nnao {
 
-inline std::string glsl_blur_pass() {
+// `pairs`: how many times the engine draws the (1, 0), (0, 1) pair, each on the last
+// one's result (NnaoWeights::blur_passes); written as NNAO_BLUR_PAIRS for the host.
+inline std::string glsl_blur_pass(int pairs = 1) {
   std::vector<float> spatial;  // the CPU's weights, computed the CPU's way
   for (int k = -2; k <= 2; ++k) spatial.push_back(std::exp(-float(k * k) / (2 * 1.5f * 1.5f)));
   std::ostringstream s;
   s << glsl_preamble("NNAO's bilateral blur, one direction per draw")
+    << "// Draw the pair uStep = (1, 0), (0, 1) NNAO_BLUR_PAIRS times, each pair on the previous pair's result.\n"
+    << "#define NNAO_BLUR_PAIRS " << pairs << "\n"
     << "uniform sampler2D uAO;  // the NNAO pass's output (or the first blur draw's), R32F or R16F\n"
     << "uniform ivec2 uStep;    // (1, 0), then (0, 1) on the first draw's result (image pixels, row 0 at the top)\n"
     << glsl_array("SPATIAL", spatial);

@@ -109,7 +109,13 @@ Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, const data::V
     nnao::infer_shader_style(m, g, samples, raw.data(), /*blur=*/false, frame);
     edge = test::grid_edge_pixels(g, m.input.window, samples, frame);
   }
-  nnao::bilateral_blur(g, raw.data(), cpu.data());
+  // The blur as nnao-infer applies it: m.blur_passes times for a horizon model.
+  const int pairs = m.input.is_horizon() ? m.blur_passes : 1;
+  std::vector<float> src = raw;
+  for (int p = 0; p < pairs; ++p) {
+    nnao::bilateral_blur(g, src.data(), cpu.data());
+    src = cpu;
+  }
   const gl::NnaoGlPasses::Frame f{samples, frame};
   const Diff pass = compare(passes.ao_pass(f), raw, edge);
   report((std::string(name) + ", NNAO pass (marked: a sample near an edge)").c_str(), pass, raw.size());
@@ -120,14 +126,15 @@ Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, const data::V
   report((std::string(name) + ", blur pass on the CPU's NNAO").c_str(), blur, raw.size());
   EXPECT_EQ(blur.off, 0) << name << ": the blur differs";
 
-  // Both passes: a pixel whose 5 x 5 blur footprint holds a differing pass pixel may differ.
+  // Both passes: a pixel whose blur footprint (5 x 5 per pair) holds a differing pass pixel may differ.
+  const int reach = 2 * pairs;
   const std::vector<float> gpu_pass = passes.ao_pass(f);
   std::vector<bool> near_off(raw.size(), false);
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       if (!(std::abs(gpu_pass[size_t(y) * g.width + x] - raw[size_t(y) * g.width + x]) > kTolerance)) continue;
-      for (int dy = -2; dy <= 2; ++dy)
-        for (int dx = -2; dx <= 2; ++dx)
+      for (int dy = -reach; dy <= reach; ++dy)
+        for (int dx = -reach; dx <= reach; ++dx)
           if (x + dx >= 0 && x + dx < g.width && y + dy >= 0 && y + dy < g.height)
             near_off[size_t(y + dy) * g.width + x + dx] = true;
     }
@@ -154,6 +161,12 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
   const Blob blob = fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(0, 16, 23, false, shape), 20, -0.3f);
   const auto m = export_model(blob, dir_, 64);
   check_passes(m, dir_, test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16");
+  // The default's 4 blur passes travel in nnao_blur.frag (NNAO_BLUR_PAIRS) to the host.
+  Blob four = blob;
+  four.set_config("blur_passes", 4);
+  const auto m4 = export_model(four, dir_ / "b4", 64);
+  ASSERT_EQ(m4.blur_passes, 4);
+  check_passes(m4, dir_ / "b4", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 blur passes");
 }
 
 // The comparison catches what an engine could get wrong: a filter atlas transposed, a

@@ -185,14 +185,17 @@ TEST(NnaoInference, VectorisedPathsMatchScalarReferences) {
 // A horizon-feature model (nnao_inputs.h): the vectorised march + fused layer 0 + blur
 // (horizon_simd.h, infer_exact) against the per-pixel loop + scalar blur, that loop
 // against the network in double from the raw tensors plus the visibility base, and
-// both thread counts alike. Layouts
+// both thread counts alike, on outputs spread over (0, 1) (the random weights alone
+// clamp every pixel to 1). Layouts
 // with an odd number of directions and 3 bands; hidden 4, 8 and 16 (the widths
 // horizon_simd.h compiles in) and 6 (the runtime width); a 2-pixel tail block.
 TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
   const nns::fixtures::HorizonShape shapes[2] = {{8, 8, 4}, {5, 6, 3}};
   for (const auto& sh : shapes)
     for (int H : {4, 6, 8, 16}) {
-      Blob blob = nns::fixtures::random_nnao_blob(0, H, 21 + H, false, sh);
+      // Spread: the raw random weights clamp a horizon model's output to 1 on every
+      // pixel, where a wrong march could not show.
+      Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, H, 21 + H, false, sh), 80.0f / float(H), -0.3f);
       auto m = nnao::NnaoWeights::from_blob(blob);
       ASSERT_TRUE(m.input.is_horizon());
       for (int variant : {0, 3}) {
@@ -206,6 +209,9 @@ TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
         set_num_threads(2);
         nnao::infer_exact(m, g, c.data());
         EXPECT_EQ(a, c) << tag;
+        int64_t inside = 0;
+        for (float x : a) inside += x > 0 && x < 1;
+        EXPECT_GT(inside, g.pixels() / 4) << tag;
         nnao::infer_exact_reference(m, g, b.data());
         expect_close_to_reference(a, b, "exact " + tag);
         // Before the blur: the per-pixel loop against the network in double.
@@ -224,6 +230,34 @@ TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
       }
       EXPECT_THROW(nnao::check_sample_count(64, m.input), std::invalid_argument);
     }
+}
+
+// blur_passes N: the exact inference is the march, then the blur N times (vector and
+// scalar alike); absent means 1; outside 1..16 the blob is refused.
+TEST(NnaoInference, HorizonModelBlursBlurPassesTimes) {
+  Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 31, false, {8, 8, 4}), 10, -0.3f);
+  ASSERT_EQ(nnao::NnaoWeights::from_blob(blob).blur_passes, 1);
+  blob.set_config("blur_passes", 3);
+  const auto m = nnao::NnaoWeights::from_blob(blob);
+  ASSERT_EQ(m.blur_passes, 3);
+  const auto view = nns::fixtures::synthetic_view(50, 30, 3, 1);  // g points into it
+  auto g = ao::gbuffer_from_view(view);
+  std::vector<float> raw(size_t(g.pixels())), once(raw.size()), expect(raw.size()), got(raw.size()), ref(raw.size());
+  nnao::infer_horizon(m, g, raw.data());
+  for (int p = 0; p < 3; ++p) {
+    nnao::bilateral_blur(g, raw.data(), expect.data());
+    if (p == 0) once = expect;
+    raw = expect;
+  }
+  nnao::infer_exact(m, g, got.data());
+  EXPECT_EQ(got, expect);
+  EXPECT_NE(got, once);  // the passes change the image
+  nnao::infer_exact_reference(m, g, ref.data());
+  expect_close_to_reference(got, ref, "exact, 3 blur passes");
+  for (int bad : {0, 17}) {
+    blob.set_config("blur_passes", bad);
+    EXPECT_THROW(nnao::NnaoWeights::from_blob(blob), std::runtime_error) << bad;
+  }
 }
 
 TEST(NnaoInference, HorizonBlobWithBadLayoutIsRejected) {
