@@ -28,20 +28,18 @@ struct Wing {
     Vec3 a = at(u0, y0, v0), b = at(u1, y1, v1);
     add_box(s, vmin(a, b), vmax(a, b), m);
   }
-  // A wall on the line u = `u` (0.4 thick) from v0 to v1, y0 to y1, with holes (a0/a1 along v).
+  // A wall on the line u = `u` (0.4 thick) from v0 to v1, y0 to y1, with holes (a0/a1
+  // along v, sorted): add_wall_band on the world line the quarter turn maps it to.
   void wall(Scene& s, float u, float v0, float v1, float y0, float y1, const std::vector<Opening>& holes,
             uint32_t m) const {
-    auto piece = [&](float a0, float a1, float b0, float b1) {
-      if (a1 - a0 > 1e-4f && b1 - b0 > 1e-4f) box(s, u - 0.2f, b0, a0, u + 0.2f, b1, a1, m);
-    };
-    float v = v0;
-    for (const Opening& h : holes) {
-      piece(v, h.a0, y0, y1);
-      piece(h.a0, h.a1, y0, h.y0);
-      piece(h.a0, h.a1, h.y1, y1);
-      v = h.a1;
+    const bool along_x = k % 2 != 0, flip = k == 1 || k == 2;  // world a = -v for k = 1, 2
+    const float plane = k < 2 ? c + u : -(c + u);
+    std::vector<Opening> world = holes;
+    if (flip) {
+      std::reverse(world.begin(), world.end());
+      for (Opening& h : world) h = {-h.a1, -h.a0, h.y0, h.y1};
     }
-    piece(v, v1, y0, y1);
+    add_wall_band(s, along_x, plane, flip ? -v1 : v0, flip ? -v0 : v1, y0, y1, 0.4f, world, m);
   }
 };
 
