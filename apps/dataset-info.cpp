@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   std::string sheet_split = args.get_choice("--sheet-split", "train", {"train", "test", "holdout"}, "the split the sheet shows");
   std::string sheet_family = args.get_string("--sheet-family", "", "only frames of this scene family on the sheet");
   int sheet_frames = args.get_int("--sheet-frames", 12, "frames on the sheet", 1, 1000);
+  int sheet_per_scene = args.get_int("--sheet-per-scene", 1, "frames of one scene on the sheet (a camera path's look alike)", 1, 1000);
   if (args.positional().size() > 1) args.error("expected one dataset folder, got " + std::to_string(args.positional().size()));
   args.done("DIR");
   if (args.positional().empty()) {
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
     if (!sheet.empty()) {
       auto listing = nns::data::list_dataset(dir);
       const auto& split = sheet_split == "train" ? listing.train : sheet_split == "test" ? listing.test : listing.holdout;
-      int n = nns::gi::write_contact_sheet(sheet, split, sheet_family, sheet_frames);
+      int n = nns::gi::write_contact_sheet(sheet, split, sheet_family, sheet_frames, sheet_per_scene);
       if (n == 0) throw std::runtime_error(dir + ": no " + sheet_split + " view or frame with indirect.*" +
                                            (sheet_family.empty() ? "" : " of family '" + sheet_family + "'") +
                                            " for --contact-sheet");

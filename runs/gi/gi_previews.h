@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -130,19 +131,23 @@ inline void add_sample_comparisons(data::Report& report, const std::string& out,
 // albedo, the shaded image albedo x (direct + env + indirect) + emission, and the
 // indirect light alone — `per_row` of them to a row, 4-pixel gaps. Light is tone-mapped
 // with exposure 1/k, k the median of direct + env + indirect over the sheet's geometry
-// pixels; the indirect with 1/(its own median), being the dimmer part. Items without
+// pixels; the indirect with 1/(its own median), being the dimmer part. At most
+// `per_scene` items of one scene (the frames of a camera path look alike); items without
 // indirect.* or of another size than the first are skipped. Returns the frames drawn.
 inline int write_contact_sheet(const std::string& path, const data::SplitListing& split, const std::string& family,
-                               int max_frames, int per_row = 4) {
+                               int max_frames, int per_scene = 1, int per_row = 4) {
   std::vector<std::string> paths = split.views;
   for (auto& f : split.frames) paths.push_back(f.faces[size_t(data::Face::front)]);
   std::vector<data::View> views;
+  std::map<std::string, int> drawn;  // per scene
   for (const std::string& p : paths) {
     if (int(views.size()) >= max_frames || p.empty()) continue;
     const std::string scene = data::scene_of(p);
     if (!family.empty() && (scene.rfind(family + "-", 0) != 0 ||
                             scene.find_first_not_of("0123456789", family.size() + 1) != std::string::npos))
       continue;
+    if (drawn[scene] >= per_scene) continue;
+    ++drawn[scene];
     data::View v = data::read_view(p);
     if (!v.has("indirect.R") || (!views.empty() && (v.width != views[0].width || v.height != views[0].height))) continue;
     views.push_back(std::move(v));
