@@ -7,6 +7,7 @@
 //   train-gan --loss l1                        the non-adversarial baseline
 //   train-gan --loss dssim --arch deepshading  Deep Shading's U-Net and loss
 //   train-gan --out runs/x --resume            continue exactly where runs/x stopped
+//   train-gan --aug-mirror --aug-exposure 1.4 --aug-tint 1.15   augmented samples (docs/gan.md)
 //   mpirun -np 2 train-gan --accumulate 4      data-parallel: the weights of one process
 //                                              with --accumulate 4 (docs/distributed.md)
 #include <cstdio>
@@ -60,7 +61,13 @@ int main(int argc, char** argv) {
                                "(BatchNorm per image); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
     double bucket_mb = a.get_double("--bucket-mb", 25, "MiB per gradient bucket sent between MPI ranks during backward "
                                     "(0: one bucket, sent after backward)", 0, 1e6);
-    int seed = a.get_int("--seed", 1, "random seed (weights, dropout, data order)", 0, INT_MAX);
+    int seed = a.get_int("--seed", 1, "random seed (weights, dropout, data order, augmentation)", 0, INT_MAX);
+    bool aug_mirror = a.get_flag("--aug-mirror", "augmentation: each sample mirrored left-right with probability 1/2 "
+                                 "(surround: the mirrored cube; normals' x negated; needs an even face size)");
+    double aug_exposure = a.get_double("--aug-exposure", 1, "augmentation: all light inputs and the target times one "
+                                       "factor per sample, log-uniform in [1/F, F] (1: off)", 1, 100);
+    double aug_tint = a.get_double("--aug-tint", 1, "augmentation: light per colour channel times a factor log-uniform "
+                                   "in [1/T, T], rescaled to luminance 1 (1: off)", 1, 100);
     bool resume = a.get_flag("--resume", "continue from OUT/checkpoint.blob");
     int max_frames = a.get_int("--max-frames", 0, "use at most N train and N test items (0: all)", 0, INT_MAX);
     int sample_every = a.get_int("--sample-every", 250, "write sample PNGs every N steps (0: never)", 0, INT_MAX);
@@ -108,6 +115,7 @@ int main(int argc, char** argv) {
     o.precision = parse_precision(precision);
     if (o.precision == Precision::bf16) std::fprintf(stderr, "train-gan: bf16 GEMMs on %s\n", bf16_isa_description().c_str());
     o.accumulate = accumulate;
+    o.augment = {aug_mirror, aug_exposure, aug_tint};
     o.bucket_mb = bucket_mb;
     o.quiet = !dist::writer();
     o.data_identity = std::filesystem::weakly_canonical(data_dir).string() + " (" +
@@ -132,6 +140,7 @@ int main(int argc, char** argv) {
     const size_t n_train = std::min(max_items, split_items(train_listing, rd.mode));
     if (n_train == 0) throw std::runtime_error(data_dir + ": no training samples for --mode " + mode);
     const GiSample first = load_sample(train_listing, rd, c.inputs, 0);
+    if (aug_mirror) (void)mirrored(first);  // refuses an odd face size before the first step
     const double gib = double(sample_bytes(first)) * double(n_train) / double(1 << 30);
     const bool streamed = stream == "on" || (stream == "auto" && gib > budget_gib);
     GiTrainData train = streamed ? GiTrainData(train_listing, rd, c.inputs, n_train)

@@ -34,11 +34,11 @@ void apply_preset(DatasetJob& job) {
     job.vary_views = true;
   } else if (job.preset == "gi" || job.preset == "surround") {
     s.ao = true, s.lighting = true, s.indirect = true;
-  } else if (job.preset == "surround-v2") {
+  } else if (job.preset == "surround-v2" || job.preset == "surround-v3") {
     s.ao = true, s.lighting = true, s.indirect = true;
     job.vary_lighting = true;
   } else {
-    throw std::invalid_argument("unknown preset '" + job.preset + "' (nnao, nnao-v2, gi, surround, surround-v2)");
+    throw std::invalid_argument("unknown preset '" + job.preset + "' (nnao, nnao-v2, gi, surround, surround-v2, surround-v3)");
   }
 }
 
@@ -194,21 +194,23 @@ DatasetReport render_dataset(DatasetJob job) {
   if (job.views < 1) throw std::invalid_argument("render_dataset: --views must be >= 1");
   if (job.width < 8 || job.height < 8) throw std::invalid_argument("render_dataset: image size below 8x8");
   const bool surround = is_surround_preset(job.preset);
-  const bool all_families = job.preset == "nnao-v2" || job.preset == "surround-v2";
+  // The generations a preset takes by default: the older presets keep their eight
+  // families (and nnao-v2 / surround-v2 their two generations), so their datasets do
+  // not change.
+  const int generations = job.preset == "surround-v3" ? 3 : job.preset == "nnao-v2" || job.preset == "surround-v2" ? 2 : 1;
   const int P = std::max(1, job.path_frames);
   int per_scene = std::max(job.views_per_scene, P);
 
   std::vector<std::string> families = job.families;
   if (families.empty()) {
-    // The older presets keep their eight families, so their datasets do not change.
-    // nnao-v2 takes both generations, interleaved: scenes go to families round-robin,
-    // so a split with fewer scenes than families still mixes old and new kinds.
-    std::vector<std::string> g1 = scene_family_names(1), g2 = scene_family_names(2);
-    if (!all_families) g2.clear();
-    for (size_t i = 0; i < std::max(g1.size(), g2.size()); ++i) {
-      if (i < g1.size()) families.push_back(g1[i]);
-      if (i < g2.size()) families.push_back(g2[i]);
-    }
+    // Generations interleaved: scenes go to families round-robin, so a split with fewer
+    // scenes than families still mixes old and new kinds.
+    std::vector<std::vector<std::string>> gen;
+    size_t longest = 0;
+    for (int g = 1; g <= generations; ++g) gen.push_back(scene_family_names(g)), longest = std::max(longest, gen.back().size());
+    for (size_t i = 0; i < longest; ++i)
+      for (auto& names : gen)
+        if (i < names.size()) families.push_back(names[i]);
   }
   for (auto& f : families) scene_family(f);  // validates the names
   const bool holdout = !job.holdout_families.empty();

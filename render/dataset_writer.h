@@ -17,7 +17,8 @@ struct DatasetJob {
   std::string preset = "nnao";         // nnao: Z N albedo AO; nnao-v2: nnao with varied views
                                        // and all families; gi: + lighting; surround: cube frames;
                                        // surround-v2: surround over all families, materials and
-                                       // lights varied per scene (render/scenes/scene_variation.h)
+                                       // lights varied per scene (render/scenes/scene_variation.h);
+                                       // surround-v3: surround-v2 over generations 1-3
   int views = 80;                      // views (frames for surround) over train + test
   double test_fraction = 0.2;          // share of views rendered from held-out scenes
   int views_per_scene = 4;             // views taken in one scene before the next
@@ -26,7 +27,8 @@ struct DatasetJob {
   int path_frames = 1;                 // > 1: views come as camera paths of this length
   std::vector<std::string> scene_files;  // OBJ / glTF; none = procedural families
   std::vector<std::string> families;     // procedural families to use; empty = the preset's
-                                         // (generation 1 for nnao/gi/surround, all for nnao-v2)
+                                         // (generation 1 for nnao/gi/surround, 1-2 for nnao-v2
+                                         // and surround-v2, 1-3 for surround-v3)
   // Leave-families-out: these families render only into holdout/, never into train/
   // or test/; they must be among `families` (or the preset's), and leave at least one.
   std::vector<std::string> holdout_families;
@@ -34,7 +36,7 @@ struct DatasetJob {
   // Per-view randomisation of what real scenes vary (set by the nnao-v2 preset; see
   // ViewVariation): fov, aspect, resolution, AO radius, a wider pitch range.
   bool vary_views = false;
-  // Per-scene albedos, light colours, exposure, sun and extra lamps (set by surround-v2).
+  // Per-scene albedos, light colours, exposure, sun and extra lamps (set by surround-v2/v3).
   bool vary_lighting = false;
   RenderSettings settings;             // spp, bounces, seed; ao/lighting set by preset
   bool progress = true;                // progress bar on stderr
@@ -65,8 +67,10 @@ struct DatasetReport {
 // Applies a preset's channel choice to job.settings (called by render_dataset).
 void apply_preset(DatasetJob& job);
 
-// Whether a preset writes cube frames (surround, surround-v2) rather than single views.
-inline bool is_surround_preset(const std::string& preset) { return preset == "surround" || preset == "surround-v2"; }
+// Whether a preset writes cube frames (surround, surround-v2, surround-v3) rather than single views.
+inline bool is_surround_preset(const std::string& preset) {
+  return preset == "surround" || preset == "surround-v2" || preset == "surround-v3";
+}
 
 // The metadata file of a dataset (DIR/metadata.txt, docs/dataset-format.md): written
 // when a job holds families out or varies its views, so the older presets' folders

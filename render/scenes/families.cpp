@@ -25,6 +25,9 @@ const std::vector<SceneFamily>& scene_families() {
       {"round", "spheres, tori, capsules, cones, domes and bowls resting on the ground", make_round, 2},
       {"pipes", "pipe runs, tanks with domed ends, valve wheels, a grating walkway", make_pipes, 2},
       {"street", "a street canyon: recessed windows, balconies, parked cars, lamp posts", make_street, 2},
+      {"corridor", "long corridors: side rooms through doors, niches, beams, a turn or T-junction lit from outside round the corner", make_corridor, 3},
+      {"courtyard", "an open-sky court enclosed by wings with arcades, eaves and balconies: buildings occlude sky and sun", make_courtyard, 3},
+      {"multiroom", "3-6 rooms joined by doorways, furnished, lamps in some rooms only: light arrives through doors", make_multiroom, 3},
   };
   return all;
 }

@@ -17,11 +17,13 @@ struct SceneFamily {
   Scene (*make)(uint64_t seed);
   // 1: the original eight, the default of the nnao/gi/surround presets (whose output
   // must not change); 2: the families built on mesh_builder.h (curved surfaces,
-  // generated meshes), added for the nnao-v2 preset.
+  // generated meshes), added for the nnao-v2 preset; 3: buildings of several spaces
+  // (corridors, courtyards, multi-room floors) for light from out of view, added for
+  // the surround-v3 preset (nnao-v2 and surround-v2 keep generations 1 and 2).
   int generation = 1;
 };
 
-// All families, in a fixed order: generation 1, then generation 2.
+// All families, in a fixed order: generation 1, then 2, then 3.
 const std::vector<SceneFamily>& scene_families();
 // The names of the families of one generation, in that order.
 std::vector<std::string> scene_family_names(int generation);
@@ -51,5 +53,9 @@ Scene make_terrain(uint64_t seed);
 Scene make_cave(uint64_t seed);
 Scene make_round(uint64_t seed);
 Scene make_pipes(uint64_t seed);
+// Generation 3 (families_plans.cpp, families_courtyard.cpp).
+Scene make_corridor(uint64_t seed);
+Scene make_courtyard(uint64_t seed);
+Scene make_multiroom(uint64_t seed);
 
 }  // namespace nns::data

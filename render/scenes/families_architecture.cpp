@@ -183,25 +183,6 @@ Scene make_vaults(uint64_t seed) {
 namespace nns::data {
 
 namespace {
-// One storey of a facade in the plane x = `x` (thickness `thick`), from z0 to z1 and
-// y0 to y1, with rectangular openings {z_lo, z_hi, y_lo, y_hi} (absolute, sorted
-// along z, inside the storey): add_wall's layout, lifted to any height.
-void add_facade_storey(Scene& s, float x, float z0, float z1, float y0, float y1, float thick,
-                       const std::vector<Opening>& holes, uint32_t m) {
-  auto box = [&](float u0, float u1, float v0, float v1) {
-    if (u1 - u0 < 1e-4f || v1 - v0 < 1e-4f) return;
-    add_box(s, {x - thick / 2, v0, u0}, {x + thick / 2, v1, u1}, m);
-  };
-  float u = z0;
-  for (const Opening& h : holes) {
-    box(u, h.a0, y0, y1);
-    box(h.a0, h.a1, y0, h.y0);
-    box(h.a0, h.a1, h.y1, y1);
-    u = h.a1;
-  }
-  box(u, z1, y0, y1);
-}
-
 // A parked car along z: a rounded body, a rounded cabin, four round wheels.
 void add_car(Scene& s, Rng& rng, Vec3 c, const SceneStyle& st) {
   uint32_t paint = s.add_material(random_material(rng, 0.2f, 0.8f));
@@ -274,7 +255,7 @@ Scene make_street(uint64_t seed) {
                     {std::max(side * half_w, side * (half_w - 0.08f)), o.y0, o.a1 + 0.08f}, m);
           }
         }
-        add_facade_storey(s, x, z, z + bw, y0, y1, thick, holes, m);
+        add_wall_band(s, false, x, z, z + bw, y0, y1, thick, holes, m);
       }
       add_box(s, {std::min(x, x + side * 3), 0.15f + fh * float(floors), z},
               {std::max(x, x + side * 3), 0.45f + fh * float(floors), z + bw}, m);  // roof edge / cornice

@@ -33,21 +33,27 @@ inline void outdoor_lighting(Scene& s, Rng& rng, float elev_lo = 20, float elev_
 struct Opening {
   float a0, a1, y0, y1;
 };
-inline void add_wall(Scene& s, bool along_x, float plane, float a0, float a1, float height, float thick,
-                     const std::vector<Opening>& holes, uint32_t m) {
-  auto box = [&](float u0, float u1, float y0, float y1) {
-    if (u1 - u0 < 1e-4f || y1 - y0 < 1e-4f) return;
-    if (along_x) add_box(s, {u0, y0, plane - thick / 2}, {u1, y1, plane + thick / 2}, m);
-    else add_box(s, {plane - thick / 2, y0, u0}, {plane + thick / 2, y1, u1}, m);
+// The same wall as a band from y0 to y1 (one storey of a facade): holes sorted along
+// the wall, not overlapping, inside the band.
+inline void add_wall_band(Scene& s, bool along_x, float plane, float a0, float a1, float y0, float y1, float thick,
+                          const std::vector<Opening>& holes, uint32_t m) {
+  auto box = [&](float u0, float u1, float v0, float v1) {
+    if (u1 - u0 < 1e-4f || v1 - v0 < 1e-4f) return;
+    if (along_x) add_box(s, {u0, v0, plane - thick / 2}, {u1, v1, plane + thick / 2}, m);
+    else add_box(s, {plane - thick / 2, v0, u0}, {plane + thick / 2, v1, u1}, m);
   };
   float u = a0;
-  for (const Opening& h : holes) {  // holes sorted along the wall, not overlapping
-    box(u, h.a0, 0, height);
-    box(h.a0, h.a1, 0, h.y0);
-    box(h.a0, h.a1, h.y1, height);
+  for (const Opening& h : holes) {
+    box(u, h.a0, y0, y1);
+    box(h.a0, h.a1, y0, h.y0);
+    box(h.a0, h.a1, h.y1, y1);
     u = h.a1;
   }
-  box(u, a1, 0, height);
+  box(u, a1, y0, y1);
+}
+inline void add_wall(Scene& s, bool along_x, float plane, float a0, float a1, float height, float thick,
+                     const std::vector<Opening>& holes, uint32_t m) {
+  add_wall_band(s, along_x, plane, a0, a1, 0, height, thick, holes, m);
 }
 
 // A table: top plus four legs, at (x, z) with yaw.

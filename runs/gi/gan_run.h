@@ -31,6 +31,7 @@
 #include "core/kernels/gemm_precision.h"
 #include "runs/distributed/grad_sync.h"
 #include "runs/gi/gan_trainer.h"
+#include "runs/gi/gi_augment.h"
 #include "runs/gi/gi_previews.h"
 #include "runs/gi/gi_train_data.h"
 
@@ -51,7 +52,24 @@ struct GanRunOptions {
   // bf16: every GEMM and convolution of the training takes bf16 inputs (fp32 sums); the
   // weights, Adam's moments, BatchNorm statistics and the losses stay fp32.
   Precision precision = Precision::fp32;
+  // Mirror, exposure and light-colour jitter of the training samples (gi_augment.h).
+  GiAugment augment;
 };
+
+// The augmentation's part of a run's configuration (a resume must match it); checkpoints
+// from before augmentation existed were made without it (RunSpec::unrecorded_means).
+inline void add_augment_config(runs::RunSpec& spec, const GiAugment& a) {
+  auto num = [](double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", x);
+    return std::string(b);
+  };
+  spec.config.emplace_back("aug_mirror", a.mirror ? "on" : "off");
+  spec.config.emplace_back("aug_exposure", num(a.exposure));
+  spec.config.emplace_back("aug_tint", num(a.tint));
+  for (auto [k, v] : {std::pair<const char*, const char*>{"aug_mirror", "off"}, {"aug_exposure", "1"}, {"aug_tint", "1"}})
+    spec.unrecorded_means.emplace_back(k, v);
+}
 
 struct GanRunResult {
   bool finished = false;        // false: stopped on a non-finite value
@@ -80,6 +98,7 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   spec.config.emplace_back("precision", precision_name(o.precision));
   // It changes the rounding; checkpoints older than --accumulate lack it (RunSpec::unrecorded_means).
   spec.config.emplace_back("accumulate", std::to_string(o.accumulate));
+  add_augment_config(spec, o.augment);
   runs::TrainingRun run(spec, ck, t.step_counter());
   if (run.writes_files()) std::filesystem::create_directories(o.out + "/samples");
   dist::GradSync sync(t.trained_parameters(), t.rngs(), o.accumulate, o.bucket_mb);
@@ -120,6 +139,14 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
         return train.get(size_t(order[size_t(q)]),
                          next >= 0 && next < n ? std::optional<size_t>(size_t(order[size_t(next)])) : std::nullopt);
       };
+      // Sample q as trained on: augmented when asked (gi_augment.h), from its own stream.
+      GiSample augmented_sample;
+      auto prepared = [&](int64_t q, const GiSample& s) -> const GiSample& {
+        if (!o.augment.any()) return s;
+        Rng rng = augment_rng(o.train.seed, epoch, q);
+        augmented_sample = augmented(s, draw_augment(o.augment, rng), o.train.inputs.norm.hdr_scale);
+        return augmented_sample;
+      };
       GiSample poisoned;
       auto maybe_poisoned = [&](const GiSample& s, bool poison) -> const GiSample& {
         if (!poison) return s;
@@ -133,14 +160,14 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
         StepLosses l;
         const GiSample* shown = nullptr;  // K = 1: the step's sample, for the PNGs
         if (!sync.active()) {
-          shown = &sample(j, j + 1);
+          shown = &prepared(j, sample(j, j + 1));
           l = t.train_step(maybe_poisoned(*shown, poison));
         } else {
           const dist::MicroRange mine = sync.mine();
           std::vector<std::vector<double>> per;
           for (int m = mine.begin; m < mine.end; ++m) {
             const int64_t q = j * K + m, next = m + 1 < mine.end ? q + 1 : (j + 1 < steps_per_epoch ? (j + 1) * K + mine.begin : -1);
-            const GiSample& s = sample(q, next);
+            const GiSample& s = prepared(q, sample(q, next));
             sync.begin_micro(m);
             const StepLosses lm = t.accumulate_sample(maybe_poisoned(s, poison && m == 0));
             sync.end_micro(m);
@@ -165,7 +192,7 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
         if (t.step() % o.log_every == 0) flush_log(epoch);
         if (run.writes_files() && o.sample_every > 0 && t.step() % o.sample_every == 0) {
           // The step's first sample (read again when the step read others after it).
-          const GiSample& s = shown ? *shown : sample(j * K, -1);
+          const GiSample& s = shown ? *shown : prepared(j * K, sample(j * K, -1));
           write_sample_pngs(o.out + "/samples/step" + std::to_string(t.step()), s,
                             t.predict(s, /*bn_batch_stats=*/true, /*dropout_on=*/false),
                             HdrMapping(o.train.inputs.norm.hdr_scale));

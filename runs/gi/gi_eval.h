@@ -18,6 +18,7 @@
 #include "core/tensor.h"
 #include "report/image_metrics.h"
 #include "classical_ao/temporal.h"
+#include "models/gi/gi_inputs.h"
 #include "models/gi/hdr_mapping.h"
 #include "screen_space/gbuffer.h"
 

@@ -1,17 +1,21 @@
 #pragma once
-// PNG previews of GI samples and predictions, and the loss chart of a training run.
-// Light is tone-mapped with exposure 1/k (k = the HDR scale), so the data set's median
-// light shows mid-grey whatever the scene's units.
+// PNG previews of GI samples and predictions, contact sheets of a dataset's ground
+// truth, and the loss chart of a training run. Light is tone-mapped with exposure 1/k
+// (k = the HDR scale), so the data set's median light shows mid-grey whatever the
+// scene's units.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "report/chart.h"
 #include "report/html_report.h"
+#include "data/dataset.h"
+#include "data/exr_io.h"
 #include "report/image_write.h"
 #include "runs/gi/gi_eval.h"
 #include "runs/metrics_log.h"
@@ -119,6 +123,77 @@ inline void add_sample_comparisons(data::Report& report, const std::string& out,
                         {"input: direct + emission + env", prefix + "_input.png", ""},
                         {"shaded: albedo x prediction + emission", prefix + "_shaded.png", ""}}});
   }
+}
+
+// A contact sheet of a split's ground truth, for people to see what the scenes look
+// like: the front views of up to `max_frames` views or frames (those of scenes
+// "<family>-<instance>" when `family` is given), each as three tiles side by side —
+// albedo, the shaded image albedo x (direct + env + indirect) + emission, and the
+// indirect light alone — `per_row` of them to a row, 4-pixel gaps. Light is tone-mapped
+// with exposure 1/k, k the median of direct + env + indirect over the sheet's geometry
+// pixels; the indirect with 1/(its own median), being the dimmer part. At most
+// `per_scene` items of one scene (the frames of a camera path look alike); items without
+// indirect.* or of another size than the first are skipped. Returns the frames drawn.
+inline int write_contact_sheet(const std::string& path, const data::SplitListing& split, const std::string& family,
+                               int max_frames, int per_scene = 1, int per_row = 4) {
+  std::vector<std::string> paths = split.views;
+  for (auto& f : split.frames) paths.push_back(f.faces[size_t(data::Face::front)]);
+  std::vector<data::View> views;
+  std::map<std::string, int> drawn;  // per scene
+  for (const std::string& p : paths) {
+    if (int(views.size()) >= max_frames || p.empty()) continue;
+    const std::string scene = data::scene_of(p);
+    if (!family.empty() && (scene.rfind(family + "-", 0) != 0 ||
+                            scene.find_first_not_of("0123456789", family.size() + 1) != std::string::npos))
+      continue;
+    if (drawn[scene] >= per_scene) continue;
+    ++drawn[scene];
+    data::View v = data::read_view(p);
+    if (!v.has("indirect.R") || (!views.empty() && (v.width != views[0].width || v.height != views[0].height))) continue;
+    views.push_back(std::move(v));
+  }
+  if (views.empty()) return 0;
+  const int w = views[0].width, h = views[0].height, gap = 4, n = int(views.size());
+  const int cols = std::min(per_row, n), rows = (n + cols - 1) / cols;
+  const int W = cols * (3 * w + 2 * gap) + (cols + 1) * gap * 2, H = rows * h + (rows + 1) * gap;
+  auto light = [](const data::View& v, int c, size_t i, bool indirect_only) {
+    const char* rgb[3] = {".R", ".G", ".B"};
+    float x = v.channel(std::string("indirect") + rgb[c])[i];
+    if (indirect_only) return x;
+    for (const char* base : {"direct", "env"})
+      if (v.has(std::string(base) + rgb[c])) x += v.channel(std::string(base) + rgb[c])[i];
+    return x;
+  };
+  auto median = [&](bool indirect_only) {
+    std::vector<float> all;
+    for (auto& v : views)
+      for (size_t i = 0; i < v.channel("Z").size(); i += 3)
+        if (!data::is_sky(v.channel("Z")[i])) all.push_back(light(v, 1, i, indirect_only));
+    if (all.empty()) return 1.0f;
+    std::nth_element(all.begin(), all.begin() + std::ptrdiff_t(all.size() / 2), all.end());
+    return all[all.size() / 2] > 1e-6f ? all[all.size() / 2] : 1.0f;
+  };
+  const float k_light = median(false), k_ind = median(true);
+  std::vector<uint8_t> img(size_t(W) * size_t(H) * 3, 40);
+  auto tone = [](float x) { x = std::max(x, 0.0f); return data::srgb_encode(x / (1 + x)); };
+  for (int f = 0; f < n; ++f) {
+    const data::View& v = views[size_t(f)];
+    const int x0 = 2 * gap + (f % cols) * (3 * w + 4 * gap), y0 = gap + (f / cols) * (h + gap);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * size_t(w) + size_t(x);
+        for (int c = 0; c < 3; ++c) {
+          const float a = v.channel(std::string("albedo.") + "RGB"[c])[i];
+          const float e = v.has(std::string("emission.") + "RGB"[c]) ? v.channel(std::string("emission.") + "RGB"[c])[i] : 0.0f;
+          const uint8_t tiles[3] = {data::srgb_encode(std::clamp(a, 0.0f, 1.0f)), tone((a * light(v, c, i, false) + e) / k_light),
+                                    tone(light(v, c, i, true) / k_ind)};
+          for (int t = 0; t < 3; ++t)
+            img[(size_t(y0 + y) * size_t(W) + size_t(x0 + t * (w + gap) + x)) * 3 + size_t(c)] = tiles[t];
+        }
+      }
+  }
+  data::write_png_rgb8(path, img.data(), W, H);
+  return n;
 }
 
 // OUT/loss.svg and .png from the run's metrics log: the D loss, G's adversarial loss and

@@ -4,12 +4,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
+#include "data/dataset.h"
 #include "data/exr_io.h"
+#include "report/image_write.h"
+#include "tests/support/image_bytes.h"
 #include "tests/support/run_command.h"
 
 using namespace nns::data;
@@ -243,4 +247,42 @@ TEST(DatasetInfo, ManyResolutionsAreSummarised) {
   Outcome r = run(d.root.string());
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(has(r.output, "resolutions: 10 sizes over 11 files, width 8-17, height 6-10")) << r.output;
+}
+
+// --contact-sheet on a rendered surround-v3 dataset: one row of three tiles per front
+// view of the family asked for (albedo | shaded | indirect), the albedo tile exactly the
+// file's albedo in sRGB; a family without frames is an error naming the folder.
+TEST(DatasetInfo, ContactSheetDrawsTheFamilysGroundTruth) {
+  const fs::path root = fs::temp_directory_path() / ("nns_test_dataset_info_" + std::to_string(getpid()) + "_sheet");
+  fs::remove_all(root);
+  const std::string render = NNSHADE_BINARY_DIR "/bin/render-dataset --out " + root.string() +
+                             " --preset surround-v3 --families corridor,multiroom --views 4 --views-per-scene 1 "
+                             "--size 8x8 --spp 2 --gi-spp 2 --test-fraction 0.01 --threads 1";
+  Outcome r = nns::testing::run_command(render);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string png = (root / "sheet.png").string();
+  Outcome o = run(root.string() + " --contact-sheet " + png + " --sheet-family corridor");
+  ASSERT_EQ(o.code, 0) << o.output;
+  EXPECT_NE(o.output.find("contact sheet: " + png + " (2 train frames"), std::string::npos) << o.output;
+  int w = 0, h = 0;
+  std::vector<uint8_t> rgb = nns::test::read_rgb8(png, &w, &h);
+  const int gap = 4, F = 8;
+  EXPECT_EQ(w, 2 * (3 * F + 2 * gap) + 3 * 2 * gap);
+  EXPECT_EQ(h, F + 2 * gap);
+  DatasetListing l = list_dataset(root.string());
+  std::string first;
+  for (auto& f : l.train.frames)
+    if (first.empty() && scene_of(f.faces[0]).rfind("corridor-", 0) == 0) first = f.faces[0];
+  ASSERT_FALSE(first.empty());
+  View v = read_view(first);
+  for (int y = 0; y < F; ++y)
+    for (int x = 0; x < F; ++x)
+      ASSERT_EQ(rgb[(size_t(gap + y) * size_t(w) + size_t(2 * gap + x)) * 3],
+                srgb_encode(std::clamp(v.channel("albedo.R")[size_t(y * F + x)], 0.0f, 1.0f)))
+          << x << "," << y;
+  Outcome none = run(root.string() + " --contact-sheet " + png + " --sheet-family courtyard");
+  EXPECT_EQ(none.code, 1) << none.output;
+  EXPECT_NE(none.output.find(root.string() + ": no train view or frame with indirect.* of family 'courtyard'"),
+            std::string::npos) << none.output;
+  fs::remove_all(root);
 }

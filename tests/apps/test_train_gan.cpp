@@ -389,3 +389,39 @@ TEST_F(TrainGan, ResumeWithAnotherPrecisionIsRefusedNamingIt) {
   ASSERT_EQ(run(train_cmd(fp, "--debug-stop-after-epochs 1"), fp + ".log"), 0) << read_all(fp + ".log");
   EXPECT_EQ(run(train_cmd(fp, "--precision bf16 --resume"), fp + ".log1"), 1) << read_all(fp + ".log1");
 }
+
+// Augmentation (--aug-mirror, --aug-exposure, --aug-tint; runs/gi/gi_augment.h): the same
+// seed trains bitwise equal with 1 and 2 threads, it changes the training (it is not a
+// no-op), a run interrupted and resumed equals an unbroken one, and a resume with
+// another augmentation is refused naming it.
+TEST_F(TrainGan, AugmentationIsDeterministicResumableAndRecorded) {
+  const std::string aug = "--aug-mirror --aug-exposure 1.4 --aug-tint 1.2 ";
+  const std::string one = (root_ / "aug1").string(), two = (root_ / "aug2").string(), plain = (root_ / "aug0").string();
+  ASSERT_EQ(run(train_cmd(one, aug + "--threads 1"), one + ".log"), 0) << read_all(one + ".log");
+  ASSERT_EQ(run(train_cmd(two, aug + "--threads 2"), two + ".log"), 0) << read_all(two + ".log");
+  EXPECT_EQ(read_all(one + "/G.blob"), read_all(two + "/G.blob"));
+  EXPECT_EQ(read_all(one + "/checkpoint.blob"), read_all(two + "/checkpoint.blob"));
+  ASSERT_EQ(run(train_cmd(plain, "--threads 2"), plain + ".log"), 0) << read_all(plain + ".log");
+  EXPECT_NE(read_all(plain + "/G.blob"), read_all(two + "/G.blob"));
+  const nns::Blob ck = nns::Blob::load(two + "/checkpoint.blob");
+  EXPECT_EQ(ck.config_string("aug_mirror"), "on");
+  EXPECT_EQ(ck.config_string("aug_exposure"), "1.4");
+  EXPECT_EQ(ck.config_string("aug_tint"), "1.2");
+
+  const std::string broken = (root_ / "aug_resumed").string();
+  ASSERT_EQ(run(train_cmd(broken, aug + "--threads 1 --debug-stop-after-epochs 1"), broken + ".log1"), 0)
+      << read_all(broken + ".log1");
+  ASSERT_NE(read_all(two + "/G.blob"), read_all(broken + "/G.blob"));
+  ASSERT_EQ(run(train_cmd(broken, aug + "--threads 2 --resume"), broken + ".log2"), 0) << read_all(broken + ".log2");
+  EXPECT_EQ(read_all(two + "/G.blob"), read_all(broken + "/G.blob"));
+  EXPECT_EQ(read_all(two + "/checkpoint.blob"), read_all(broken + "/checkpoint.blob"));
+  EXPECT_EQ(read_all(two + "/metrics.jsonl"), read_all(broken + "/metrics.jsonl"));
+
+  int rc = run(train_cmd(broken, "--aug-mirror --aug-exposure 1.2 --aug-tint 1.2 --resume"), broken + ".log3");
+  EXPECT_EQ(rc, 1) << read_all(broken + ".log3");
+  EXPECT_NE(read_all(broken + ".log3").find("aug_exposure: was 1.4, now 1.2"), std::string::npos) << read_all(broken + ".log3");
+  // A checkpoint made without augmentation (or before it existed) resumes only without it.
+  rc = run(train_cmd(plain, "--aug-mirror --resume"), plain + ".log2");
+  EXPECT_EQ(rc, 1) << read_all(plain + ".log2");
+  EXPECT_NE(read_all(plain + ".log2").find("aug_mirror: was off, now on"), std::string::npos) << read_all(plain + ".log2");
+}

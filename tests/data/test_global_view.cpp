@@ -137,6 +137,27 @@ TEST(GlobalView, ExtractFrontInvertsTheMerge) {
   EXPECT_THROW(extract_front(Tensor<float>({1, 1, 4, 4})), std::invalid_argument);
 }
 
+// The mirror that train-gan's --aug-mirror relies on (runs/gi/gi_augment.h): for an
+// even face size, the global view flipped left-right is the global view of the mirrored
+// cube (every face flipped left-right, left and right swapped), pixel for pixel; for
+// an odd size the front face is off centre and it is not.
+TEST(GlobalView, FlippedGlobalViewIsTheMirroredCubeForEvenFaceSizes) {
+  auto mirrored_source_matches = [](int F) {
+    const GlobalViewLayout& L = global_view_layout(F);
+    for (int y = 0; y < L.height; ++y)
+      for (int x = 0; x < L.width; ++x) {
+        const int64_t i = int64_t(y) * L.width + x, j = int64_t(y) * L.width + (L.width - 1 - x);
+        Face f = L.source_face(i);
+        Face m = f == Face::left ? Face::right : f == Face::right ? Face::left : f;
+        const int p = L.source_pixel(i), flipped = (p / F) * F + (F - 1 - p % F);
+        if (L.source_face(j) != m || L.source_pixel(j) != flipped) return false;
+      }
+    return true;
+  };
+  for (int F = 2; F <= 130; F += 2) EXPECT_TRUE(mirrored_source_matches(F)) << "face size " << F;
+  for (int F : {3, 5, 33}) EXPECT_FALSE(mirrored_source_matches(F)) << "face size " << F;
+}
+
 TEST(CoordMaps, PhiThetaFollowTheDirections) {
   const int F = 16, W = 64, T = 8;
   auto m = phi_theta_maps(F);
