@@ -78,7 +78,9 @@ TEST(SceneFamiliesV3, CamerasStandInsideTheWalkableSpace) {
         ASSERT_TRUE(down.valid()) << s.name << ": nothing under the camera at y " << cam.eye.y;
         EXPECT_LT(down.position.y, 1.5f) << s.name << ": camera over a wall";
         EXPECT_GT(down.position.y, -0.05f) << s.name << ": camera over a hole in the floor";
-        if (name != "courtyard") EXPECT_TRUE(rt.intersect(cam.eye, {0, 1, 0}).valid()) << s.name << ": no roof over the camera";
+        if (name != "courtyard") {
+          EXPECT_TRUE(rt.intersect(cam.eye, {0, 1, 0}).valid()) << s.name << ": no roof over the camera";
+        }
       }
     }
     // Placement may fall back to its best try; most views must meet every rule.

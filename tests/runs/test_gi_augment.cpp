@@ -144,8 +144,9 @@ TEST(GiAugment, JitteredLightIsTheSameLightScaled) {
     }
   const int64_t gn = s.input.size(2) * s.input.size(3);
   for (int ch = 0; ch < s.input.size(1); ++ch)
-    if (ch < 7 || ch > 9)
+    if (ch < 7 || ch > 9) {
       EXPECT_EQ(std::memcmp(j.input.data() + ch * gn, s.input.data() + ch * gn, size_t(gn) * 4), 0) << "channel " << ch;
+    }
 
   std::array<View, 6> lit = faces;
   for (auto& v : lit)
