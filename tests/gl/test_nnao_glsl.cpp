@@ -11,7 +11,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 
 #include "core/rng.h"
 #include "examples/nnao_gl/headless_gl.h"
@@ -167,6 +169,30 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
   const auto m4 = export_model(four, dir_ / "b4", 64);
   ASSERT_EQ(m4.blur_passes, 4);
   check_passes(m4, dir_ / "b4", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 blur passes");
+}
+
+// The pair count travels as text in nnao_blur.frag: a count outside 1..16 is refused,
+// naming the file, before anything is drawn.
+TEST_F(NnaoGlsl, ABadBlurPairCountIsRefusedNamingTheFile) {
+  const fixtures::HorizonShape shape{8, 4, 2};
+  export_model(fixtures::random_nnao_blob(0, 4, 5, false, shape), dir_, 64);
+  const fs::path blur = dir_ / "nnao_blur.frag";
+  std::ifstream in(blur);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string frag = text.str();
+  const std::string key = "#define NNAO_BLUR_PAIRS 1\n";
+  const size_t at = frag.find(key);
+  ASSERT_NE(at, std::string::npos);
+  frag.replace(at, key.size(), "#define NNAO_BLUR_PAIRS 0\n");
+  std::ofstream(blur) << frag;
+  try {
+    gl::NnaoGlPasses passes(dir_.string());
+    FAIL() << "a pair count of 0 was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(blur.string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("NNAO_BLUR_PAIRS"), std::string::npos) << e.what();
+  }
 }
 
 // The comparison catches what an engine could get wrong: a filter atlas transposed, a
