@@ -243,9 +243,9 @@ class GanTrainer {
       throw NonFiniteError(k, "generator loss");
     }
     opt_g_->zero_grad();
-    // D stays frozen through this backward: ops ask whether a parent wants a gradient
-    // when backward runs, so unfreezing D before it added the adversarial loss's
-    // gradient to D's (a D step partly towards calling fakes real).
+    // D was frozen when the adversarial term was recorded, so the graph holds no edge
+    // into D's parameters (core/autograd.h fixes a node's edges when its op is
+    // recorded): this backward leaves D's gradients as D's own step left them.
     g_loss.backward();
     if (D) set_requires_grad(*D, true);
     if (checked) check_gradients(G, k, "G.");
