@@ -97,8 +97,21 @@ class ImplicitColumns {
   // from the padded rows: the words pair_bf16 gives on the fp32 panels.
   void operator()(uint32_t* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) const {
     constexpr int NR = gemm_detail::kNR;
-    for (int64_t j = jc; j < jc + nc; j += NR, dst += NR * ((kc + 1) / 2))
-      pack_panel_bf16(dst, pc, kc, j, int(std::min<int64_t>(NR, jc + nc - j)));
+#if defined(__AVX512F__)
+    if (gemm_detail::bf16_pack_detail::runs_avx512_bf16()) {
+      for (int64_t j = jc; j < jc + nc; j += NR, dst += NR * ((kc + 1) / 2))
+        pack_panel_bf16(dst, pc, kc, j, int(std::min<int64_t>(NR, jc + nc - j)));
+      return;
+    }
+#endif
+    // Elsewhere (the portable build, CPUs without AVX512-BF16): the fp32 panel, then
+    // pair_bf16.
+    thread_local std::vector<float> panel;
+    panel.resize(size_t(NR * kc));
+    for (int64_t j = jc; j < jc + nc; j += NR, dst += NR * ((kc + 1) / 2)) {
+      pack_panel(panel.data(), pc, kc, j, int(std::min<int64_t>(NR, jc + nc - j)));
+      pair_bf16(dst, panel.data(), NR, kc);
+    }
   }
 
  private:
@@ -162,9 +175,10 @@ class ImplicitColumns {
 #endif
   }
 
-  void pack_panel_bf16(uint32_t* __restrict dst, int64_t pc, int64_t kc, int64_t j, int n) const {
-    constexpr int NR = kNR;
 #if defined(__AVX512F__)
+  __attribute__((target("avx512f,avx512bw,avx512bf16"))) void pack_panel_bf16(
+      uint32_t* __restrict dst, int64_t pc, int64_t kc, int64_t j, int n) const {
+    constexpr int NR = kNR;
     const int64_t* k_off = k_off_ + pc;
     const Runs r = runs_of(j, n);
     if (r.count == 1 && n == NR) {  // one full run: two rows of the padded input per pair
@@ -177,16 +191,11 @@ class ImplicitColumns {
     for (int64_t k = 0; k < kc; k += 2, dst += NR)
       for (int h = 0; h < NR / 16; ++h) {
         const __m512 hi = k + 1 < kc ? load_runs(r, k_off[k + 1], h) : _mm512_setzero_ps();
-        _mm512_store_si512(dst + 16 * h, bf16_detail::pair_words(load_runs(r, k_off[k], h), hi));
+        _mm512_store_si512(dst + 16 * h, gemm_detail::bf16_pack_detail::pair_words_fast(
+                                             load_runs(r, k_off[k], h), hi));
       }
-#else
-    // Without AVX-512 (the portable build): the fp32 panel, then pair_bf16.
-    thread_local std::vector<float> panel;
-    panel.resize(size_t(NR * kc));
-    pack_panel(panel.data(), pc, kc, j, n);
-    pair_bf16(dst, panel.data(), NR, kc);
-#endif
   }
+#endif
 
   int64_t W_out_, step_;
   const float* rows_;
