@@ -8,13 +8,13 @@
 //   pack_b_bf16: ceil(nc/NR) panels, each ceil(kc/2) steps of NR words
 // Two shapes of source: a k step that is a contiguous run (op(A) transposed, op(B) as
 // stored, an implicit convolution's column rows) pairs two runs lane by lane
-// (pair_rows_bf16); a k step that is strided (op(A) as stored, op(B) transposed) loads 32
-// consecutive k of each of 16 rows, rounds and pairs neighbours in registers (their even
-// and odd k split by a permute) and transposes 16 x 16 words: one transpose per 32 k
-// where the fp32 packing does one per 16.
-// The AVX-512 versions are compiled by target attribute and chosen at run time, as
-// pair_bf16; without AVX-512F the fp32 panel is packed and paired (the reference the
-// tests compare with).
+// (pair_rows_avx512); a k step that is strided (op(A) as stored, op(B) transposed) loads
+// 32 consecutive k of each of 16 rows, rounds them into 16 words of neighbouring pairs in
+// registers and transposes 16 x 16 words: one transpose per 32 k where the fp32 packing
+// does one per 16.
+// The AVX-512 versions round with vcvtne2ps2bf16 (below), are compiled by target
+// attribute and chosen at run time where the bf16 micro-kernel is vdpbf16ps; elsewhere
+// the fp32 panel is packed and paired (the reference the tests compare with).
 #include <immintrin.h>
 
 #include <algorithm>
