@@ -105,12 +105,12 @@ class ImplicitColumns {
     }
 #endif
     // Elsewhere (the portable build, CPUs without AVX512-BF16): the fp32 panel, then
-    // pair_bf16.
-    thread_local std::vector<float> panel;
-    panel.resize(size_t(NR * kc));
+    // pair_bf16. (64-byte aligned: pack_panel stores whole aligned vectors.)
+    thread_local gemm_detail::PackBuffer buffer;
+    float* panel = buffer.get(size_t(NR * kc));
     for (int64_t j = jc; j < jc + nc; j += NR, dst += NR * ((kc + 1) / 2)) {
-      pack_panel(panel.data(), pc, kc, j, int(std::min<int64_t>(NR, jc + nc - j)));
-      pair_bf16(dst, panel.data(), NR, kc);
+      pack_panel(panel, pc, kc, j, int(std::min<int64_t>(NR, jc + nc - j)));
+      pair_bf16(dst, panel, NR, kc);
     }
   }
 

@@ -25,16 +25,17 @@
 #include "core/kernels/cpu_features.h"
 #include "core/kernels/gemm_pack.h"
 #include "core/kernels/gemm_pack_avx512.h"
+#include "core/kernels/gemm_precision.h"
 
 namespace nns::gemm_detail {
 
 namespace bf16_pack_detail {
 
 // The AVX-512 packers below run where the bf16 micro-kernel is vdpbf16ps: they round with
-// vcvtne2ps2bf16 (AVX512-BF16) and interleave with vpermw (AVX512BW).
+// vcvtne2ps2bf16 (AVX512-BF16) and interleave with vpermw (AVX512BW). Forcing the generic
+// kernel (force_generic_bf16) forces the fallback packers too, so tests reach them here.
 inline bool runs_avx512_bf16() {
-  const CpuFeatures& f = cpu_features();
-  return f.avx512_bf16 && f.avx512bw;
+  return bf16_isa() == Bf16Isa::avx512_bf16 && cpu_features().avx512bw;
 }
 
 inline __mmask16 lanes_mask(int64_t lanes) {

@@ -84,6 +84,22 @@ TEST(Bf16Rounding, VectorPackingGivesTheScalarBits) {
   }
 }
 
+// The kernels to test on this machine: the generic one always, AVX512-BF16 where the CPU
+// has it. Each run sets force_generic_bf16 accordingly (and restores it).
+std::vector<Bf16Isa> available_isas() {
+  std::vector<Bf16Isa> isas{Bf16Isa::generic};
+  if (cpu_features().avx512_bf16) isas.push_back(Bf16Isa::avx512_bf16);
+  return isas;
+}
+
+class IsaGuard {
+ public:
+  explicit IsaGuard(Bf16Isa isa) { force_generic_bf16(isa == Bf16Isa::generic); }
+  ~IsaGuard() { force_generic_bf16(false); }
+};
+
+const char* isa_name(Bf16Isa isa) { return isa == Bf16Isa::generic ? "generic" : "avx512_bf16"; }
+
 // Random bit patterns: every class (NaN, infinity, denormal, ties) turns up.
 std::vector<float> random_bits(size_t n, Rng& rng) {
   std::vector<float> v(n);
@@ -104,11 +120,13 @@ TEST(Bf16Packing, DirectPackersGiveThePairedWords) {
   const int64_t ld = 213, rows = 150;
   const std::vector<float> src = random_bits(size_t(ld * rows), rng);
   constexpr uint32_t kSentinel = 0xdeadbeefu;
+  for (Bf16Isa isa : available_isas())  // the generic kernel's packers: pack, then pair
   for (bool trans : {false, true})
     for (int64_t extent : {1, 5, 14, 15, 16, 17, 29, 32, 33, 70})
       for (int64_t kc : {1, 2, 3, 16, 31, 32, 33, 64, 67}) {
-        SCOPED_TRACE("trans=" + std::to_string(trans) + " extent=" + std::to_string(extent) +
-                     " kc=" + std::to_string(kc));
+        IsaGuard guard(isa);
+        SCOPED_TRACE(std::string(isa_name(isa)) + " trans=" + std::to_string(trans) +
+                     " extent=" + std::to_string(extent) + " kc=" + std::to_string(kc));
         // op(X) of extent x kc (A) or kc x extent (B) starting at row 3, column 5 of op(X).
         const MatView view{src.data(), ld, trans};
         const int64_t kp = (kc + 1) / 2;
@@ -137,7 +155,9 @@ TEST(Bf16Packing, DirectPackersGiveThePairedWords) {
 TEST(Bf16Packing, ImplicitColumnsGiveThePairedWords) {
   using namespace gemm_detail;
   Rng rng(12);
+  for (Bf16Isa isa : available_isas())
   for (int64_t W : {kNR * 2, kNR + 7}) {
+    IsaGuard guard(isa);
     const ConvGeometry g = conv2d_geometry(1, 3, 6, W, 4, 3, 3, 1, 1, 1, 1, 1, 1, 1);
     const std::vector<float> image = random_bits(size_t(g.C_in * g.H * g.W), rng);
     const PaddedRows layout = PaddedRows::layout(g, implicit_input_rows(g, g.H_out));
@@ -148,8 +168,8 @@ TEST(Bf16Packing, ImplicitColumnsGiveThePairedWords) {
     const int64_t N = g.H_out * g.W_out;
     for (auto [pc, kc] : {std::pair<int64_t, int64_t>{0, g.col_rows()}, {1, 20}, {4, 1}})
       for (auto [jc, nc] : {std::pair<int64_t, int64_t>{0, N}, {5, N - 5 - 3}}) {
-        SCOPED_TRACE("W=" + std::to_string(W) + " pc=" + std::to_string(pc) + " kc=" +
-                     std::to_string(kc) + " jc=" + std::to_string(jc));
+        SCOPED_TRACE(std::string(isa_name(isa)) + " W=" + std::to_string(W) + " pc=" +
+                     std::to_string(pc) + " kc=" + std::to_string(kc) + " jc=" + std::to_string(jc));
         const int64_t panels = (nc + kNR - 1) / kNR, kp = (kc + 1) / 2;
         // The packers store whole aligned panels (as into gemm_packed.h's buffers).
         auto aligned = [](size_t words) { return std::aligned_alloc(64, (words * 4 + 63) / 64 * 64 + 64); };
@@ -168,21 +188,6 @@ TEST(Bf16Packing, ImplicitColumnsGiveThePairedWords) {
   }
 }
 
-// The kernels to test on this machine: the generic one always, AVX512-BF16 where the CPU
-// has it. Each run sets force_generic_bf16 accordingly (and restores it).
-std::vector<Bf16Isa> available_isas() {
-  std::vector<Bf16Isa> isas{Bf16Isa::generic};
-  if (cpu_features().avx512_bf16) isas.push_back(Bf16Isa::avx512_bf16);
-  return isas;
-}
-
-class IsaGuard {
- public:
-  explicit IsaGuard(Bf16Isa isa) { force_generic_bf16(isa == Bf16Isa::generic); }
-  ~IsaGuard() { force_generic_bf16(false); }
-};
-
-const char* isa_name(Bf16Isa isa) { return isa == Bf16Isa::generic ? "generic" : "avx512_bf16"; }
 
 struct Case {
   bool ta, tb;
