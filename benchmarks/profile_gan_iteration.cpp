@@ -1,6 +1,7 @@
 // Steady-state profile of one pix2pix iteration (not a Google Benchmark: a plain program
 // that `perf` can switch on after the warm-up, which bench_gan_iteration cannot).
 //   profile_gan_iteration [threads=2] [iterations=5] [size=256] [ngf=64] [levels=8]
+//       [precision=fp32|bf16]
 // prints the best and mean wall and process CPU time per iteration (CPU time summed over
 // the threads: robust when other jobs share the cores) and the allocator's peak.
 // With PERF_CTL set to a perf control FIFO it writes "enable" there after the warm-up:
@@ -13,6 +14,7 @@
 #include <ctime>
 
 #include "core/allocator.h"
+#include "core/kernels/gemm_precision.h"
 #include "core/thread_pool.h"
 #include "runs/gi/gan_trainer.h"
 
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
   auto arg = [&](int i, int fallback) { return argc > i ? std::atoi(argv[i]) : fallback; };
   const int threads = arg(1, 2), iters = std::max(1, arg(2, 5)), S = arg(3, 256);
   set_num_threads(threads);
+  const ScopedGemmPrecision precision(parse_precision(argc > 6 ? argv[6] : "fp32"));
   GanTrainConfig c;  // the thesis configuration of bench_gan_iteration
   c.inputs.mode = GiMode::front;
   c.inputs.size = S;
@@ -62,9 +65,9 @@ int main(int argc, char** argv) {
     sum_wall += w, sum_cpu += cpu;
   }
   const auto& a = CachingAllocator::instance();
-  std::printf("threads %d: wall best %.3f mean %.3f s; process CPU best %.3f mean %.3f s; "
+  std::printf("threads %d, %s: wall best %.3f mean %.3f s; process CPU best %.3f mean %.3f s; "
               "allocator peak %.0f MiB\n",
-              threads, best_wall, sum_wall / iters, best_cpu, sum_cpu / iters,
+              threads, precision_name(gemm_precision()), best_wall, sum_wall / iters, best_cpu, sum_cpu / iters,
               double(a.peak_bytes_in_use()) / 1048576.0);
   return 0;
 }

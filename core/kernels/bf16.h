@@ -41,10 +41,16 @@ __attribute__((target("avx512f"))) inline __m512i bf16_high16(__m512 v) {
   return _mm512_mask_or_epi32(rounded, nan, u, _mm512_set1_epi32(0x00400000));
 }
 
+// Lane j: bf16(lo[j]) in the low half, bf16(hi[j]) in the high half.
+__attribute__((target("avx512f"))) inline __m512i pair_words(__m512 lo, __m512 hi) {
+  const __m512i l = _mm512_srli_epi32(bf16_high16(lo), 16);
+  // (h & high) | l: l's high half is zero.
+  return _mm512_ternarylogic_epi32(bf16_high16(hi), _mm512_set1_epi32(int(0xffff0000u)), l, 0xEA);
+}
+
 __attribute__((target("avx512f"))) inline void pair_bf16_avx512(uint32_t* __restrict dst,
                                                                 const float* __restrict src, int W,
                                                                 int64_t kc) {
-  const __m512i high = _mm512_set1_epi32(int(0xffff0000u));
   for (int64_t k = 0; k < kc; k += 2) {
     const float* lo = src + k * W;
     const float* hi = lo + W;
@@ -52,11 +58,8 @@ __attribute__((target("avx512f"))) inline void pair_bf16_avx512(uint32_t* __rest
     for (int j = 0; j < W; j += 16) {
       const int n = W - j >= 16 ? 16 : W - j;
       const __mmask16 m = __mmask16((1u << n) - 1u);
-      const __m512i l = _mm512_srli_epi32(bf16_high16(_mm512_maskz_loadu_ps(m, lo + j)), 16);
-      const __m512i h = k + 1 < kc ? bf16_high16(_mm512_maskz_loadu_ps(m, hi + j))
-                                   : _mm512_setzero_si512();
-      // (h & high) | l: l's high half is zero.
-      _mm512_mask_storeu_epi32(d + j, m, _mm512_ternarylogic_epi32(h, high, l, 0xEA));
+      const __m512 h = k + 1 < kc ? _mm512_maskz_loadu_ps(m, hi + j) : _mm512_setzero_ps();
+      _mm512_mask_storeu_epi32(d + j, m, pair_words(_mm512_maskz_loadu_ps(m, lo + j), h));
     }
   }
 }

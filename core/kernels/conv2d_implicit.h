@@ -21,6 +21,7 @@
 #include "core/kernels/conv_geometry.h"
 #include "core/kernels/conv_units.h"
 #include "core/kernels/gemm.h"
+#include "core/kernels/gemm_pack_bf16.h"
 #include "core/tensor.h"
 #include "core/thread_pool.h"
 
@@ -92,51 +93,109 @@ class ImplicitColumns {
     for (int64_t j = jc; j < jc + nc; j += NR, dst += NR * kc)
       pack_panel(dst, pc, kc, j, int(std::min<int64_t>(NR, jc + nc - j)));
   }
+  // The same panels in pair_bf16's layout (ceil(kc / 2) steps of NR words), packed straight
+  // from the padded rows: the words pair_bf16 gives on the fp32 panels.
+  void operator()(uint32_t* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) const {
+    constexpr int NR = gemm_detail::kNR;
+#if defined(__AVX512F__)
+    if (gemm_detail::bf16_pack_detail::runs_avx512_bf16()) {
+      for (int64_t j = jc; j < jc + nc; j += NR, dst += NR * ((kc + 1) / 2))
+        pack_panel_bf16(dst, pc, kc, j, int(std::min<int64_t>(NR, jc + nc - j)));
+      return;
+    }
+#endif
+    // Elsewhere (the portable build, CPUs without AVX512-BF16): the fp32 panel, then
+    // pair_bf16. (64-byte aligned: pack_panel stores whole aligned vectors.)
+    thread_local gemm_detail::PackBuffer buffer;
+    float* panel = buffer.get(size_t(NR * kc));
+    for (int64_t j = jc; j < jc + nc; j += NR, dst += NR * ((kc + 1) / 2)) {
+      pack_panel(panel, pc, kc, j, int(std::min<int64_t>(NR, jc + nc - j)));
+      pair_bf16(dst, panel, NR, kc);
+    }
+  }
 
  private:
-  void pack_panel(float* __restrict dst, int64_t pc, int64_t kc, int64_t j, int n) const {
-    constexpr int NR = gemm_detail::kNR;
-    // The panel's columns as runs inside one output row: lanes [lane[r], lane[r+1]) read
-    // from src[r] + k_off[k] onwards.
-    int64_t src[NR];
-    int lane[NR + 1];
-    int runs = 0;
-    for (int l = 0; l < n; ++runs) {
+  static constexpr int kNR = gemm_detail::kNR;
+  // The panel's columns as runs inside one output row: lanes [lane[r], lane[r+1]) read
+  // from rows_ + src[r] + k_off[k] onwards (src[r] is offset by -lane[r]: lane l reads
+  // src + l).
+  struct Runs {
+    int64_t src[kNR];
+    int lane[kNR + 1];
+    int count = 0;
+  };
+  Runs runs_of(int64_t j, int n) const {
+    Runs r;
+    for (int l = 0; l < n; ++r.count) {
       const int64_t oh = (j + l) / W_out_, ow = (j + l) % W_out_;
-      src[runs] = oh * step_ + ow - l;  // minus l: lane l' then reads src + l'
-      lane[runs] = l;
+      r.src[r.count] = oh * step_ + ow - l;
+      r.lane[r.count] = l;
       l += int(std::min<int64_t>(n - l, W_out_ - ow));
     }
-    lane[runs] = n;
+    r.lane[r.count] = n;
+    return r;
+  }
+
+#if defined(__AVX512F__)
+  static_assert(kNR % 16 == 0, "panels are whole zmm vectors");
+  // Lanes [16h, 16h + 16) of column-matrix row k (relative to k_off) when the panel
+  // straddles output rows; zero past the panel's n columns.
+  __m512 load_runs(const Runs& r, int64_t k_off, int h) const {
+    __m512 v = _mm512_setzero_ps();
+    for (int i = 0; i < r.count; ++i) {
+      const int lo = std::max(r.lane[i], 16 * h), hi = std::min(r.lane[i + 1], 16 * h + 16);
+      if (lo >= hi) continue;
+      const __mmask16 m = __mmask16(((1u << (hi - 16 * h)) - 1u) & ~((1u << (lo - 16 * h)) - 1u));
+      v = _mm512_mask_loadu_ps(v, m, rows_ + r.src[i] + k_off + 16 * h);
+    }
+    return v;
+  }
+#endif
+
+  void pack_panel(float* __restrict dst, int64_t pc, int64_t kc, int64_t j, int n) const {
+    constexpr int NR = kNR;
+    const Runs r = runs_of(j, n);
     const int64_t* k_off = k_off_ + pc;
 #if defined(__AVX512F__)
-    static_assert(NR % 16 == 0, "panels are whole zmm vectors");
-    if (runs == 1 && n == NR) {  // the common case: one full run
-      const float* base = rows_ + src[0];
+    if (r.count == 1 && n == NR) {  // the common case: one full run
+      const float* base = rows_ + r.src[0];
       for (int64_t k = 0; k < kc; ++k, dst += NR)
         for (int h = 0; h < NR / 16; ++h)
           _mm512_store_ps(dst + 16 * h, _mm512_loadu_ps(base + k_off[k] + 16 * h));
       return;
     }
     for (int64_t k = 0; k < kc; ++k, dst += NR)
-      for (int h = 0; h < NR / 16; ++h) {
-        __m512 v = _mm512_setzero_ps();
-        for (int r = 0; r < runs; ++r) {
-          const int lo = std::max(lane[r], 16 * h), hi = std::min(lane[r + 1], 16 * h + 16);
-          if (lo >= hi) continue;
-          const __mmask16 m = __mmask16(((1u << (hi - 16 * h)) - 1u) & ~((1u << (lo - 16 * h)) - 1u));
-          v = _mm512_mask_loadu_ps(v, m, rows_ + src[r] + k_off[k] + 16 * h);
-        }
-        _mm512_store_ps(dst + 16 * h, v);
-      }
+      for (int h = 0; h < NR / 16; ++h) _mm512_store_ps(dst + 16 * h, load_runs(r, k_off[k], h));
 #else
     for (int64_t k = 0; k < kc; ++k, dst += NR) {
-      for (int r = 0; r < runs; ++r)
-        for (int l = lane[r]; l < lane[r + 1]; ++l) dst[l] = rows_[src[r] + k_off[k] + l];
+      for (int i = 0; i < r.count; ++i)
+        for (int l = r.lane[i]; l < r.lane[i + 1]; ++l) dst[l] = rows_[r.src[i] + k_off[k] + l];
       for (int l = n; l < NR; ++l) dst[l] = 0.0f;
     }
 #endif
   }
+
+#if defined(__AVX512F__)
+  __attribute__((target("avx512f,avx512bw,avx512bf16"))) void pack_panel_bf16(
+      uint32_t* __restrict dst, int64_t pc, int64_t kc, int64_t j, int n) const {
+    constexpr int NR = kNR;
+    const int64_t* k_off = k_off_ + pc;
+    const Runs r = runs_of(j, n);
+    if (r.count == 1 && n == NR) {  // one full run: two rows of the padded input per pair
+      const float* base = rows_ + r.src[0];
+      for (int64_t k = 0; k < kc; k += 2, dst += NR)
+        gemm_detail::bf16_pack_detail::pair_rows_avx512(
+            dst, base + k_off[k], k + 1 < kc ? base + k_off[k + 1] : nullptr, NR, NR);
+      return;
+    }
+    for (int64_t k = 0; k < kc; k += 2, dst += NR)
+      for (int h = 0; h < NR / 16; ++h) {
+        const __m512 hi = k + 1 < kc ? load_runs(r, k_off[k + 1], h) : _mm512_setzero_ps();
+        _mm512_store_si512(dst + 16 * h, gemm_detail::bf16_pack_detail::pair_words_fast(
+                                             load_runs(r, k_off[k], h), hi));
+      }
+  }
+#endif
 
   int64_t W_out_, step_;
   const float* rows_;

@@ -11,6 +11,7 @@ namespace nns {
 
 struct CpuFeatures {
   bool avx512f = false;
+  bool avx512bw = false;
   bool avx512_bf16 = false;
   bool amx_tile = false;
   bool amx_bf16 = false;
@@ -35,6 +36,7 @@ inline CpuFeatures detect() {
   const bool zmm_state = (x & 0xe6) == 0xe6;
   const bool tile_state = (x & (3u << 17)) == (3u << 17);
   f.avx512f = zmm_state && (b & (1u << 16));
+  f.avx512bw = f.avx512f && (b & (1u << 30));
   f.amx_bf16 = tile_state && (d & (1u << 22));
   f.amx_tile = tile_state && (d & (1u << 24));
   unsigned max_sub = a;

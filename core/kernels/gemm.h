@@ -166,7 +166,8 @@ inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N
 // shape given to the constructor takes the packed kernel; otherwise multiply() is gemm().
 // The products run in the precision set when the object was made (gemm_precision()): in
 // bf16 the panels are kept in pair_bf16's layout only, converted once here instead of
-// once per product and per thread (the same words gemm_packed_loops would pair).
+// once per product and per thread (the same words gemm_packed_loops would pair), packed
+// straight into bf16 pairs (gemm_pack_bf16.h).
 class GemmPackedA {
  public:
   GemmPackedA(bool trans_a, int64_t M, int64_t K, const float* A, int64_t lda, int64_t typical_n)
@@ -192,9 +193,7 @@ class GemmPackedA {
           pack_a<kMR>(fp32_block(pc, kc, ic), a, ic, mc, pc, kc);
           continue;
         }
-        float* scratch = thread_pack(Pack::a).get(size_t(kc * kMC));
-        pack_a<kMR>(scratch, a, ic, mc, pc, kc);
-        pair_panels_bf16_to(bf16_block(pc, kc, ic), scratch, kMR, mc, kc);
+        pack_a_bf16<kMR>(bf16_block(pc, kc, ic), a, ic, mc, pc, kc);
       }
     });
   }
@@ -226,8 +225,10 @@ class GemmPackedA {
                           int64_t ldc) const {
     using namespace gemm_detail;
     split_packed(M_, N, K_, [&](int64_t m0, int64_t m1, int64_t n0, int64_t n1) {
-      auto pack_b_block = [&](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) {
-        pack_b(dst, pc, kc, n0 + jc, nc);
+      // fp32 panels, or bf16 pairs when pack_b packs those (gemm_detail::kPacksBf16).
+      auto pack_b_block = [&](auto* dst, int64_t pc, int64_t kc, int64_t jc,
+                              int64_t nc) -> decltype(pack_b(dst, pc, kc, jc, nc)) {
+        return pack_b(dst, pc, kc, n0 + jc, nc);
       };
       auto* c = C + m0 * ldc + n0;
       if (precision_ == Precision::bf16)

@@ -37,7 +37,12 @@ struct Avx512Bf16Kernel : TileDispatch<Avx512Bf16Kernel<MR, NV>, MR, NV, uint32_
     for (int r = 0; r < ROWS; ++r)
 #pragma GCC unroll 4
       for (int v = 0; v < V; ++v) acc[r][v] = _mm512_setzero_ps();
-    prefetch_c_tile<ROWS, V>(c, ldc);
+    // Into L2 only: with half the fp32 kernel's k steps per tile, C lines fetched into L1
+    // at the start were costlier than the misses they saved where the rows of C are a
+    // power of two apart (the tile's rows then share L1 sets): weight gradients
+    // 256 x 2048 x 512 (ldc 2048) 307 -> 342 GFLOP/s, 128 x 1024 x 512 303 -> 315
+    // (median of 5, alternating; the fp32 kernel: no change, 177 / 179-180).
+    prefetch_c_tile<ROWS, V, _MM_HINT_T1>(c, ldc);
     for (int64_t p = 0; p < kp; ++p) {
       __m512bh bv[V];
 #pragma GCC unroll 4

@@ -1,7 +1,8 @@
 #pragma once
 // AVX-512 packing of the operands that arrive "the wrong way round" (op(A) rows or
 // op(B) columns strided in memory): 16 x 16 register transposes instead of one scalar
-// load and store per element. Same layout as gemm_pack.h.
+// load and store per element. Same layout as gemm_pack.h. Compiled by target attribute,
+// so that the bf16 packers (gemm_pack_bf16.h), chosen at run time, have them in any build.
 #include <immintrin.h>
 
 #include <cstdint>
@@ -9,7 +10,7 @@
 namespace nns::gemm_detail {
 
 // r[i] holds row i of a 16 x 16 block; afterwards r[c] holds column c.
-inline void transpose16x16(__m512 (&r)[16]) {
+__attribute__((target("avx512f"))) inline void transpose16x16(__m512 (&r)[16]) {
   __m512 t[16];
   for (int i = 0; i < 8; ++i) {
     t[2 * i] = _mm512_unpacklo_ps(r[2 * i], r[2 * i + 1]);
@@ -38,8 +39,9 @@ inline void transpose16x16(__m512 (&r)[16]) {
 
 // dst[k * W + w0 + i] = src[i * ld + k] for i < rows (<= 16), k < kc; zero for rows
 // <= i < 16 within the first `width` lanes. W is the packed panel width (MR or NR).
-inline void pack_transposed16(float* dst, int W, int width, const float* src, int64_t ld,
-                              int rows, int64_t kc) {
+__attribute__((target("avx512f"))) inline void pack_transposed16(float* dst, int W, int width,
+                                                                 const float* src, int64_t ld,
+                                                                 int rows, int64_t kc) {
   const __mmask16 keep = __mmask16((1u << width) - 1u);
   for (int64_t k = 0; k < kc; k += 16) {
     const int n = kc - k >= 16 ? 16 : int(kc - k);

@@ -17,6 +17,7 @@
 #include "core/kernels/gemm_arch.h"
 #include "core/kernels/gemm_microkernel_bf16.h"
 #include "core/kernels/gemm_pack.h"
+#include "core/kernels/gemm_pack_bf16.h"
 #include "core/kernels/gemm_precision.h"
 
 namespace nns::gemm_detail {
@@ -84,17 +85,24 @@ inline int64_t k_block(int64_t K) {
   return (K + nblocks - 1) / nblocks;
 }
 
+// Whether pack_b can also be called with a uint32_t* destination, packing straight into
+// pair_bf16's layout (gemm_pack_bf16.h).
+template <class PackB>
+inline constexpr bool kPacksBf16 =
+    std::is_invocable_v<PackB&, uint32_t*, int64_t, int64_t, int64_t, int64_t>;
+
 // C[0:M, 0:N] := alpha * op(A) op(B) + beta * C, single-threaded. packed_a(pc, kc, ic, mc)
 // returns op(A)[ic : ic+mc, pc : pc+kc] packed (pack_a's layout); pack_b(dst, pc, kc, jc, nc)
 // packs op(B)[pc : pc+kc, jc : jc+nc] into dst (pack_b's layout). B is only ever seen
 // through pack_b, so it need not exist as a matrix (conv2d_implicit.h packs a
 // convolution's column matrix straight from the image).
-// With Precision::bf16 the packed fp32 panels are rounded to bf16 pairs (pair_bf16) just
-// after packing, while still in cache, and the bf16 micro-kernel of bf16_isa() runs: every
-// packer serves both precisions, and the loops, blocking and thread split are the same,
-// so 1 and 2 threads give the same bits in either mode. packed_a_bf16(pc, kc, ic, mc), if
-// given, returns op(A)'s block already in pair_bf16's layout (packed_a is then not called
-// in bf16).
+// With Precision::bf16 the bf16 micro-kernel of bf16_isa() runs on panels in pair_bf16's
+// layout: pack_b packs them itself when it takes a uint32_t* destination (kPacksBf16);
+// otherwise its fp32 panels are rounded to bf16 pairs (pair_bf16) just after packing,
+// while still in cache. Either way the same words, and the loops, blocking and thread
+// split are those of fp32, so 1 and 2 threads give the same bits in either mode.
+// packed_a_bf16(pc, kc, ic, mc), if given, returns op(A)'s block already in pair_bf16's
+// layout (packed_a is then not called in bf16).
 template <class PackedA, class PackB, class PackedABf16 = PairPackedA>
 void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int64_t N, int64_t K,
                        float alpha, float beta, float* C, int64_t ldc,
@@ -110,7 +118,21 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
   const int64_t kb = k_block(K);
   const int64_t nc_max =
       panel_at_a_time ? kNR : std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
-  float* bpack = thread_pack(Pack::b).get(size_t(kb * nc_max));
+  const bool direct_b = bf16 && kPacksBf16<PackB>;
+  float* bpack = direct_b ? nullptr : thread_pack(Pack::b).get(size_t(kb * nc_max));
+  uint32_t* bdirect =
+      direct_b ? reinterpret_cast<uint32_t*>(thread_pack(Pack::b_bf16).get(size_t((kb + 1) / 2 * nc_max)))
+               : nullptr;
+  // op(B)[pc : pc+kc, j : j+n] into pair_bf16's layout at bbf.
+  auto pack_b_bf16_block = [&](int64_t pc, int64_t kc, int64_t j, int64_t n) {
+    if constexpr (kPacksBf16<PackB>) {
+      pack_b_block(bdirect, pc, kc, j, n);
+      bbf = bdirect;
+    } else {
+      pack_b_block(bpack, pc, kc, j, n);
+      bbf = pair_panels_bf16(thread_pack(Pack::b_bf16), bpack, kNR, n, kc);
+    }
+  };
   for (int64_t jc = 0; jc < N; jc += kNC) {
     const int64_t nc = std::min(kNC, N - jc);
     for (int64_t pc = 0; pc < K; pc += kb) {
@@ -118,8 +140,8 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
       const float beta_block = pc == 0 ? beta : 1.0f;
       const int64_t kp = (kc + 1) / 2;
       if (!panel_at_a_time) {
-        pack_b_block(bpack, pc, kc, jc, nc);
-        if (bf16) bbf = pair_panels_bf16(thread_pack(Pack::b_bf16), bpack, kNR, nc, kc);
+        if (bf16) pack_b_bf16_block(pc, kc, jc, nc);
+        else pack_b_block(bpack, pc, kc, jc, nc);
       }
       for (int64_t ic = 0; ic < M; ic += kMC) {
         const int64_t mc = std::min(kMC, M - ic);
@@ -136,8 +158,8 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
         for (int64_t jr = 0; jr < nc; jr += kNR) {
           const int n = int(std::min<int64_t>(kNR, nc - jr));
           if (panel_at_a_time) {
-            pack_b_block(bpack, pc, kc, jc + jr, int64_t(n));
-            if (bf16) bbf = pair_panels_bf16(thread_pack(Pack::b_bf16), bpack, kNR, n, kc);
+            if (bf16) pack_b_bf16_block(pc, kc, jc + jr, int64_t(n));
+            else pack_b_block(bpack, pc, kc, jc + jr, int64_t(n));
           }
           const float* bp = panel_at_a_time ? bpack : bpack + jr * kc;
           const uint32_t* bpbf = bf16 ? (panel_at_a_time ? bbf : bbf + jr * kp) : nullptr;
@@ -155,18 +177,37 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
   }
 }
 
-// pack_b for an op(B) held in memory.
-inline auto packer_b(const MatView& B) {
-  return [B](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) {
+// pack_b for an op(B) held in memory, in fp32 or straight into bf16 pairs.
+struct PackerB {
+  MatView B;
+  void operator()(float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) const {
     pack_b<kNR>(dst, B, pc, kc, jc, nc);
-  };
-}
+  }
+  void operator()(uint32_t* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) const {
+    pack_b_bf16<kNR>(dst, B, pc, kc, jc, nc);
+  }
+};
+inline PackerB packer_b(const MatView& B) { return PackerB{B}; }
 
 inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N, int64_t K,
                         float alpha, float beta, float* C, int64_t ldc,
                         Precision precision = Precision::fp32) {
   const int64_t mc_max = std::min<int64_t>(kMC, (M + kMR - 1) / kMR * kMR);
-  float* apack = thread_pack(Pack::a).get(size_t(k_block(K) * mc_max));
+  const int64_t kb = k_block(K);
+  if (precision == Precision::bf16) {
+    // op(A) packed straight into bf16 pairs (the same words as pairing pack_a's panels).
+    uint32_t* abf =
+        reinterpret_cast<uint32_t*>(thread_pack(Pack::a_bf16).get(size_t((kb + 1) / 2 * mc_max)));
+    gemm_packed_loops(
+        [](int64_t, int64_t, int64_t, int64_t) -> const float* { return nullptr; }, packer_b(B),
+        M, N, K, alpha, beta, C, ldc, precision,
+        [&](int64_t pc, int64_t kc, int64_t ic, int64_t mc) -> const uint32_t* {
+          pack_a_bf16<kMR>(abf, A, ic, mc, pc, kc);
+          return abf;
+        });
+    return;
+  }
+  float* apack = thread_pack(Pack::a).get(size_t(kb * mc_max));
   gemm_packed_loops(
       [&](int64_t pc, int64_t kc, int64_t ic, int64_t mc) {
         pack_a<kMR>(apack, A, ic, mc, pc, kc);

@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "core/kernels/bf16.h"
+#include "core/kernels/conv2d.h"
 #include "core/kernels/gemm.h"
+#include "core/kernels/gemm_pack_bf16.h"
 #include "core/kernels/gemm_precision.h"
 #include "core/rng.h"
 #include "core/thread_pool.h"
@@ -97,6 +99,95 @@ class IsaGuard {
 };
 
 const char* isa_name(Bf16Isa isa) { return isa == Bf16Isa::generic ? "generic" : "avx512_bf16"; }
+
+// Random bit patterns: every class (NaN, infinity, denormal, ties) turns up.
+std::vector<float> random_bits(size_t n, Rng& rng) {
+  std::vector<float> v(n);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t u = uint32_t(rng.next_u64() >> 32);
+    v[i] = std::bit_cast<float>(i % 5 == 0 ? (u & 0xffff8000u) | 0x8000u : u);
+  }
+  return v;
+}
+
+// The packers that write bf16 pairs directly (gemm_pack_bf16.h) against the fp32 packers
+// followed by pair_bf16: the same words, nothing written past the panels. Both
+// transposes, edge panels (fewer rows or columns than a panel), odd kc (a zero high half),
+// kc across the 32-step blocks of the transposing path, unaligned starts.
+TEST(Bf16Packing, DirectPackersGiveThePairedWords) {
+  using namespace gemm_detail;
+  Rng rng(11);
+  const int64_t ld = 213, rows = 150;
+  const std::vector<float> src = random_bits(size_t(ld * rows), rng);
+  constexpr uint32_t kSentinel = 0xdeadbeefu;
+  for (Bf16Isa isa : available_isas())  // the generic kernel's packers: pack, then pair
+  for (bool trans : {false, true})
+    for (int64_t extent : {1, 5, 14, 15, 16, 17, 29, 32, 33, 70})
+      for (int64_t kc : {1, 2, 3, 16, 31, 32, 33, 64, 67}) {
+        IsaGuard guard(isa);
+        SCOPED_TRACE(std::string(isa_name(isa)) + " trans=" + std::to_string(trans) +
+                     " extent=" + std::to_string(extent) + " kc=" + std::to_string(kc));
+        // op(X) of extent x kc (A) or kc x extent (B) starting at row 3, column 5 of op(X).
+        const MatView view{src.data(), ld, trans};
+        const int64_t kp = (kc + 1) / 2;
+        auto check = [&](int W, auto pack_fp32, auto pack_bf16) {
+          const int64_t panels = (extent + W - 1) / W;
+          std::vector<float> fp32(size_t(panels * kc * W));
+          pack_fp32(fp32.data());
+          std::vector<uint32_t> want(size_t(panels * kp * W) + 16, kSentinel), got = want;
+          pair_panels_bf16_to(want.data(), fp32.data(), W, extent, kc);
+          pack_bf16(got.data());
+          EXPECT_EQ(want, got) << "W=" << W;
+        };
+        check(
+            kMR, [&](float* d) { pack_a<kMR>(d, view, 3, extent, 5, kc); },
+            [&](uint32_t* d) { pack_a_bf16<kMR>(d, view, 3, extent, 5, kc); });
+        check(
+            kNR, [&](float* d) { pack_b<kNR>(d, view, 3, kc, 5, extent); },
+            [&](uint32_t* d) { pack_b_bf16<kNR>(d, view, 3, kc, 5, extent); });
+      }
+}
+
+// An implicit convolution's column panels (conv2d_implicit.h) packed straight into bf16
+// pairs: the words of its fp32 panels paired, for panels inside one output row and
+// panels straddling rows (W_out not a multiple of the panel width), a partial last
+// panel, odd and even kc, a K window that starts inside the column matrix.
+TEST(Bf16Packing, ImplicitColumnsGiveThePairedWords) {
+  using namespace gemm_detail;
+  Rng rng(12);
+  for (Bf16Isa isa : available_isas())
+  for (int64_t W : {kNR * 2, kNR + 7}) {
+    IsaGuard guard(isa);
+    const ConvGeometry g = conv2d_geometry(1, 3, 6, W, 4, 3, 3, 1, 1, 1, 1, 1, 1, 1);
+    const std::vector<float> image = random_bits(size_t(g.C_in * g.H * g.W), rng);
+    const PaddedRows layout = PaddedRows::layout(g, implicit_input_rows(g, g.H_out));
+    std::vector<float> rows(size_t(layout.chan * g.C_in));
+    layout.fill(rows.data(), image.data(), g, -g.pad_h);
+    const std::vector<int64_t> k_off = ImplicitColumns::k_offsets(g, layout);
+    const ImplicitColumns cols(g, layout, rows.data(), k_off);
+    const int64_t N = g.H_out * g.W_out;
+    for (auto [pc, kc] : {std::pair<int64_t, int64_t>{0, g.col_rows()}, {1, 20}, {4, 1}})
+      for (auto [jc, nc] : {std::pair<int64_t, int64_t>{0, N}, {5, N - 5 - 3}}) {
+        SCOPED_TRACE(std::string(isa_name(isa)) + " W=" + std::to_string(W) + " pc=" +
+                     std::to_string(pc) + " kc=" + std::to_string(kc) + " jc=" + std::to_string(jc));
+        const int64_t panels = (nc + kNR - 1) / kNR, kp = (kc + 1) / 2;
+        // The packers store whole aligned panels (as into gemm_packed.h's buffers).
+        auto aligned = [](size_t words) { return std::aligned_alloc(64, (words * 4 + 63) / 64 * 64 + 64); };
+        float* f = static_cast<float*>(aligned(size_t(panels * kc * kNR)));
+        cols(f, pc, kc, jc, nc);
+        std::vector<uint32_t> want(size_t(panels * kp * kNR));
+        pair_panels_bf16_to(want.data(), f, kNR, nc, kc);
+        std::free(f);
+        uint32_t* got = static_cast<uint32_t*>(aligned(want.size()));
+        std::fill(got, got + want.size() + 16, 0xdeadbeefu);
+        cols(got, pc, kc, jc, nc);
+        EXPECT_EQ(std::vector<uint32_t>(got, got + want.size()), want);
+        EXPECT_EQ(got[want.size()], 0xdeadbeefu);  // nothing written past the panels
+        std::free(got);
+      }
+  }
+}
+
 
 struct Case {
   bool ta, tb;
@@ -267,9 +358,10 @@ TEST(GemmBf16, OneAndTwoThreadsBitwiseEqual) {
 }
 
 // Weights packed once (GemmPackedA) in bf16 keep only their bf16 panels, converted when
-// packed: bitwise the product gemm() gives in bf16 (which pairs the fp32 panels per call),
+// packed: bitwise the product gemm() gives in bf16 (which packs them per call),
 // with edge panels, several K and MC blocks, an odd last K block, both transposes, a
-// narrower B and B given only through a packer, on 1 and 2 threads.
+// narrower B and B given only through a packer (of bf16 pairs, or of fp32 panels that the
+// loops pair), on 1 and 2 threads.
 TEST(GemmBf16, PackedAGivesTheBitsOfGemm) {
   const int saved = num_threads();
   for (Bf16Isa isa : available_isas()) {
@@ -287,15 +379,24 @@ TEST(GemmBf16, PackedAGivesTheBitsOfGemm) {
           const GemmPackedA packed(ta, c.M, c.K, p.A.data(), p.lda, c.N);
           ASSERT_TRUE(packed.packs_for(c.N));
           for (int64_t n : {c.N, int64_t(61)}) {
-            std::vector<float> want = p.C0, got = p.C0, through_packer = p.C0;
+            std::vector<float> want = p.C0, got = p.C0, through_packer = p.C0,
+                               through_fp32_packer = p.C0;
             gemm<float>(ta, tb, c.M, n, c.K, 1.0f, p.A.data(), p.lda, p.B.data(), p.ldb, 0.5f,
                         want.data(), p.ldc);
             packed.multiply(tb, n, 1.0f, p.B.data(), p.ldb, 0.5f, got.data(), p.ldc);
-            packed.multiply_packing_b(n, 1.0f,
-                                      gemm_detail::packer_b(gemm_detail::MatView{p.B.data(), p.ldb, tb}),
-                                      0.5f, through_packer.data(), p.ldc);
+            const auto packer = gemm_detail::packer_b(gemm_detail::MatView{p.B.data(), p.ldb, tb});
+            packed.multiply_packing_b(n, 1.0f, packer, 0.5f, through_packer.data(), p.ldc);
+            // A packer of fp32 panels only: gemm_packed_loops pairs them itself.
+            packed.multiply_packing_b(
+                n, 1.0f,
+                [&](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) {
+                  packer(dst, pc, kc, jc, nc);
+                },
+                0.5f, through_fp32_packer.data(), p.ldc);
             EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0);
             EXPECT_EQ(std::memcmp(want.data(), through_packer.data(), want.size() * sizeof(float)), 0);
+            EXPECT_EQ(std::memcmp(want.data(), through_fp32_packer.data(), want.size() * sizeof(float)),
+                      0);
           }
         }
     }
