@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "render/sampling.h"
 
@@ -41,60 +42,156 @@ float ambient_occlusion(const RayTracer& rt, const Hit& hit, float radius, int s
   return float(open) / float(spp);
 }
 
+namespace {
+// One light's E/pi at p (normal n, ray origin `origin` just above p), `spp` samples of
+// an extended light, added to `total`: the terms of direct_light's sum.
+void add_sun(const RayTracer& rt, const Sun& sun, Vec3 origin, Vec3 n, int spp, Rng& rng, Accum3& total) {
+  Vec3 l = normalize(sun.direction);
+  if (sun.angular_radius <= 0) {
+    float c = dot(n, l);
+    if (c > 0 && !rt.occluded(origin, l, 0.0f, 1e30f)) total.add(sun.color, c);
+    return;
+  }
+  // The disc's colour is its total E/pi at normal incidence; averaging cos * V over
+  // the cone gives the penumbra and the small cosine change across the disc.
+  Frame f(l);
+  float cos_max = std::cos(sun.angular_radius);
+  float s1 = rng.uniform_float(), s2 = rng.uniform_float();
+  double sum = 0;
+  for (int i = 0; i < spp; ++i) {
+    float u1, u2;
+    hammersley(uint32_t(i), uint32_t(spp), s1, s2, u1, u2);
+    Vec3 d = f.to_world(uniform_cone(u1, u2, cos_max));
+    float c = dot(n, d);
+    if (c > 0 && !rt.occluded(origin, d, 0.0f, 1e30f)) sum += c;
+  }
+  total.add(sun.color, sum / spp);
+}
+
+void add_point(const RayTracer& rt, const PointLight& pl, Vec3 p, Vec3 origin, Vec3 n, Accum3& total) {
+  Vec3 to = pl.position - p;  // geometry from the point itself, the ray from above it
+  float d2 = dot(to, to);
+  float dist = std::sqrt(d2);
+  Vec3 l = to / dist;
+  float c = dot(n, l);
+  if (c > 0 && !rt.occluded(origin, l, 0.0f, dist * (1 - 1e-4f))) total.add(pl.color, c / d2);
+}
+
+void add_rect(const RayTracer& rt, const RectLight& rl, Vec3 p, Vec3 origin, Vec3 n, int spp, Rng& rng,
+              Accum3& total) {
+  Vec3 nl = cross(rl.edge_u, rl.edge_v);
+  float area = length(nl);
+  nl = nl / area;
+  float s1 = rng.uniform_float(), s2 = rng.uniform_float();
+  double sum = 0;
+  for (int i = 0; i < spp; ++i) {
+    float u1, u2;
+    hammersley(uint32_t(i), uint32_t(spp), s1, s2, u1, u2);
+    Vec3 to = rl.corner + rl.edge_u * u1 + rl.edge_v * u2 - p;
+    float d2 = dot(to, to);
+    float dist = std::sqrt(d2);
+    Vec3 l = to / dist;
+    float c = dot(n, l), cl = -dot(nl, l);
+    if (c > 0 && cl > 0 && !rt.occluded(origin, l, 0.0f, dist * (1 - 1e-4f))) sum += c * cl / d2;
+  }
+  // E/pi = (1/pi) * integral over the rectangle of L cos cos' / r^2 dA.
+  total.add(rl.radiance, area * sum / spp / kPi);
+}
+
+float luminance(Vec3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
+
+// Unoccluded E/pi of each light at p, roughly: the probabilities of light_sample. A
+// weight may be anything positive where the light can reach p (the estimate divides by
+// it), but must not be 0 where it can: a sun disc counts while any of it is above the
+// horizon, a rectangle while p is on its lit side and any corner is above the horizon.
+float sun_weight(const Sun& sun, Vec3 n) {
+  // The largest cosine over the disc: cos(theta - r), or 1 when the normal is inside it.
+  float r = std::max(0.0f, sun.angular_radius);
+  float c = std::min(1.0f, std::max(-1.0f, dot(n, normalize(sun.direction))));
+  float s = std::sqrt(1 - c * c);
+  float cmax = c >= std::cos(r) ? 1.0f : c * std::cos(r) + s * std::sin(r);
+  return cmax > 0 ? luminance(sun.color) * cmax : 0.0f;
+}
+
+float point_weight(const PointLight& pl, Vec3 p, Vec3 n) {
+  Vec3 to = pl.position - p;  // as add_point computes it, so the two agree on c > 0
+  float d2 = dot(to, to);
+  float dist = std::sqrt(d2);
+  float c = dot(n, to / dist);
+  return c > 0 ? luminance(pl.color) * c / d2 : 0.0f;
+}
+
+float rect_weight(const RectLight& rl, Vec3 p, Vec3 n) {
+  Vec3 nl = cross(rl.edge_u, rl.edge_v);
+  float area = length(nl);
+  if (!(area > 0)) return 0.0f;
+  nl = nl / area;
+  float side = dot(nl, p - rl.corner);  // > 0: p sees the emitting face
+  if (!(side > 0)) return 0.0f;
+  Vec3 centre = rl.corner + rl.edge_u * 0.5f + rl.edge_v * 0.5f;
+  const Vec3 q[5] = {centre, rl.corner, rl.corner + rl.edge_u, rl.corner + rl.edge_v,
+                     rl.corner + rl.edge_u + rl.edge_v};
+  float cmax = 0;  // the largest cosine at p towards the centre or a corner
+  for (const Vec3& x : q) {
+    Vec3 to = x - p;
+    float d2 = dot(to, to);
+    if (d2 > 0) cmax = std::max(cmax, dot(n, to) / std::sqrt(d2));
+  }
+  if (!(cmax > 0)) return 0.0f;
+  Vec3 to = centre - p;
+  float d2 = dot(to, to);
+  // Point-source estimate L A cos cos' / (pi d^2) from the centre, bounded by the
+  // full-hemisphere value L.
+  float e = area * cmax * (side / std::sqrt(d2)) / (kPi * d2);
+  return luminance(rl.radiance) * std::min(e, 1.0f);
+}
+}  // namespace
+
 Vec3 direct_light(const RayTracer& rt, Vec3 p, Vec3 n, int spp, Rng& rng) {
   const Scene& sc = rt.scene();
   Vec3 origin = RayTracer::offset(p, n);
   Accum3 total;
-  for (const Sun& sun : sc.suns) {
-    Vec3 l = normalize(sun.direction);
-    if (sun.angular_radius <= 0) {
-      float c = dot(n, l);
-      if (c > 0 && !rt.occluded(origin, l, 0.0f, 1e30f)) total.add(sun.color, c);
-      continue;
-    }
-    // The disc's colour is its total E/pi at normal incidence; averaging cos * V over
-    // the cone gives the penumbra and the small cosine change across the disc.
-    Frame f(l);
-    float cos_max = std::cos(sun.angular_radius);
-    float s1 = rng.uniform_float(), s2 = rng.uniform_float();
-    double sum = 0;
-    for (int i = 0; i < spp; ++i) {
-      float u1, u2;
-      hammersley(uint32_t(i), uint32_t(spp), s1, s2, u1, u2);
-      Vec3 d = f.to_world(uniform_cone(u1, u2, cos_max));
-      float c = dot(n, d);
-      if (c > 0 && !rt.occluded(origin, d, 0.0f, 1e30f)) sum += c;
-    }
-    total.add(sun.color, sum / spp);
-  }
-  for (const PointLight& pl : sc.points) {
-    Vec3 to = pl.position - p;  // geometry from the point itself, the ray from above it
-    float d2 = dot(to, to);
-    float dist = std::sqrt(d2);
-    Vec3 l = to / dist;
-    float c = dot(n, l);
-    if (c > 0 && !rt.occluded(origin, l, 0.0f, dist * (1 - 1e-4f))) total.add(pl.color, c / d2);
-  }
-  for (const RectLight& rl : sc.rects) {
-    Vec3 nl = cross(rl.edge_u, rl.edge_v);
-    float area = length(nl);
-    nl = nl / area;
-    float s1 = rng.uniform_float(), s2 = rng.uniform_float();
-    double sum = 0;
-    for (int i = 0; i < spp; ++i) {
-      float u1, u2;
-      hammersley(uint32_t(i), uint32_t(spp), s1, s2, u1, u2);
-      Vec3 to = rl.corner + rl.edge_u * u1 + rl.edge_v * u2 - p;
-      float d2 = dot(to, to);
-      float dist = std::sqrt(d2);
-      Vec3 l = to / dist;
-      float c = dot(n, l), cl = -dot(nl, l);
-      if (c > 0 && cl > 0 && !rt.occluded(origin, l, 0.0f, dist * (1 - 1e-4f))) sum += c * cl / d2;
-    }
-    // E/pi = (1/pi) * integral over the rectangle of L cos cos' / r^2 dA.
-    total.add(rl.radiance, area * sum / spp / kPi);
-  }
+  for (const Sun& sun : sc.suns) add_sun(rt, sun, origin, n, spp, rng, total);
+  for (const PointLight& pl : sc.points) add_point(rt, pl, p, origin, n, total);
+  for (const RectLight& rl : sc.rects) add_rect(rt, rl, p, origin, n, spp, rng, total);
   return total.mean(1);
+}
+
+Vec3 light_sample(const RayTracer& rt, Vec3 p, Vec3 n, Rng& rng) {
+  const Scene& sc = rt.scene();
+  const size_t ns = sc.suns.size(), np = sc.points.size(), count = ns + np + sc.rects.size();
+  if (count == 0) return {};
+  float local[32];
+  std::vector<float> heap;
+  float* w = local;
+  if (count > 32) {
+    heap.resize(count);
+    w = heap.data();
+  }
+  double sum = 0;
+  for (size_t i = 0; i < count; ++i) {
+    w[i] = i < ns ? sun_weight(sc.suns[i], n)
+                  : i < ns + np ? point_weight(sc.points[i - ns], p, n) : rect_weight(sc.rects[i - ns - np], p, n);
+    if (!std::isfinite(w[i])) w[i] = 0;  // a point light at p itself: no usable direction
+    sum += w[i];
+  }
+  if (!(sum > 0)) return {};
+  // Pick light k with probability w[k] / sum (the last light of non-zero weight if
+  // rounding runs past the end).
+  double target = double(rng.uniform_float()) * sum, run = 0;
+  size_t k = count;
+  for (size_t i = 0; i < count; ++i) {
+    if (w[i] <= 0) continue;
+    k = i;
+    run += w[i];
+    if (target < run) break;
+  }
+  Vec3 origin = RayTracer::offset(p, n);
+  Accum3 total;
+  if (k < ns) add_sun(rt, sc.suns[k], origin, n, 1, rng, total);
+  else if (k < ns + np) add_point(rt, sc.points[k - ns], p, origin, n, total);
+  else add_rect(rt, sc.rects[k - ns - np], p, origin, n, 1, rng, total);
+  return total.mean(double(w[k]) / sum);
 }
 
 namespace {
@@ -113,7 +210,7 @@ Vec3 incoming(const RayTracer& rt, Vec3 p, Vec3 n, Vec3 dir, int depth, int boun
     Hit h = rt.intersect(origin, dir);
     if (!h.valid()) return result + throughput * rt.scene().sky.radiance(dir);
     const Material& m = *h.material;
-    result += throughput * (m.emission + m.albedo * direct_light(rt, h.position, h.normal, 1, rng));
+    result += throughput * (m.emission + m.albedo * light_sample(rt, h.position, h.normal, rng));
     throughput = throughput * m.albedo;
     if (max_abs(throughput) <= 0) return result;
     p = h.position;
@@ -154,8 +251,9 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
     }
     const Material& m = *h.material;
     Vec3 next = Frame(h.normal).to_world(cosine_hemisphere(rng.uniform_float(), rng.uniform_float()));
-    ind.add(m.emission + m.albedo * (direct_light(rt, h.position, h.normal, 1, rng) +
-                                     incoming(rt, h.position, h.normal, next, 1, bounces, rng)));
+    Vec3 direct = light_sample(rt, h.position, h.normal, rng);
+    Vec3 later = incoming(rt, h.position, h.normal, next, 1, bounces, rng);
+    ind.add(m.emission + m.albedo * (direct + later));
   }
   env = e.mean(spp);
   indirect = ind.mean(spp);

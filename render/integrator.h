@@ -28,6 +28,13 @@ float ambient_occlusion(const RayTracer& rt, const Hit& hit, float radius, int s
 // sum_i E_i / pi at the point (before albedo). `spp` samples each extended light.
 Vec3 direct_light(const RayTracer& rt, Vec3 p, Vec3 n, int spp, Rng& rng);
 
+// Next-event estimation at a path vertex: the same E/pi as direct_light, estimated
+// with one shadow ray (one sample of one light), the light picked with probability
+// proportional to an estimate of its unoccluded contribution at (p, n) and the sample
+// divided by that probability. Unbiased; cheap where a scene has many lamps and most
+// of them are far, dim, behind p or behind a wall.
+Vec3 light_sample(const RayTracer& rt, Vec3 p, Vec3 n, Rng& rng);
+
 // env = sky radiance reaching the point unoccluded, cosine-averaged (E_sky / pi);
 // indirect = radiance leaving the first surface each cosine-distributed ray meets
 // (its emission plus its albedo times all its own light), cosine-averaged, with up to
