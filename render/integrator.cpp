@@ -203,8 +203,11 @@ Vec3 incoming(const RayTracer& rt, Vec3 p, Vec3 n, Vec3 dir, int depth, int boun
   for (;;) {
     Vec3 origin = RayTracer::offset(p, n);
     if (depth >= bounces) {
-      // Last vertex: only the sky may still reach it (its own env term).
-      if (!rt.occluded(origin, dir, 0.0f, 1e30f)) result += throughput * rt.scene().sky.radiance(dir);
+      // Last vertex: only the sky may still reach it (its own env term). No ray where
+      // the sky is black in that direction (the closed families' sky is black: their
+      // rays to it were all blocked anyway).
+      Vec3 sky = rt.scene().sky.radiance(dir);
+      if (max_abs(sky) > 0 && !rt.occluded(origin, dir, 0.0f, 1e30f)) result += throughput * sky;
       return result;
     }
     Hit h = rt.intersect(origin, dir);
@@ -230,6 +233,8 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
   float s1 = rng.uniform_float(), s2 = rng.uniform_float();
   Accum3 e, ind;
   if (bounces == 0) {  // env alone: shadow rays, 16 at a time
+    const Sky& sky = rt.scene().sky;
+    if (max_abs(sky.zenith) == 0 && max_abs(sky.horizon) == 0 && max_abs(sky.ground) == 0) return;  // env = 0
     Vec3 dirs[16];
     for (int k = 0; k < (spp + 15) / 16; ++k) {
       int count = cosine_packet(frame, k, spp, s1, s2, dirs);
