@@ -100,50 +100,106 @@ void add_rect(const RayTracer& rt, const RectLight& rl, Vec3 p, Vec3 origin, Vec
 
 float luminance(Vec3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
 
-// Unoccluded E/pi of each light at p, roughly: the probabilities of light_sample. A
-// weight may be anything positive where the light can reach p (the estimate divides by
-// it), but must not be 0 where it can: a sun disc counts while any of it is above the
+// The scene's lights laid out for light_sample's probabilities, built once per pixel:
+// per vertex, a weight costs a few multiply-adds (a square root for a point light,
+// none for a rect light). A weight is a rough unoccluded E/pi at (p, n); it may be
+// anything positive where the light can reach p (the estimate divides by it), but
+// must not be 0 where it can: a sun disc counts while any of it is above the
 // horizon, a rectangle while p is on its lit side and any corner is above the horizon.
-float sun_weight(const Sun& sun, Vec3 n) {
-  // The largest cosine over the disc: cos(theta - r), or 1 when the normal is inside it.
-  float r = std::max(0.0f, sun.angular_radius);
-  float c = std::min(1.0f, std::max(-1.0f, dot(n, normalize(sun.direction))));
-  float s = std::sqrt(1 - c * c);
-  float cmax = c >= std::cos(r) ? 1.0f : c * std::cos(r) + s * std::sin(r);
-  return cmax > 0 ? luminance(sun.color) * cmax : 0.0f;
-}
+struct LightTable {
+  struct SunW { Vec3 dir; float r, lum; };
+  struct PointW { Vec3 pos; float lum; };
+  struct RectW { Vec3 centre, nl; float k, lum; };  // nl = edge_u x edge_v (area x unit normal), k = nl . corner
+  std::vector<SunW> suns;
+  std::vector<PointW> points;
+  std::vector<RectW> rects;
 
-float point_weight(const PointLight& pl, Vec3 p, Vec3 n) {
-  Vec3 to = pl.position - p;  // as add_point computes it, so the two agree on c > 0
-  float d2 = dot(to, to);
-  float dist = std::sqrt(d2);
-  float c = dot(n, to / dist);
-  return c > 0 ? luminance(pl.color) * c / d2 : 0.0f;
-}
-
-float rect_weight(const RectLight& rl, Vec3 p, Vec3 n) {
-  Vec3 nl = cross(rl.edge_u, rl.edge_v);
-  float area = length(nl);
-  if (!(area > 0)) return 0.0f;
-  nl = nl / area;
-  float side = dot(nl, p - rl.corner);  // > 0: p sees the emitting face
-  if (!(side > 0)) return 0.0f;
-  Vec3 centre = rl.corner + rl.edge_u * 0.5f + rl.edge_v * 0.5f;
-  const Vec3 q[5] = {centre, rl.corner, rl.corner + rl.edge_u, rl.corner + rl.edge_v,
-                     rl.corner + rl.edge_u + rl.edge_v};
-  float cmax = 0;  // the largest cosine at p towards the centre or a corner
-  for (const Vec3& x : q) {
-    Vec3 to = x - p;
-    float d2 = dot(to, to);
-    if (d2 > 0) cmax = std::max(cmax, dot(n, to) / std::sqrt(d2));
+  explicit LightTable(const Scene& sc) {
+    for (const Sun& l : sc.suns) suns.push_back({normalize(l.direction), std::max(0.0f, l.angular_radius), luminance(l.color)});
+    for (const PointLight& l : sc.points) points.push_back({l.position, luminance(l.color)});
+    for (const RectLight& l : sc.rects) {
+      Vec3 nl = cross(l.edge_u, l.edge_v);
+      rects.push_back({l.corner + l.edge_u * 0.5f + l.edge_v * 0.5f, nl, dot(nl, l.corner), luminance(l.radiance)});
+    }
   }
-  if (!(cmax > 0)) return 0.0f;
-  Vec3 to = centre - p;
-  float d2 = dot(to, to);
-  // Point-source estimate L A cos cos' / (pi d^2) from the centre, bounded by the
-  // full-hemisphere value L.
-  float e = area * cmax * (side / std::sqrt(d2)) / (kPi * d2);
-  return luminance(rl.radiance) * std::min(e, 1.0f);
+  size_t size() const { return suns.size() + points.size() + rects.size(); }
+
+  // w[0 .. size()): suns, then point lights, then rects (the scene's order); returns the sum.
+  float weights(const Scene& sc, Vec3 p, Vec3 n, float* w) const {
+    float sum = 0;
+    size_t i = 0;
+    for (const SunW& l : suns) {
+      // Some of the disc is above the horizon iff cos(theta) > -sin(r); r >= sin(r),
+      // so c + r > 0 never misses it.
+      float c = dot(n, l.dir) + l.r;
+      sum += w[i++] = c > 0 ? l.lum * std::min(c, 1.0f) : 0.0f;
+    }
+    for (const PointW& l : points) {
+      Vec3 to = l.pos - p;
+      float d2 = dot(to, to), h = dot(n, to);
+      float v = h > 0 ? l.lum * h / (d2 * std::sqrt(d2)) : 0.0f;  // cos / d^2
+      sum += w[i++] = std::isfinite(v) ? v : 0.0f;  // a lamp at p itself: no direction to it
+    }
+    for (size_t r = 0; r < rects.size(); ++r) {
+      const RectW& l = rects[r];
+      float side = dot(l.nl, p) - l.k;  // > 0: p sees the emitting face (x area)
+      Vec3 to = l.centre - p;
+      float d2 = dot(to, to), h = dot(n, to);
+      float v = 0;
+      if (side > 0) {
+        if (!(h > 0)) h = corner_height(sc.rects[r], p, n) * std::sqrt(d2);
+        // Point-source estimate L A cos cos' / (pi d^2) from the centre, with
+        // cos = h / d and A cos' = side / d, bounded by the full-hemisphere value L.
+        if (h > 0) v = l.lum * std::min(h * side / (kPi * d2 * d2), 1.0f);
+      }
+      sum += w[i++] = std::isfinite(v) ? v : 0.0f;
+    }
+    return sum;
+  }
+
+  // The centre of a rect is below p's horizon: the largest cosine towards a corner
+  // (0 if none is above; the rect is lit only through them then). Rare.
+  static float corner_height(const RectLight& l, Vec3 p, Vec3 n) {
+    float c = 0;
+    const Vec3 q[4] = {l.corner, l.corner + l.edge_u, l.corner + l.edge_v, l.corner + l.edge_u + l.edge_v};
+    for (const Vec3& x : q) {
+      Vec3 t = x - p;
+      float h = dot(n, t);
+      if (h > 0) c = std::max(c, h / length(t));
+    }
+    return c;
+  }
+};
+
+Vec3 light_sample(const RayTracer& rt, const LightTable& lights, Vec3 p, Vec3 n, Rng& rng) {
+  const Scene& sc = rt.scene();
+  const size_t count = lights.size(), ns = lights.suns.size(), np = lights.points.size();
+  if (count == 0) return {};
+  float local[32];
+  std::vector<float> heap;
+  float* w = local;
+  if (count > 32) {
+    heap.resize(count);
+    w = heap.data();
+  }
+  float sum = lights.weights(sc, p, n, w);
+  if (!(sum > 0)) return {};
+  // Pick light k with probability w[k] / sum (the last light of non-zero weight if
+  // rounding runs past the end).
+  float target = rng.uniform_float() * sum, run = 0;
+  size_t k = count;
+  for (size_t i = 0; i < count; ++i) {
+    if (w[i] <= 0) continue;
+    k = i;
+    run += w[i];
+    if (target < run) break;
+  }
+  Vec3 origin = RayTracer::offset(p, n);
+  Accum3 total;
+  if (k < ns) add_sun(rt, sc.suns[k], origin, n, 1, rng, total);
+  else if (k < ns + np) add_point(rt, sc.points[k - ns], p, origin, n, total);
+  else add_rect(rt, sc.rects[k - ns - np], p, origin, n, 1, rng, total);
+  return total.mean(double(w[k]) / double(sum));
 }
 }  // namespace
 
@@ -158,47 +214,15 @@ Vec3 direct_light(const RayTracer& rt, Vec3 p, Vec3 n, int spp, Rng& rng) {
 }
 
 Vec3 light_sample(const RayTracer& rt, Vec3 p, Vec3 n, Rng& rng) {
-  const Scene& sc = rt.scene();
-  const size_t ns = sc.suns.size(), np = sc.points.size(), count = ns + np + sc.rects.size();
-  if (count == 0) return {};
-  float local[32];
-  std::vector<float> heap;
-  float* w = local;
-  if (count > 32) {
-    heap.resize(count);
-    w = heap.data();
-  }
-  double sum = 0;
-  for (size_t i = 0; i < count; ++i) {
-    w[i] = i < ns ? sun_weight(sc.suns[i], n)
-                  : i < ns + np ? point_weight(sc.points[i - ns], p, n) : rect_weight(sc.rects[i - ns - np], p, n);
-    if (!std::isfinite(w[i])) w[i] = 0;  // a point light at p itself: no usable direction
-    sum += w[i];
-  }
-  if (!(sum > 0)) return {};
-  // Pick light k with probability w[k] / sum (the last light of non-zero weight if
-  // rounding runs past the end).
-  double target = double(rng.uniform_float()) * sum, run = 0;
-  size_t k = count;
-  for (size_t i = 0; i < count; ++i) {
-    if (w[i] <= 0) continue;
-    k = i;
-    run += w[i];
-    if (target < run) break;
-  }
-  Vec3 origin = RayTracer::offset(p, n);
-  Accum3 total;
-  if (k < ns) add_sun(rt, sc.suns[k], origin, n, 1, rng, total);
-  else if (k < ns + np) add_point(rt, sc.points[k - ns], p, origin, n, total);
-  else add_rect(rt, sc.rects[k - ns - np], p, origin, n, 1, rng, total);
-  return total.mean(double(w[k]) / sum);
+  return light_sample(rt, LightTable(rt.scene()), p, n, rng);
 }
 
 namespace {
 // Radiance arriving at `p` (normal n) from one cosine-sampled direction, after `depth`
 // reflections already taken: sky if the ray escapes, else the outgoing radiance of
 // the surface it meets, which itself gathers one more such sample until `bounces`.
-Vec3 incoming(const RayTracer& rt, Vec3 p, Vec3 n, Vec3 dir, int depth, int bounces, Rng& rng) {
+Vec3 incoming(const RayTracer& rt, const LightTable& lights, Vec3 p, Vec3 n, Vec3 dir, int depth, int bounces,
+              Rng& rng) {
   Vec3 throughput(1, 1, 1), result(0, 0, 0);
   for (;;) {
     Vec3 origin = RayTracer::offset(p, n);
@@ -213,7 +237,7 @@ Vec3 incoming(const RayTracer& rt, Vec3 p, Vec3 n, Vec3 dir, int depth, int boun
     Hit h = rt.intersect(origin, dir);
     if (!h.valid()) return result + throughput * rt.scene().sky.radiance(dir);
     const Material& m = *h.material;
-    result += throughput * (m.emission + m.albedo * light_sample(rt, h.position, h.normal, rng));
+    result += throughput * (m.emission + m.albedo * light_sample(rt, lights, h.position, h.normal, rng));
     throughput = throughput * m.albedo;
     if (max_abs(throughput) <= 0) return result;
     p = h.position;
@@ -245,6 +269,7 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
     env = e.mean(spp);
     return;
   }
+  const LightTable lights(rt.scene());
   for (int i = 0; i < spp; ++i) {
     float u1, u2;
     hammersley(uint32_t(i), uint32_t(spp), s1, s2, u1, u2);
@@ -256,8 +281,8 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
     }
     const Material& m = *h.material;
     Vec3 next = Frame(h.normal).to_world(cosine_hemisphere(rng.uniform_float(), rng.uniform_float()));
-    Vec3 direct = light_sample(rt, h.position, h.normal, rng);
-    Vec3 later = incoming(rt, h.position, h.normal, next, 1, bounces, rng);
+    Vec3 direct = light_sample(rt, lights, h.position, h.normal, rng);
+    Vec3 later = incoming(rt, lights, h.position, h.normal, next, 1, bounces, rng);
     ind.add(m.emission + m.albedo * (direct + later));
   }
   env = e.mean(spp);
