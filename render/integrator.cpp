@@ -171,7 +171,7 @@ struct LightTable {
   }
 };
 
-Vec3 light_sample(const RayTracer& rt, const LightTable& lights, Vec3 p, Vec3 n, Rng& rng) {
+Vec3 light_sample(const RayTracer& rt, const LightTable& lights, Vec3 p, Vec3 n, Rng& rng, LightVisibility* vis) {
   const Scene& sc = rt.scene();
   const size_t count = lights.size(), ns = lights.suns.size(), np = lights.points.size();
   if (count == 0) return {};
@@ -183,6 +183,10 @@ Vec3 light_sample(const RayTracer& rt, const LightTable& lights, Vec3 p, Vec3 n,
     w = heap.data();
   }
   float sum = lights.weights(sc, p, n, w);
+  if (vis) {
+    sum = 0;
+    for (size_t i = 0; i < count; ++i) sum += w[i] *= (vis->unblocked[i] + 1) / (vis->tried[i] + 2);
+  }
   if (!(sum > 0)) return {};
   // Pick light k with probability w[k] / sum (the last light of non-zero weight if
   // rounding runs past the end).
@@ -199,6 +203,10 @@ Vec3 light_sample(const RayTracer& rt, const LightTable& lights, Vec3 p, Vec3 n,
   if (k < ns) add_sun(rt, sc.suns[k], origin, n, 1, rng, total);
   else if (k < ns + np) add_point(rt, sc.points[k - ns], p, origin, n, total);
   else add_rect(rt, sc.rects[k - ns - np], p, origin, n, 1, rng, total);
+  if (vis) {  // the sample is 0 exactly when its shadow ray was blocked (or it faced away)
+    vis->tried[k] += 1;
+    if (total.r != 0 || total.g != 0 || total.b != 0) vis->unblocked[k] += 1;
+  }
   return total.mean(double(w[k]) / double(sum));
 }
 }  // namespace
@@ -213,16 +221,16 @@ Vec3 direct_light(const RayTracer& rt, Vec3 p, Vec3 n, int spp, Rng& rng) {
   return total.mean(1);
 }
 
-Vec3 light_sample(const RayTracer& rt, Vec3 p, Vec3 n, Rng& rng) {
-  return light_sample(rt, LightTable(rt.scene()), p, n, rng);
+Vec3 light_sample(const RayTracer& rt, Vec3 p, Vec3 n, Rng& rng, LightVisibility* vis) {
+  return light_sample(rt, LightTable(rt.scene()), p, n, rng, vis);
 }
 
 namespace {
 // Radiance arriving at `p` (normal n) from one cosine-sampled direction, after `depth`
 // reflections already taken: sky if the ray escapes, else the outgoing radiance of
 // the surface it meets, which itself gathers one more such sample until `bounces`.
-Vec3 incoming(const RayTracer& rt, const LightTable& lights, Vec3 p, Vec3 n, Vec3 dir, int depth, int bounces,
-              Rng& rng) {
+Vec3 incoming(const RayTracer& rt, const LightTable& lights, LightVisibility& vis, Vec3 p, Vec3 n, Vec3 dir,
+              int depth, int bounces, Rng& rng) {
   Vec3 throughput(1, 1, 1), result(0, 0, 0);
   for (;;) {
     Vec3 origin = RayTracer::offset(p, n);
@@ -237,7 +245,7 @@ Vec3 incoming(const RayTracer& rt, const LightTable& lights, Vec3 p, Vec3 n, Vec
     Hit h = rt.intersect(origin, dir);
     if (!h.valid()) return result + throughput * rt.scene().sky.radiance(dir);
     const Material& m = *h.material;
-    result += throughput * (m.emission + m.albedo * light_sample(rt, lights, h.position, h.normal, rng));
+    result += throughput * (m.emission + m.albedo * light_sample(rt, lights, h.position, h.normal, rng, &vis));
     throughput = throughput * m.albedo;
     if (max_abs(throughput) <= 0) return result;
     p = h.position;
@@ -269,7 +277,9 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
     env = e.mean(spp);
     return;
   }
+  // Shared by the pixel's paths, in path order: deterministic for any thread count.
   const LightTable lights(rt.scene());
+  LightVisibility vis(rt.scene());
   for (int i = 0; i < spp; ++i) {
     float u1, u2;
     hammersley(uint32_t(i), uint32_t(spp), s1, s2, u1, u2);
@@ -281,8 +291,8 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
     }
     const Material& m = *h.material;
     Vec3 next = Frame(h.normal).to_world(cosine_hemisphere(rng.uniform_float(), rng.uniform_float()));
-    Vec3 direct = light_sample(rt, lights, h.position, h.normal, rng);
-    Vec3 later = incoming(rt, lights, h.position, h.normal, next, 1, bounces, rng);
+    Vec3 direct = light_sample(rt, lights, h.position, h.normal, rng, &vis);
+    Vec3 later = incoming(rt, lights, vis, h.position, h.normal, next, 1, bounces, rng);
     ind.add(m.emission + m.albedo * (direct + later));
   }
   env = e.mean(spp);

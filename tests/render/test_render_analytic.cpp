@@ -122,7 +122,8 @@ TEST(RenderDirect, RectLightFormFactor) {
 // power, one below the horizon and one shut in a box (picked now and then, it gives 0:
 // the estimate stays unbiased because visibility is not in the probabilities).
 // N samples; the mean must lie within 4 standard errors of the closed form per channel
-// (the standard error is measured from the samples: about 0.3% of the value here).
+// (the standard error is measured from the samples: about 0.3% of the value here),
+// with fixed probabilities and with the visibility learnt from earlier samples.
 TEST(RenderNextEvent, OneLightConvergesToAllLights) {
   Scene s = floor_scene();
   add_box(s, {2.5f, 0, -0.5f}, {3.5f, 1, 0.5f}, 0);  // closed box round the last lamp
@@ -147,24 +148,38 @@ TEST(RenderNextEvent, OneLightConvergesToAllLights) {
     }
     exact[c] = e;
   }
-  Rng rng(21);
-  const int n = 400000;
-  double sum[3] = {}, sum2[3] = {};
-  int zeros = 0;
-  for (int k = 0; k < n; ++k) {
-    Vec3 v = light_sample(rt, {0, 0, 0}, {0, 1, 0}, rng);
-    zeros += v.x == 0;
-    for (int c = 0; c < 3; ++c) sum[c] += v[c], sum2[c] += double(v[c]) * v[c];
+  // Without and with the visibility learnt over the samples (as one pixel's paths
+  // learn it): the probabilities then change from sample to sample, the mean must not.
+  for (bool learn : {false, true}) {
+    LightVisibility vis(s);
+    Rng rng(21);
+    const int n = 400000;
+    double sum[3] = {}, sum2[3] = {};
+    int zeros = 0;
+    for (int k = 0; k < n; ++k) {
+      Vec3 v = light_sample(rt, {0, 0, 0}, {0, 1, 0}, rng, learn ? &vis : nullptr);
+      zeros += v.x == 0;
+      for (int c = 0; c < 3; ++c) sum[c] += v[c], sum2[c] += double(v[c]) * v[c];
+    }
+    for (int c = 0; c < 3; ++c) {
+      double mean = sum[c] / n, se = std::sqrt((sum2[c] / n - mean * mean) / (n - 1));
+      EXPECT_NEAR(mean, exact[c], 4 * se) << "learn " << learn << ", channel " << c << ", standard error " << se;
+      EXPECT_LT(se, 0.005 * exact[c]) << c;
+    }
+    if (!learn) {
+      // The boxed lamp is picked (about a fifth of the time: its unoccluded share)
+      // and blocked.
+      EXPECT_GT(zeros, n / 20);
+      EXPECT_LT(zeros, n / 4);
+    } else {
+      // Learnt: after t blocked tries its weight is 1 / (t + 2) of the unoccluded
+      // one, so it is tried about sqrt(2 x 0.19 n) times.
+      EXPECT_GT(zeros, 0);
+      EXPECT_LT(zeros, n / 200);
+      EXPECT_EQ(vis.unblocked[4], 0.0f);  // the sun, then the lamps: index 1 + 3 is the boxed one
+      EXPECT_EQ(vis.tried[4], float(zeros));
+    }
   }
-  for (int c = 0; c < 3; ++c) {
-    double mean = sum[c] / n, se = std::sqrt((sum2[c] / n - mean * mean) / (n - 1));
-    EXPECT_NEAR(mean, exact[c], 4 * se) << "channel " << c << ", standard error " << se;
-    EXPECT_LT(se, 0.005 * exact[c]) << c;
-  }
-  // The boxed lamp is picked (about a fifth of the time: its unoccluded share) and
-  // blocked; the dim and the far lamps are picked less often than the sun and the rect.
-  EXPECT_GT(zeros, n / 20);
-  EXPECT_LT(zeros, n / 4);
 }
 
 // A light whose centre is below the horizon of the normal but part of which is above
