@@ -229,10 +229,20 @@ namespace {
 // Radiance arriving at `p` (normal n) from one cosine-sampled direction, after `depth`
 // reflections already taken: sky if the ray escapes, else the outgoing radiance of
 // the surface it meets, which itself gathers one more such sample until `bounces`.
+// `prefix`: the caller's weight on the result (the first bounce's albedo), which
+// Russian roulette (roulette > 0) takes into account.
 Vec3 incoming(const RayTracer& rt, const LightTable& lights, LightVisibility& vis, Vec3 p, Vec3 n, Vec3 dir,
-              int depth, int bounces, Rng& rng) {
+              int depth, int bounces, Vec3 prefix, float roulette, Rng& rng) {
   Vec3 throughput(1, 1, 1), result(0, 0, 0);
   for (;;) {
+    if (roulette > 0) {
+      // prefix x throughput: what the caller multiplies this path's light by.
+      float q = std::min(1.0f, roulette * max_abs(prefix * throughput));
+      if (q < 1) {
+        if (rng.uniform_float() >= q) return result;
+        throughput = throughput / q;
+      }
+    }
     Vec3 origin = RayTracer::offset(p, n);
     if (depth >= bounces) {
       // Last vertex: only the sky may still reach it (its own env term). No ray where
@@ -257,7 +267,7 @@ Vec3 incoming(const RayTracer& rt, const LightTable& lights, LightVisibility& vi
 }  // namespace
 
 void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces, Rng& rng, Vec3& env,
-                      Vec3& indirect) {
+                      Vec3& indirect, float roulette) {
   env = indirect = Vec3();
   if (spp <= 0) return;
   Frame frame(hit.normal);
@@ -292,7 +302,7 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
     const Material& m = *h.material;
     Vec3 next = Frame(h.normal).to_world(cosine_hemisphere(rng.uniform_float(), rng.uniform_float()));
     Vec3 direct = light_sample(rt, lights, h.position, h.normal, rng, &vis);
-    Vec3 later = incoming(rt, lights, vis, h.position, h.normal, next, 1, bounces, rng);
+    Vec3 later = incoming(rt, lights, vis, h.position, h.normal, next, 1, bounces, m.albedo, roulette, rng);
     ind.add(m.emission + m.albedo * (direct + later));
   }
   env = e.mean(spp);

@@ -15,6 +15,7 @@ struct RenderSettings {
   int gi_spp = 128;      // paths per pixel for env + indirect (stratified first bounce)
   int light_spp = 4;     // samples per area light / sun disc at the visible point
   int bounces = 3;       // indirect bounces (>= 2 for the GI target)
+  float roulette = 2;    // Russian roulette on indirect paths (env_and_indirect); 0 = off
   bool ao = true;        // write `AO`
   bool lighting = true;  // write direct / emission / env (and indirect, below)
   bool indirect = true;  // with lighting: also path-trace `indirect`, the GI target
@@ -54,7 +55,11 @@ Vec3 light_sample(const RayTracer& rt, Vec3 p, Vec3 n, Rng& rng, LightVisibility
 // (its emission plus its albedo times all its own light), cosine-averaged, with up to
 // `bounces` reflections along each path. Both share the same `spp` directions.
 // bounces = 0 computes env alone (shadow rays only) and leaves indirect at 0.
+// roulette > 0: Russian roulette beyond the first bounce: before each further ray a
+// path goes on with probability q = min(1, roulette x its largest throughput channel)
+// and is divided by q if it does (unbiased; dim paths, which carry little, stop
+// early). 0 traces every path to `bounces` (the furnace's zero-variance case).
 void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces, Rng& rng, Vec3& env,
-                      Vec3& indirect);
+                      Vec3& indirect, float roulette = 0);
 
 }  // namespace nns::data

@@ -245,6 +245,43 @@ TEST(RenderIndirect, EmissiveFurnaceIsGeometricSeries) {
   }
 }
 
+// Russian roulette in the furnace: paths whose throughput falls below 1 / roulette
+// stop at random, so the estimate is no longer exact, but its mean is: 64 estimates
+// of 1024 paths each lie around Le (1 - a^B) / (1 - a) within 4 standard errors
+// (about 0.2% of it), they differ (the roulette is at work), and they cost fewer rays
+// than the same paths without it.
+TEST(RenderIndirect, RouletteKeepsTheFurnaceSeries) {
+  Scene s;
+  s.name = "furnace";
+  float a = 0.6f, le = 0.25f;
+  uint32_t m = s.add_material({{a, a, a}, {le, le, le}});
+  add_box(s, {-1, -1, -1}, {1, 1, 1}, m);
+  RayTracer rt(s);
+  const int bounces = 4, calls = 64;
+  const double expect = le * (1 - std::pow(a, bounces)) / (1 - a);
+  double sum = 0, sum2 = 0;
+  uint64_t rays_rr = 0, rays_plain = 0;
+  for (int k = 0; k < calls; ++k) {
+    Vec3 env, ind;
+    Rng rng(100 + uint64_t(k));
+    uint64_t r0 = RayTracer::thread_ray_count();
+    env_and_indirect(rt, hit_at(s, {0.2f, -1, 0.3f}, {0, 1, 0}), 1024, bounces, rng, env, ind, 2.0f);
+    rays_rr += RayTracer::thread_ray_count() - r0;
+    sum += ind.x, sum2 += double(ind.x) * ind.x;
+    Rng rng2(100 + uint64_t(k));
+    r0 = RayTracer::thread_ray_count();
+    env_and_indirect(rt, hit_at(s, {0.2f, -1, 0.3f}, {0, 1, 0}), 1024, bounces, rng2, env, ind);
+    rays_plain += RayTracer::thread_ray_count() - r0;
+    EXPECT_NEAR(ind.x, expect, 1e-5);
+  }
+  double mean = sum / calls, sd = std::sqrt(std::max(0.0, sum2 / calls - mean * mean));
+  double se = sd / std::sqrt(calls - 1.0);
+  EXPECT_NEAR(mean, expect, 4 * se) << "standard error " << se;
+  EXPECT_GT(sd, 1e-4);
+  EXPECT_LT(se, 0.002 * expect);
+  EXPECT_LT(rays_rr, rays_plain * 9 / 10);
+}
+
 // Open sky, constant radiance S, over an infinite plane: env = S, indirect = 0.
 TEST(RenderIndirect, ConstantSkyOverPlaneIsEnvOnly) {
   Scene s = floor_scene();
