@@ -22,6 +22,26 @@ Hit hit_at(const Scene& s, Vec3 p, Vec3 n) {
   return h;
 }
 
+// A closed 2 m box of albedo a whose walls emit le.
+Scene furnace_scene(float a, float le) {
+  Scene s;
+  s.name = "furnace";
+  uint32_t m = s.add_material({{a, a, a}, {le, le, le}});
+  add_box(s, {-1, -1, -1}, {1, 1, 1}, m);
+  return s;
+}
+
+// The view rendered with 1 and with 2 threads; every plane must be bit-identical.
+View render_with_1_and_2_threads(const RayTracer& rt, const Camera& cam, const RenderSettings& rs, uint64_t id) {
+  set_num_threads(1);
+  View a = render_view(rt, cam, rs, id);
+  set_num_threads(2);
+  View b = render_view(rt, cam, rs, id);
+  EXPECT_EQ(a.channels.size(), b.channels.size());
+  for (auto& [name, plane] : a.channels) EXPECT_EQ(plane, b.channels.at(name)) << name;
+  return a;
+}
+
 Scene floor_scene(float half = 1000) {
   Scene s;
   s.name = "floor";
@@ -228,11 +248,8 @@ TEST(RenderNextEvent, LightsPartlyAboveTheHorizonAreSampled) {
 // every vertex, so indirect = Le * (1 + a + ... + a^(B-1)) exactly, with zero variance;
 // env is 0 (no sky is reachable).
 TEST(RenderIndirect, EmissiveFurnaceIsGeometricSeries) {
-  Scene s;
-  s.name = "furnace";
   float a = 0.6f, le = 0.25f;
-  uint32_t m = s.add_material({{a, a, a}, {le, le, le}});
-  add_box(s, {-1, -1, -1}, {1, 1, 1}, m);
+  Scene s = furnace_scene(a, le);
   s.sky = Sky::constant({5, 5, 5});
   RayTracer rt(s);
   for (int bounces : {1, 2, 4}) {
@@ -251,11 +268,8 @@ TEST(RenderIndirect, EmissiveFurnaceIsGeometricSeries) {
 // (about 0.2% of it), they differ (the roulette is at work), and they cost fewer rays
 // than the same paths without it.
 TEST(RenderIndirect, RouletteKeepsTheFurnaceSeries) {
-  Scene s;
-  s.name = "furnace";
   float a = 0.6f, le = 0.25f;
-  uint32_t m = s.add_material({{a, a, a}, {le, le, le}});
-  add_box(s, {-1, -1, -1}, {1, 1, 1}, m);
+  Scene s = furnace_scene(a, le);
   RayTracer rt(s);
   const int bounces = 4, calls = 64;
   const double expect = le * (1 - std::pow(a, bounces)) / (1 - a);
@@ -347,12 +361,7 @@ TEST(RenderView, IdenticalWithOneAndTwoThreads) {
   cam.width = 24, cam.height = 16;
   RenderSettings rs;
   rs.ao_spp = 16, rs.gi_spp = 8;
-  set_num_threads(1);
-  View a = render_view(rt, cam, rs, 3);
-  set_num_threads(2);
-  View b = render_view(rt, cam, rs, 3);
-  ASSERT_EQ(a.channels.size(), b.channels.size());
-  for (auto& [name, plane] : a.channels) EXPECT_EQ(plane, b.channels.at(name)) << name;
+  View a = render_with_1_and_2_threads(rt, cam, rs, 3);
   // A different view id gives a different noise pattern.
   View c = render_view(rt, cam, rs, 4);
   EXPECT_NE(a.channel("AO"), c.channel("AO"));
@@ -375,12 +384,7 @@ TEST(RenderView, IdenticalWithOneAndTwoThreadsWithManyLights) {
   cam.width = 20, cam.height = 12;
   RenderSettings rs;
   rs.ao_spp = 16, rs.gi_spp = 24, rs.light_spp = 2;
-  set_num_threads(1);
-  View a = render_view(rt, cam, rs, 5);
-  set_num_threads(2);
-  View b = render_view(rt, cam, rs, 5);
-  ASSERT_EQ(a.channels.size(), b.channels.size());
-  for (auto& [name, plane] : a.channels) EXPECT_EQ(plane, b.channels.at(name)) << name;
+  View a = render_with_1_and_2_threads(rt, cam, rs, 5);
   double ind = 0;
   for (float v : a.channel("indirect.R")) ind += v;
   EXPECT_GT(ind, 0.0);
