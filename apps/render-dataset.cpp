@@ -52,6 +52,8 @@ int main(int argc, char** argv) {
   job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel", 1, 65536);
   job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)", 1, 64);
   job.settings.seed = uint64_t(args.get_int("--seed", 1, "seed: scenes, cameras and noise", 0, INT_MAX));
+  int noise_seed = args.get_int("--noise-seed", -1, "seed of the Monte-Carlo noise alone (-1: --seed): the same scenes and cameras with independent noise", -1, INT_MAX);
+  job.noise_seed = noise_seed;
   int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
   job.scene_files = args.get_list("--scene", "an OBJ or glTF scene file instead of the procedural families");
   job.families = args.get_names("--families", "", families_help);

@@ -137,8 +137,9 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
     m << "# nnshade dataset metadata (docs/dataset-format.md, \"Dataset metadata\")\n"
       << "format: nnshade-dataset-metadata 1\n"
       << "preset: " << job.preset << "\n"
-      << "seed: " << job.settings.seed << "\n"
-      << "families.train: " << joined(families_in(tasks, "train")) << "\n"
+      << "seed: " << job.settings.seed << "\n";
+    if (job.noise_seed >= 0) m << "noise-seed: " << job.noise_seed << "\n";
+    m << "families.train: " << joined(families_in(tasks, "train")) << "\n"
       << "families.test: " << joined(families_in(tasks, "test")) << "\n";
     if (!holdout.empty()) m << "families.holdout: " << joined(holdout) << "\n";
     if (job.vary_lighting) m << "lighting-variation: albedo, light colour and exposure, sun direction and size, extra lamps per scene (render/scenes/scene_variation.h)\n";
@@ -292,6 +293,7 @@ DatasetReport render_dataset(DatasetJob job) {
       int w = shape.width, h = surround ? shape.width : shape.height;
       float fov = surround ? 90.0f : shape.fov;
       RenderSettings settings = job.settings;
+      if (job.noise_seed >= 0) settings.seed = uint64_t(job.noise_seed);
       settings.ao_radius = shape.ao_radius;
       std::vector<Camera> cams;
       if (P == 1) cams.push_back(place_camera(rt, w, h, fov, cam_rng));

@@ -39,6 +39,10 @@ struct DatasetJob {
   // Per-scene albedos, light colours, exposure, sun and extra lamps (set by surround-v2/v3).
   bool vary_lighting = false;
   RenderSettings settings;             // spp, bounces, seed; ao/lighting set by preset
+  // >= 0: the Monte-Carlo noise comes from this seed instead of settings.seed, while
+  // scenes, cameras and lighting keep settings.seed: the same views with independent
+  // noise (two-seed noise estimates, a reference against which to measure an estimator).
+  int64_t noise_seed = -1;
   bool progress = true;                // progress bar on stderr
   // Render only views i with i % parts == part (mpirun: rank and size). Every part walks
   // the same scenes and cameras, so a view's bytes never depend on the split; part 0

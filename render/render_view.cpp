@@ -87,7 +87,7 @@ View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s
           put(p.dir, i, direct_light(rt, h.position, h.normal, s.light_spp, rng));
           put(p.emi, i, h.material->emission);
           Vec3 env, ind;
-          env_and_indirect(rt, h, s.gi_spp, s.indirect ? s.bounces : 0, rng, env, ind);
+          env_and_indirect(rt, h, s.gi_spp, s.indirect ? s.bounces : 0, rng, env, ind, s.roulette);
           put(p.env, i, env);
           put(p.ind, i, ind);
         }
