@@ -42,16 +42,18 @@ DatasetJob default_dataset_job(const std::string& preset) {
     job.fov_y_deg = 60;
     job.settings.ao_spp = 256;
   } else if (preset == "surround") {
-    // Cube frames for the surround-aware GAN (version 3): every family (surround-v2:
-    // albedos, light colours and exposure, sun, extra lamps drawn per scene, pitch
-    // widened), one 4-frame camera path per scene so the 1,200 frames come from 300
-    // scenes (version 2: 320 frames of 20 scenes, and the models overfit them,
-    // docs/gan.md). cave, pipes and round are held out (holdout/, as the AO data);
-    // 15% of the rest is test/. train-gan carves its validation scenes out of train/.
-    // 64x64 faces, GI target on front with 256 paths. ~1.7 CPU-s per frame (the second-
-    // generation families are heavier than the first): about 18 minutes on 2 idle cores.
-    job.preset = "surround-v2";
-    job.views = 1200;
+    // Cube frames for the surround-aware GAN (version 4): all 22 families (surround-v3:
+    // surround-v2's per-scene albedos, light colours, exposure, sun and extra lamps, plus
+    // the third generation: corridor, courtyard, multiroom), one 4-frame camera path per
+    // scene, so the 2,400 frames come from 600 scenes. Version 3 had 1,200 frames of 300
+    // scenes of 19 families and its data-size curve had not flattened (docs/gan.md); the
+    // renderer's one-light NEE, roulette and stratified first bounce (docs/renderer.md)
+    // made a frame ~1.8x cheaper, so twice the frames cost what version 3 did. cave,
+    // pipes and round are held out (holdout/, as the AO data); 15% of the rest is test/.
+    // train-gan carves its validation scenes out of train/. 64x64 faces, GI target on
+    // front with 256 paths. ~0.82 CPU-s per frame: about 17 minutes on 2 idle cores.
+    job.preset = "surround-v3";
+    job.views = 2400;
     job.views_per_scene = 4;
     job.path_frames = 4;
     job.test_fraction = 0.15;
@@ -64,7 +66,8 @@ DatasetJob default_dataset_job(const std::string& preset) {
     job.settings.bounces = 3;
   } else if (preset == "gi") {
     // Single views with every lighting channel, 128x128 at a 90-degree fov (the size
-    // of a surround front face), 96 train + 24 test.
+    // of a surround front face), 96 train + 24 test. Version 3: the renderer's faster
+    // estimator (one-light NEE, roulette) changed the noise, so the pixels.
     job.views = 120;
     job.views_per_scene = 6;
     job.width = job.height = 128;
