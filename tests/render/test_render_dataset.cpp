@@ -138,8 +138,8 @@ TEST(DefaultDataset, CacheRootAndSizes) {
   for (std::string p : {"nnao", "surround", "gi"}) {
     DatasetJob j = default_dataset_job(p);
     EXPECT_GE(j.views, 100) << p;
-    // nnao v3+ and surround v3: every family (and, for surround, lighting varied)
-    EXPECT_EQ(j.preset, p == "nnao" ? std::string("nnao-v2") : p == "surround" ? std::string("surround-v2") : p);
+    // nnao v3+: generations 1-2; surround v4: all three generations, lighting varied
+    EXPECT_EQ(j.preset, p == "nnao" ? std::string("nnao-v2") : p == "surround" ? std::string("surround-v3") : p);
   }
   EXPECT_FALSE(default_dataset_job("surround").holdout_families.empty());
   EXPECT_FALSE(default_dataset_job("nnao").holdout_families.empty());
