@@ -289,9 +289,13 @@ TEST_F(TrainGan, DiscriminatorLearningRateIsRecordedAndChecked) {
   int rc = run(train_cmd(out, "--lr-d 0.002 --resume"), out + ".log2");
   EXPECT_EQ(rc, 1) << read_all(out + ".log2");
   EXPECT_NE(read_all(out + ".log2").find("lr_d: was 0.001, now 0.002"), std::string::npos) << read_all(out + ".log2");
+  // One rate (--lr-d 0, pix2pix) records nothing; the default, a quarter of --lr, is recorded.
   const std::string same = (root_ / "lrd-same").string();
-  ASSERT_EQ(run(train_cmd(same, ""), same + ".log"), 0) << read_all(same + ".log");
+  ASSERT_EQ(run(train_cmd(same, "--lr-d 0"), same + ".log"), 0) << read_all(same + ".log");
   EXPECT_FALSE(nns::Blob::load(same + "/checkpoint.blob").has_config("lr_d"));
+  const std::string def = (root_ / "lrd-default").string();
+  ASSERT_EQ(run(train_cmd(def, ""), def + ".log"), 0) << read_all(def + ".log");
+  EXPECT_DOUBLE_EQ(nns::Blob::load(def + "/checkpoint.blob").config_double("lr_d"), 5e-5);
 }
 
 // The validation split: train-gan carves whole train/ scenes out before fitting
@@ -371,7 +375,8 @@ TEST_F(TrainGan, DiscriminatorWatchFiresWhenDWinsOutright) {
   EXPECT_NE(summary.find("\"finished\":true"), std::string::npos) << summary;
   EXPECT_TRUE(fs::exists(won + "/G.blob"));
 
-  ASSERT_EQ(run(train_cmd(calm, "--epochs 70"), calm + ".log"), 0) << read_all(calm + ".log");
+  // --lr-d 0: D at G's rate, as pix2pix (the default is a quarter of it, calmer still).
+  ASSERT_EQ(run(train_cmd(calm, "--epochs 70 --lr-d 0"), calm + ".log"), 0) << read_all(calm + ".log");
   EXPECT_EQ(read_all(calm + ".log").find("wins outright"), std::string::npos) << read_all(calm + ".log");
   EXPECT_NE(read_all(calm + "/summary.json").find("\"d_wins_windows\":0"), std::string::npos);
 }
