@@ -10,8 +10,8 @@
 // Rechecked on data v3's validation split (docs/gan.md, "Choosing the default on the
 // validation split"): L1 alone, DSSIM weight 0, ngf 32, 30 epochs and the Deep Shading
 // U-Net all land within 0.01 SSIM of this model (the best, Deep Shading, 0.937 against
-// 0.934, is 7x slower per frame), so the rule above keeps it. Training: ~5 minutes with
-// one thread on the cached data.
+// 0.934, is 7x slower per frame), so the rule above keeps it. Training on v3: ~5 minutes
+// with one thread; on data v4 (twice the frames): 7 min 22 s with two threads.
 // Data v4 (docs/gan.md, "Results (default data v4)"): the discriminator at a quarter of
 // the generator's rate (lr_d 5e-5, two time-scale updates) wins the validation split on
 // MSE and PSNR by more than the 3-seed spread, ties SSIM, and had none of the equal
