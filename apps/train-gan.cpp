@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     double lambda = a.get_double("--lambda", 100, "weight of the L1 term in the generator loss", 0, HUGE_VAL);
     double dssim_weight = a.get_double("--dssim-weight", -1, "add this times DSSIM to the L1 term (default: 1 with --loss gan, 0 with l1; 0 is pix2pix's L1 alone)");
     double lr = a.get_double("--lr", def.lr, "Adam learning rate", 1e-12, 1e9);
-    double lr_d = a.get_double("--lr-d", def.lr_d, "the discriminator's learning rate (0: --lr, as pix2pix; the default, a quarter of --lr, won the validation split: docs/gan.md)", 0, 1e9);
+    double lr_d = a.get_double("--lr-d", def.lr_d, "the discriminator's learning rate (0: --lr, as pix2pix; the default, a quarter of the default --lr, won the validation split: docs/gan.md)", 0, 1e9);
     double beta1 = a.get_double("--beta1", 0.5, "Adam beta1", 0, 0.9999);
     std::string coordconv = a.get_choice("--coordconv", "on", {"on", "off"}, "append coordinate channels");
     std::string loss = a.get_choice("--loss", "gan", {"gan", "l1", "dssim"}, "adversarial + L1, or a plain loss (baseline)");

@@ -11,13 +11,15 @@
 // validation split"): L1 alone, DSSIM weight 0, ngf 32, 30 epochs and the Deep Shading
 // U-Net all land within 0.01 SSIM of this model (the best, Deep Shading, 0.937 against
 // 0.934, is 7x slower per frame), so the rule above keeps it. Training on v3: ~5 minutes
-// with one thread; on data v4 (twice the frames): 7 min 22 s with two threads.
+// with one thread; on data v4 (twice the frames): 6 min 52 s with two threads.
 // Data v4 (docs/gan.md, "Results (default data v4)"): the discriminator at a quarter of
 // the generator's rate (lr_d 5e-5, two time-scale updates) wins the validation split on
 // MSE and PSNR by more than the 3-seed spread, ties SSIM, and had none of the equal
-// rate's linear-light blow-ups (one seed in three at 0.70 against 0.033-0.037: a few
-// frames at 30-50). At the equal rate D stays ahead (last 10% of steps: D loss 0.16-0.17,
-// G's adversarial 5.8); at a quarter, 0.20-0.21 and 4.7-4.9.
+// rate's linear-light blow-ups (validation linear MSE: one seed in three at 0.70, the
+// others 0.037-0.042, at a quarter 0.032-0.033; on test four frames at 30-51). At the
+// equal rate D stays ahead (last 10% of steps: D loss 0.16-0.17, G's adversarial 5.8);
+// at a quarter, 0.20-0.21 and 4.7-4.9. lr_d is a rate, not a ratio: another --lr leaves
+// it at 5e-5.
 namespace nns::gi {
 
 struct GanDefaults {
