@@ -109,17 +109,31 @@ def horizon_features(g, directions, steps, bands):
     return torch.cat([hz, torch.stack([dot(N, V), torch.log2(1 + R) / 8] + vis, -1)], -1)
 
 
-def bilateral_blur(g, ao):
-    """The 5x5 separable depth- and normal-aware blur after a horizon model; sky stays 1."""
+def pow_by_squaring(x, p):
+    """x^p multiplied in the order of nnao_weights.h's pow_by_squaring (same bits)."""
+    r = torch.ones_like(x)
+    while p > 0:
+        if p & 1:
+            r = r * x
+        if p > 1:
+            x = x * x
+        p >>= 1
+    return r
+
+
+def bilateral_blur(g, ao, depth=0.1, normal_power=8):
+    """The 5x5 separable depth- and normal-aware blur after a horizon model; sky stays 1.
+    depth, normal_power: the edge terms (the blob's blur_depth, blur_normal_power)."""
     spatial = [math.exp(-k * k / (2 * 1.5 * 1.5)) for k in range(-2, 3)]
+    inv_dz = 1 / (torch.tensor(depth, dtype=torch.float32) * g.r)
     for dx, dy in ((1, 0), (0, 1)):
         s, ws = torch.zeros_like(ao), torch.zeros_like(ao)
         for k in range(-2, 3):
             qx, qy = g.px + k * dx, g.py + k * dy
             inside = (qx >= 0) & (qy >= 0) & (qx < g.w) & (qy < g.h)
             j = g.nearest(qx, qy)
-            dz = (g.at(g.z, j) - g.z) * (1 / (0.1 * g.r))
-            nd = torch.clamp(dot(g.n, g.at(g.n, j)), min=0) ** 8
+            dz = (g.at(g.z, j) - g.z) * inv_dz
+            nd = pow_by_squaring(torch.clamp(dot(g.n, g.at(g.n, j)), min=0), normal_power)
             w = torch.where(inside & ~g.at(g.sky, j), spatial[k + 2] * torch.exp(-dz * dz) * nd, torch.zeros_like(dz))
             s, ws = s + w * g.at(ao, j), ws + w
         ao = torch.where(g.sky, torch.ones_like(ao), torch.where(ws > 0, s / ws, ao))
@@ -141,6 +155,7 @@ def infer_image(net, config, depth, normal, fov_y_deg, radius, blur=None):
         ao = net(f.reshape(-1, f.shape[-1])).reshape(g.h, g.w)
     ao = torch.where(g.sky, torch.ones_like(ao), ao)
     if blur if blur is not None else config.get("features") == "horizon":
+        edges = (float(config.get("blur_depth", 0.1)), int(config.get("blur_normal_power", 8)))
         for _ in range(int(config.get("blur_passes", 1)) if blur is None else 1):
-            ao = bilateral_blur(g, ao)
+            ao = bilateral_blur(g, ao, *edges)
     return ao

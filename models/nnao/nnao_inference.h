@@ -166,11 +166,11 @@ void exact_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, con
 
 // Depth- and normal-aware blur, separable (a 5-tap horizontal then a 5-tap vertical
 // pass, the usual SSAO blur): Gaussian in screen space (sigma 1.5 px), times
-// exp(-(dz / (0.1 r))^2) and max(0, n.n')^8, so it does not average across a depth
-// discontinuity or a crease.
-inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out) {
+// exp(-(dz / (e.depth r))^2) and max(0, n.n')^e.normal_power, so it does not average
+// across a depth discontinuity or a sharp crease (the terms: nnao_weights.h).
+inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out, const BlurEdges& e = {}) {
   using namespace ao::simd;
-  const float inv_dz = 1.0f / (0.1f * g.radius);
+  const float inv_dz = 1.0f / (e.depth * g.radius);
   float spatial[5];
   for (int k = -2; k <= 2; ++k) spatial[k + 2] = std::exp(-float(k * k) / (2 * 1.5f * 1.5f));
   std::vector<float> tmp(size_t(g.pixels()));
@@ -199,7 +199,7 @@ inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out) {
         if (!m) continue;
         const VF dz = select(m, (zj - z) * splat(inv_dz), splat(0.0f));
         VF nd = max(splat(0.0f), nx * load(g.nx + j0, m, 0.0f) + ny * load(g.ny + j0, m, 0.0f) + nz * load(g.nz + j0, m, 0.0f));
-        nd = nd * nd, nd = nd * nd, nd = nd * nd;
+        nd = pow_by_squaring(nd, e.normal_power, splat(1.0f));
         const VF wk = select(m, splat(spatial[k + 2]) * exp_nonpositive(-(dz * dz)) * nd, splat(0.0f));
         s = s + wk * load(src + j0, m, 0.0f);
         ws = ws + wk;
@@ -224,10 +224,10 @@ inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) 
     std::vector<float> raw(size_t(g.pixels()));
     infer_horizon(m, g, raw.data());
     for (int p = 1; p < m.blur_passes; ++p) {
-      bilateral_blur(g, raw.data(), out);
+      bilateral_blur(g, raw.data(), out, m.blur_edges);
       std::copy(out, out + g.pixels(), raw.data());
     }
-    return bilateral_blur(g, raw.data(), out);
+    return bilateral_blur(g, raw.data(), out, m.blur_edges);
   }
   const std::vector<float> packed = detail::pack_normal_depth(g);
   for_each_block(g, [&](int x0, int y, Mask valid) {

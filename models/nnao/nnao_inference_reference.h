@@ -21,12 +21,9 @@
 namespace nns::nnao {
 
 
-// Depth- and normal-aware blur, separable (a 5-tap horizontal then a 5-tap vertical
-// pass, the usual SSAO blur): Gaussian in screen space (sigma 1.5 px), times
-// exp(-(dz / (0.1 r))^2) and max(0, n.n')^8, so it does not average across a depth
-// discontinuity or a crease.
-inline void bilateral_blur_reference(const ao::GBuffer& g, const float* in, float* out) {
-  const float inv_dz = 1.0f / (0.1f * g.radius);
+// bilateral_blur of nnao_inference.h, one pixel at a time.
+inline void bilateral_blur_reference(const ao::GBuffer& g, const float* in, float* out, const BlurEdges& e = {}) {
+  const float inv_dz = 1.0f / (e.depth * g.radius);
   float spatial[5];
   for (int k = -2; k <= 2; ++k) spatial[k + 2] = std::exp(-float(k * k) / (2 * 1.5f * 1.5f));
   std::vector<float> tmp(size_t(g.pixels()));
@@ -45,8 +42,7 @@ inline void bilateral_blur_reference(const ao::GBuffer& g, const float* in, floa
         const int64_t j = int64_t(sy) * g.width + sx;
         if (g.sky(j)) continue;
         const float dz = (g.z[j] - z) * inv_dz;
-        float nd = std::max(0.0f, ao::dot(n, g.normal(j)));
-        nd *= nd, nd *= nd, nd *= nd;
+        const float nd = pow_by_squaring(std::max(0.0f, ao::dot(n, g.normal(j))), e.normal_power, 1.0f);
         const float w = spatial[k + 2] * std::exp(-dz * dz) * nd;
         s += w * src[j];
         ws += w;
@@ -65,10 +61,10 @@ inline void infer_exact_reference(const NnaoWeights& m, const ao::GBuffer& g, fl
   std::vector<float> raw(size_t(g.pixels()));
   infer_exact_per_pixel(m, g, raw.data());
   for (int p = 1; p < m.blur_passes; ++p) {
-    bilateral_blur_reference(g, raw.data(), out);
+    bilateral_blur_reference(g, raw.data(), out, m.blur_edges);
     std::copy(out, out + g.pixels(), raw.data());
   }
-  bilateral_blur_reference(g, raw.data(), out);
+  bilateral_blur_reference(g, raw.data(), out, m.blur_edges);
 }
 
 // `blur` false gives the raw stochastic estimate (tests check its mean).

@@ -7,7 +7,8 @@
 //           dropout, gamma, target ("ao": 1 = unoccluded; "ao-minus-horizon-visibility":
 //           the output is added to the horizons' visibility, nnao_inputs.h),
 //           features ("grid" when absent, or "horizon" with directions, steps, bands,
-//           and blur_passes: 1 when absent)
+//           blur_passes: 1 when absent, blur_depth: 0.1 and blur_normal_power: 8
+//           when absent)
 //   fc0.weight (H, F)  fc0.bias (H)  act0.alpha (H)  act0.beta (H)   (F: nnao_inputs.h)
 //   fc1.weight (H, H) ...  fc2 ...       fc3.weight (1, H) fc3.bias (1) act3.alpha/beta (1)
 //   feature_mean (F)  feature_std (F)  target_stats (2: mean, std)
@@ -27,6 +28,29 @@
 
 namespace nns::nnao {
 
+// The edge-stopping terms of NNAO's bilateral blur (nnao_inference.h): a tap weighs
+// exp(-(dz / (depth r))^2) max(0, n.n')^normal_power besides its Gaussian. The first
+// horizon models had depth 0.1 and power 8, which their blobs mean by leaving the keys
+// out; the default's looser 0.3 and 2 blur across more of the small depth steps and
+// soft creases where the raw output flickers (validation families, 3 seeds: flicker
+// 0.87x -> 0.75x the ground truth's for MSE +1.7%; docs/nnao.md, "Flicker").
+struct BlurEdges {
+  float depth = 0.1f;
+  int normal_power = 8;
+};
+
+// x^p by squaring (p >= 0). The CPU paths, the GLSL and the torch tool multiply in this
+// order, so they agree to the bit; p = 8 is the ((x^2)^2)^2 the first models used.
+template <class T>
+T pow_by_squaring(T x, int p, T one) {
+  T r = one;
+  for (; p > 0; p >>= 1) {
+    if (p & 1) r = r * x;
+    if (p > 1) x = x * x;
+  }
+  return r;
+}
+
 struct NnaoWeights {
   int hidden = 4;
   InputSpec input;  // what layer 0 reads: the grid (input.window) or horizon profiles
@@ -34,6 +58,7 @@ struct NnaoWeights {
   // Horizon models: how many times the exact inference applies the bilateral blur
   // (nnao_inference.h), chosen on validation families (docs/nnao.md, "Flicker").
   int blur_passes = 1;
+  BlurEdges blur_edges;  // horizon models; the grid keeps the defaults
   std::vector<float> w0;              // (hidden, F) with the standardisation folded in
   std::vector<float> b0;              // (hidden)
   std::vector<float> w[3], b[3];      // layers 1..3: (hidden, hidden), (hidden, hidden), (1, hidden)
@@ -79,14 +104,25 @@ struct NnaoWeights {
         if (v < 1 || v > 64) throw blob.error(std::string(key) + " " + std::to_string(v) + " out of range 1..64");
         return int(v);
       };
-      if (m.input.is_horizon())
+      if (m.input.is_horizon()) {
         m.input.horizon = {layout_int("directions"), layout_int("steps"), layout_int("bands")};
-        // Absent in the first horizon models' blobs: one pass.
+        // Absent in the first horizon models' blobs: one pass, the first edge terms.
         if (blob.has_config("blur_passes")) {
           const int64_t p = blob.config_int("blur_passes");
           if (p < 1 || p > 16) throw blob.error("blur_passes " + std::to_string(p) + " out of range 1..16");
           m.blur_passes = int(p);
         }
+        if (blob.has_config("blur_depth")) {
+          const double d = blob.config_double("blur_depth");
+          if (!(d >= 0.01 && d <= 100)) throw blob.error("blur_depth " + blob.config_string("blur_depth") + " out of range 0.01..100");
+          m.blur_edges.depth = float(d);
+        }
+        if (blob.has_config("blur_normal_power")) {
+          const int64_t p = blob.config_int("blur_normal_power");
+          if (p < 0 || p > 64) throw blob.error("blur_normal_power " + std::to_string(p) + " out of range 0..64");
+          m.blur_edges.normal_power = int(p);
+        }
+      }
     }
     if (const std::string p = m.input.problem(); !p.empty()) throw blob.error(p);
     const int64_t F = m.features(), H = m.hidden;

@@ -99,7 +99,9 @@ inline std::vector<std::string> write_export(const NnaoWeights& m, const std::st
     files.push_back("nnao_filters.exr");
     files.push_back("filter<k>.exr/.png");
   }
-  write_file_atomic((fs::path(dir) / "nnao_blur.frag").string(), glsl_blur_pass(m.input.is_horizon() ? m.blur_passes : 1));
+  const bool horizon = m.input.is_horizon();  // the grid's blur keeps the first terms, one pair
+  write_file_atomic((fs::path(dir) / "nnao_blur.frag").string(),
+                    glsl_blur_pass(horizon ? m.blur_passes : 1, horizon ? m.blur_edges : BlurEdges{}));
   return files;
 }
 

@@ -115,7 +115,7 @@ Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, const data::V
   const int pairs = m.input.is_horizon() ? m.blur_passes : 1;
   std::vector<float> src = raw;
   for (int p = 0; p < pairs; ++p) {
-    nnao::bilateral_blur(g, src.data(), cpu.data());
+    nnao::bilateral_blur(g, src.data(), cpu.data(), m.blur_edges);
     src = cpu;
   }
   const gl::NnaoGlPasses::Frame f{samples, frame};
@@ -169,6 +169,12 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
   const auto m4 = export_model(four, dir_ / "b4", 64);
   ASSERT_EQ(m4.blur_passes, 4);
   check_passes(m4, dir_ / "b4", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 blur passes");
+  // And so do its edge terms (BLUR_DEPTH, NNAO_BLUR_NORMAL_POWER).
+  four.set_config("blur_depth", 0.3);
+  four.set_config("blur_normal_power", 2);
+  const auto loose = export_model(four, dir_ / "loose", 64);
+  ASSERT_EQ(loose.blur_edges.normal_power, 2);
+  check_passes(loose, dir_ / "loose", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 passes, depth 0.3, power 2");
 }
 
 // The pair count travels as text in nnao_blur.frag: a count outside 1..16 is refused,

@@ -260,6 +260,59 @@ TEST(NnaoInference, HorizonModelBlursBlurPassesTimes) {
   }
 }
 
+// x^p by squaring: power 8 is the ((x^2)^2)^2 of the first models' blur, to the bit.
+TEST(NnaoInference, PowerBySquaringKeepsTheFirstModelsBits) {
+  for (float x : {0.0f, 0.137f, 0.5f, 0.73f, 0.999f, 1.0f}) {
+    float x8 = x * x;
+    x8 *= x8, x8 *= x8;
+    EXPECT_EQ(nnao::pow_by_squaring(x, 8, 1.0f), x8) << x;
+    EXPECT_EQ(nnao::pow_by_squaring(x, 0, 1.0f), 1.0f) << x;
+    EXPECT_EQ(nnao::pow_by_squaring(x, 2, 1.0f), x * x) << x;
+    EXPECT_NEAR(nnao::pow_by_squaring(x, 13, 1.0f), std::pow(x, 13.0f), 1e-6f) << x;
+  }
+}
+
+// blur_depth and blur_normal_power: absent mean the first models' 0.1 and 8; present,
+// both the vector and the reference blur use them; out of range the blob is refused.
+TEST(NnaoInference, HorizonModelBlursWithTheBlobsEdgeTerms) {
+  Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 31, false, {8, 8, 4}), 10, -0.3f);
+  const auto first = nnao::NnaoWeights::from_blob(blob);
+  ASSERT_EQ(first.blur_edges.depth, 0.1f);
+  ASSERT_EQ(first.blur_edges.normal_power, 8);
+  blob.set_config("blur_passes", 2);
+  blob.set_config("blur_depth", 0.3);
+  blob.set_config("blur_normal_power", 2);
+  const auto m = nnao::NnaoWeights::from_blob(blob);
+  ASSERT_EQ(m.blur_edges.depth, 0.3f);
+  ASSERT_EQ(m.blur_edges.normal_power, 2);
+  const auto view = nns::fixtures::synthetic_view(50, 30, 3, 1);  // g points into it
+  auto g = ao::gbuffer_from_view(view);
+  std::vector<float> raw(size_t(g.pixels())), tmp(raw.size()), expect(raw.size()), got(raw.size()), ref(raw.size()),
+      first_terms(raw.size());
+  nnao::infer_horizon(m, g, raw.data());
+  nnao::bilateral_blur(g, raw.data(), tmp.data(), m.blur_edges);
+  nnao::bilateral_blur(g, tmp.data(), expect.data(), m.blur_edges);
+  nnao::bilateral_blur(g, raw.data(), tmp.data());
+  nnao::bilateral_blur(g, tmp.data(), first_terms.data());
+  nnao::infer_exact(m, g, got.data());
+  EXPECT_EQ(got, expect);
+  int64_t changed = 0;  // the looser terms blur across edges the first ones kept
+  for (size_t i = 0; i < got.size(); ++i) changed += std::abs(got[i] - first_terms[i]) > 1e-4f;
+  EXPECT_GT(changed, int64_t(got.size() / 20)) << "the edge terms changed too few pixels to be in use";
+  nnao::infer_exact_reference(m, g, ref.data());
+  expect_close_to_reference(got, ref, "exact, blur depth 0.3, normal power 2");
+  for (const char* bad : {"0", "-1", "nan", "1000", "x"}) {
+    Blob b = blob;
+    b.set_config("blur_depth", bad);
+    EXPECT_THROW(nnao::NnaoWeights::from_blob(b), std::runtime_error) << bad;
+  }
+  for (int bad : {-1, 65}) {
+    Blob b = blob;
+    b.set_config("blur_normal_power", bad);
+    EXPECT_THROW(nnao::NnaoWeights::from_blob(b), std::runtime_error) << bad;
+  }
+}
+
 TEST(NnaoInference, HorizonBlobWithBadLayoutIsRejected) {
   for (auto [d, s, b] : {std::tuple{8, 8, 3}, std::tuple{0, 8, 4}, std::tuple{8, 100, 4}}) {
     Blob blob = nns::fixtures::random_nnao_blob(0, 4, 3, false, {8, 8, 4});

@@ -169,6 +169,11 @@ class NnaoImageTest(unittest.TestCase):
         MEASURED.append(("bilateral blur", blurred.numel(), abs_d, ratio))
         self.assertLessEqual(ratio, RTOL)
         self.assertGreater(difference(blurred, c["ao_image"])[1], 1e-3)  # it does blur
+        loose = ft.bilateral_blur(g, torch.from_numpy(c["ao_image"]), 0.3, 2)
+        abs_d, ratio = difference(loose, c["ao_blurred_loose"])
+        MEASURED.append(("bilateral blur, depth 0.3, normal power 2", loose.numel(), abs_d, ratio))
+        self.assertLessEqual(ratio, RTOL)
+        self.assertGreater(difference(loose, blurred)[1], 1e-4)  # the edge terms are in use
 
 
 class ErrorTest(unittest.TestCase):

@@ -90,6 +90,9 @@ void nnao_case(const std::string& name, Blob model) {
   std::vector<float> blurred(ao_image.size());  // what a horizon model's exact inference ends with
   nnao::bilateral_blur_reference(g, ao_image.data(), blurred.data());
   c.put("ao_blurred", Shape{g.height, g.width}, blurred.data());
+  // With the default model's edge terms (blur_depth 0.3, blur_normal_power 2).
+  nnao::bilateral_blur_reference(g, ao_image.data(), blurred.data(), nnao::BlurEdges{0.3f, 2});
+  c.put("ao_blurred_loose", Shape{g.height, g.width}, blurred.data());
   c.save(path(name + ".cases.blob"));
 }
 
