@@ -76,8 +76,9 @@ def grid_features(g, window):
     return torch.stack(out, -1)
 
 
-def horizon_features(g, directions, steps, bands):
-    """(H, W, D B + 2 + B): horizons per direction and band, N.V, radius term, visibilities."""
+def horizon_features(g, directions, steps, bands, radius_term_max=0.0):
+    """(H, W, D B + 2 + B): horizons per direction and band, N.V, radius term, visibilities.
+    radius_term_max: the blob's ceiling on the radius term (0: none)."""
     length = torch.sqrt(dot(g.n, g.n))
     N = torch.where(length > 0, (1 / length) * g.n, torch.tensor([0.0, 0.0, 1.0]).view(3, 1, 1))
     P, r2 = g.P, g.r * g.r
@@ -106,7 +107,8 @@ def horizon_features(g, directions, steps, bands):
     hz = torch.stack(feats, -1)  # (H, W, D B), direction-major
     V = (1 / torch.sqrt(dot(P, P))) * -P
     vis = [1 - (hz[..., b::bands] ** 2).sum(-1) / directions for b in range(bands)]
-    return torch.cat([hz, torch.stack([dot(N, V), torch.log2(1 + R) / 8] + vis, -1)], -1)
+    radius_term = torch.clamp(torch.log2(1 + R) / 8, max=radius_term_max) if radius_term_max else torch.log2(1 + R) / 8
+    return torch.cat([hz, torch.stack([dot(N, V), radius_term] + vis, -1)], -1)
 
 
 def pow_by_squaring(x, p):
@@ -142,7 +144,8 @@ def bilateral_blur(g, ao, depth=0.1, normal_power=8):
 
 def features(config, g):
     if config.get("features", "grid") == "horizon":
-        return horizon_features(g, int(config["directions"]), int(config["steps"]), int(config["bands"]))
+        return horizon_features(g, int(config["directions"]), int(config["steps"]), int(config["bands"]),
+                                float(config.get("radius_term_max", 0)))
     return grid_features(g, int(config["window"]))
 
 

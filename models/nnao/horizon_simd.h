@@ -78,7 +78,7 @@ inline VF horizon_march(const NnaoWeights& m, const ao::GBuffer& g_in, const Blo
   f[extra] = nx * vx + ny * vy + nz * vz;
   alignas(64) float rp[kLanes];
   store(rp, R_px, Mask(0xffff));
-  for (float& v : rp) v = std::log2(1.0f + v) / 8.0f;
+  for (float& v : rp) v = std::fmin(L.radius_term_max, std::log2(1.0f + v) / 8.0f);
   f[extra + 1] = load(rp);
   for (int band = 0; band < L.bands; ++band) f[extra + 2 + band] = one - occluded[band] / splat(float(L.directions));
   return f[extra + 2 + L.bands - 1];

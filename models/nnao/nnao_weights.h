@@ -8,7 +8,7 @@
 //           the output is added to the horizons' visibility, nnao_inputs.h),
 //           features ("grid" when absent, or "horizon" with directions, steps, bands,
 //           blur_passes: 1 when absent, blur_depth: 0.1 and blur_normal_power: 8
-//           when absent)
+//           when absent, radius_term_max: 0 = none when absent)
 //   fc0.weight (H, F)  fc0.bias (H)  act0.alpha (H)  act0.beta (H)   (F: nnao_inputs.h)
 //   fc1.weight (H, H) ...  fc2 ...       fc3.weight (1, H) fc3.bias (1) act3.alpha/beta (1)
 //   feature_mean (F)  feature_std (F)  target_stats (2: mean, std)
@@ -111,6 +111,11 @@ struct NnaoWeights {
           const int64_t p = blob.config_int("blur_passes");
           if (p < 1 || p > 16) throw blob.error("blur_passes " + std::to_string(p) + " out of range 1..16");
           m.blur_passes = int(p);
+        }
+        if (blob.has_config("radius_term_max")) {  // 0: no ceiling
+          const double v = blob.config_double("radius_term_max");
+          if (!(v >= 0 && v <= 100)) throw blob.error("radius_term_max " + blob.config_string("radius_term_max") + " out of range 0..100");
+          if (v > 0) m.input.horizon.radius_term_max = float(v);
         }
         if (blob.has_config("blur_depth")) {
           const double d = blob.config_double("blur_depth");

@@ -35,6 +35,8 @@ inline std::string glsl_horizon_pass(const NnaoWeights& m) {
                      std::to_string(L.steps) + " steps, " + std::to_string(L.bands) + " bands)")
     << "const int DIRS = " << L.directions << ", STEPS = " << L.steps << ", BANDS = " << L.bands
     << ", F = " << m.features() << ";\n"
+    << "const float RADIUS_TERM_MAX = " << glsl_float(std::isfinite(L.radius_term_max) ? L.radius_term_max : 3.0e38f)
+    << ";  // the radius term's ceiling (none: 3e38)\n"
     << glsl_array("COS_A", cos_a) << glsl_array("SIN_A", sin_a) << glsl_array("STEP_F2", f2)
     << "// Layer 0 (standardisation folded in): weight of feature q in hidden unit k is W0[k * F + q].\n"
     << glsl_array("W0", m.w0) << glsl_head(m);
@@ -89,7 +91,7 @@ void main() {
   vec3 V = vec3(0.0 - P.x, 0.0 - P.y, z);  // towards the camera
   float lv = sqrt(V.x * V.x + V.y * V.y + V.z * V.z);
   addFeature(DIRS * BANDS, N.x * ((1.0 / lv) * V.x) + N.y * ((1.0 / lv) * V.y) + N.z * ((1.0 / lv) * V.z));
-  addFeature(DIRS * BANDS + 1, log2(1.0 + radiusPx) / 8.0);
+  addFeature(DIRS * BANDS + 1, min(RADIUS_TERM_MAX, log2(1.0 + radiusPx) / 8.0));
   float base = 1.0;
   for (int b = 0; b < BANDS; ++b) {
     base = 1.0 - occluded[b] / float(DIRS);  // an occluder at elevation e hides sin^2 e

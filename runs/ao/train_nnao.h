@@ -70,7 +70,9 @@ namespace nns::nnao {
 //   exact inference blurs 4 times (1, 2, 3, 4, 6, 8 passes on the same validation
 //   families, 3 seeds: 4 and 6 have the lowest MSE, 4 costs less) with the looser edge
 //   terms depth 0.3, normal power 2 (passes 4 and 8 x depth 0.1-0.5 x power 1-8 on those
-//   families, 3 seeds: the lowest flicker among the settings within 2% of the best MSE).
+//   families, 3 seeds: the lowest flicker among the settings within 2% of the best MSE),
+//   and its inference holds the radius term at 0.6 (0.4-0.8 and none on those families,
+//   3 seeds: the lowest MSE; horizon_features.h says why).
 struct Preset {
   std::string features;
   int window;
@@ -81,11 +83,12 @@ struct Preset {
   int blur_passes;  // horizon models: the exact inference's bilateral blur passes
   double blur_depth;      // and its edge terms (nnao::BlurEdges)
   int blur_normal_power;
+  double radius_term_max;  // horizon models: the inference's ceiling on the radius term (0: none)
 };
 inline Preset preset(const std::string& name) {
-  if (name == "paper") return {"grid", 31, {}, 4, 0.5, 0.01, 12, 1, 0.1, 8};
-  if (name == "grid") return {"grid", 31, {}, 4, 0.5, 1e-4, 12, 1, 0.1, 8};
-  if (name == "default") return {"horizon", 31, {16, 8, 4}, 16, 0.0, 1e-4, 8, 4, 0.3, 2};
+  if (name == "paper") return {"grid", 31, {}, 4, 0.5, 0.01, 12, 1, 0.1, 8, 0};
+  if (name == "grid") return {"grid", 31, {}, 4, 0.5, 1e-4, 12, 1, 0.1, 8, 0};
+  if (name == "default") return {"horizon", 31, {16, 8, 4}, 16, 0.0, 1e-4, 8, 4, 0.3, 2, 0.6};
   throw std::invalid_argument("unknown NNAO preset '" + name + "' (known: default, grid, paper)");
 }
 
@@ -97,6 +100,7 @@ struct TrainOptions {
   int blur_passes = 1;  // horizon models: recorded in the blob for the exact inference
   double blur_depth = 0.1;     // and the blur's edge terms (nnao::BlurEdges)
   int blur_normal_power = 8;
+  double radius_term_max = 0;  // horizon models: recorded for inference only (training sees the term unclamped)
   int batch = 16;       // the global batch, whatever the number of MPI ranks
   int accumulate = 1;   // micro-batches per step (batch / accumulate points each)
   double bucket_mb = 25;  // MiB per gradient bucket of the MPI exchange (<= 0: one)
@@ -247,6 +251,7 @@ inline std::map<std::string, std::string> blob_config(const TrainOptions& o) {
     c["blur_passes"] = std::to_string(o.blur_passes);
     c["blur_depth"] = d(o.blur_depth);
     c["blur_normal_power"] = std::to_string(o.blur_normal_power);
+    c["radius_term_max"] = d(o.radius_term_max);
     c["target"] = "ao-minus-horizon-visibility";
   }
   return c;
@@ -266,6 +271,7 @@ inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing&
   // ... and before --blur-depth and --blur-normal-power, used the first edge terms.
   spec.unrecorded_means.emplace_back("blur_depth", blob_config_double(0.1));
   spec.unrecorded_means.emplace_back("blur_normal_power", "8");
+  spec.unrecorded_means.emplace_back("radius_term_max", blob_config_double(0));
   spec.config.emplace_back("test_points_per_view", std::to_string(o.test_points_per_view));
   // They set the order of every epoch, so a resume with others would not replay it.
   spec.config.emplace_back("shuffle_chunk", std::to_string(o.shuffle_chunk));

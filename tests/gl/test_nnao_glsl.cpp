@@ -175,6 +175,11 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
   const auto loose = export_model(four, dir_ / "loose", 64);
   ASSERT_EQ(loose.blur_edges.normal_power, 2);
   check_passes(loose, dir_ / "loose", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 passes, depth 0.3, power 2");
+  // And the radius term's ceiling (RADIUS_TERM_MAX), low enough to hold most pixels.
+  four.set_config("radius_term_max", 0.2);
+  const auto capped = export_model(four, dir_ / "capped", 64);
+  ASSERT_EQ(capped.input.horizon.radius_term_max, 0.2f);
+  check_passes(capped, dir_ / "capped", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, radius term at most 0.2");
 }
 
 // The pair count travels as text in nnao_blur.frag: a count outside 1..16 is refused,

@@ -4,6 +4,7 @@
 // must follow; plus the rotation invariance the first direction's choice promises.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -112,5 +113,43 @@ TEST(HorizonFeatures, RotatingTheImageAboutTheViewAxisKeepsTheFeatures) {
     double worst = 0;
     for (size_t q = 0; q < fa.size(); ++q) worst = std::max(worst, double(std::abs(fa[q] - fb[q])));
     EXPECT_LT(worst, 0.05) << "pixel " << c;
+  }
+}
+
+// radius_term_max holds the radius term log2(1 + R_px) / 8 at a ceiling and leaves every
+// other feature as it was; a layout with a ceiling of 0 or below is refused.
+TEST(HorizonFeatures, RadiusTermCeilingChangesOnlyTheRadiusTerm) {
+  auto floor_only = [](V3 o, V3 d, V3& n) {
+    n = {0, 1, 0};
+    return d.y < 0 ? -o.y / d.y : INFINITY;
+  };
+  const V3 eye{0, 2, 0}, target{0, 0, -2 / std::tan(60 * fixtures::kPi / 180)};
+  auto s = fixtures::render(floor_only, eye, target, 96, 64, 60, 0.5f);
+  auto g = ao::gbuffer_from_view(s.view);
+  const int64_t radius_q = int64_t(kLayout.directions) * kLayout.bands + 1;
+  std::vector<float> terms;  // the ceiling: the median term, so it holds about half the pixels
+  for (int y = 0; y < g.height; y += 3)
+    for (int x = 0; x < g.width; x += 3) terms.push_back(features_at(g, x, y)[size_t(radius_q)]);
+  std::nth_element(terms.begin(), terms.begin() + terms.size() / 2, terms.end());
+  const float ceiling = terms[terms.size() / 2];
+  nnao::HorizonLayout capped = kLayout;
+  capped.radius_term_max = ceiling;
+  ASSERT_EQ(capped.problem(), "");
+  int held = 0, free = 0;
+  std::vector<float> c(size_t(capped.features()));
+  for (int y = 0; y < g.height; y += 3)
+    for (int x = 0; x < g.width; x += 3) {
+      const auto f = features_at(g, x, y);
+      nnao::compute_horizon_features(g, x, y, capped, c.data());
+      for (int64_t q = 0; q < kLayout.features(); ++q)
+        if (q != radius_q) ASSERT_EQ(c[size_t(q)], f[size_t(q)]) << x << "," << y << " q " << q;
+      EXPECT_EQ(c[size_t(radius_q)], std::fmin(ceiling, f[size_t(radius_q)]));
+      (f[size_t(radius_q)] > ceiling ? held : free)++;
+    }
+  EXPECT_GT(held, 10);
+  EXPECT_GT(free, 10);
+  for (float bad : {0.0f, -1.0f, NAN}) {
+    capped.radius_term_max = bad;
+    EXPECT_NE(capped.problem(), "") << bad;
   }
 }

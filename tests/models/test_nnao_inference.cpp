@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <tuple>
 #include <vector>
@@ -257,6 +258,43 @@ TEST(NnaoInference, HorizonModelBlursBlurPassesTimes) {
   for (int bad : {0, 17}) {
     blob.set_config("blur_passes", bad);
     EXPECT_THROW(nnao::NnaoWeights::from_blob(blob), std::runtime_error) << bad;
+  }
+}
+
+// radius_term_max: absent or 0 mean no ceiling; present, the vector march and the
+// per-pixel loop both hold the radius term at it; out of range the blob is refused.
+TEST(NnaoInference, HorizonModelHoldsTheRadiusTermAtTheBlobsCeiling) {
+  Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 29, false, {8, 8, 4}), 10, -0.3f);
+  ASSERT_FALSE(std::isfinite(nnao::NnaoWeights::from_blob(blob).input.horizon.radius_term_max));
+  blob.set_config("radius_term_max", 0.0);
+  ASSERT_FALSE(std::isfinite(nnao::NnaoWeights::from_blob(blob).input.horizon.radius_term_max));
+  const auto plain = nnao::NnaoWeights::from_blob(blob);
+  const auto view = nns::fixtures::synthetic_view(50, 30, 3, 1);  // g points into it
+  auto g = ao::gbuffer_from_view(view);
+  // A ceiling at the view's median radius term, so it holds half the pixels.
+  std::vector<float> terms, f(size_t(plain.features()));
+  for (int64_t i = 0; i < g.pixels(); ++i)
+    if (!g.sky(i)) {
+      plain.input.compute(g, int(i % g.width), int(i / g.width), f.data());
+      terms.push_back(f[size_t(plain.features() - plain.input.horizon.bands - 1)]);
+    }
+  std::nth_element(terms.begin(), terms.begin() + terms.size() / 2, terms.end());
+  const float ceiling = terms[terms.size() / 2];
+  blob.set_config("radius_term_max", double(ceiling));
+  const auto m = nnao::NnaoWeights::from_blob(blob);
+  ASSERT_EQ(m.input.horizon.radius_term_max, ceiling);
+  std::vector<float> vec(size_t(g.pixels())), loop(vec.size()), free(vec.size());
+  nnao::infer_horizon(m, g, vec.data());
+  nnao::infer_exact_per_pixel(m, g, loop.data());
+  nnao::infer_horizon(plain, g, free.data());
+  expect_close_to_reference(vec, loop, "radius term at most the median");
+  int64_t changed = 0;
+  for (size_t i = 0; i < vec.size(); ++i) changed += vec[i] != free[i];
+  EXPECT_GT(changed, int64_t(terms.size() / 4)) << "the ceiling changed too few pixels to be in use";
+  for (const char* bad : {"-0.5", "nan", "101", "x"}) {
+    Blob b = blob;
+    b.set_config("radius_term_max", bad);
+    EXPECT_THROW(nnao::NnaoWeights::from_blob(b), std::runtime_error) << bad;
   }
 }
 

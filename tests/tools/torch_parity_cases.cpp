@@ -157,7 +157,9 @@ int main(int argc, char** argv) {
     using fixtures::random_nnao_blob, fixtures::spread_nnao_outputs;
     nnao_case("nnao-grid", spread_nnao_outputs(random_nnao_blob(/*window=*/5, /*hidden=*/6, 11), 20, 0.5f));
     const fixtures::HorizonShape horizon{/*directions=*/8, /*steps=*/4, /*bands=*/2};
-    nnao_case("nnao-horizon", spread_nnao_outputs(random_nnao_blob(0, 8, 12, false, horizon), 20, -0.3f));
+    Blob h = spread_nnao_outputs(random_nnao_blob(0, 8, 12, false, horizon), 20, -0.3f);
+    h.set_config("radius_term_max", 0.35);  // the default's kind of ceiling, low enough to hold some pixels
+    nnao_case("nnao-horizon", h);
 
     gi::GiInputConfig front;  // 12 channels (CoordConv), HDR scale and light cap set
     front.mode = gi::GiMode::front;
