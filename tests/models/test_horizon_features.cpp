@@ -24,15 +24,21 @@ std::vector<float> features_at(const ao::GBuffer& g, int x, int y) {
   return f;
 }
 
-}  // namespace
-
-TEST(HorizonFeatures, OpenPlaneHasNoHorizonAndFullVisibility) {
+// An open floor seen from 2 m up, looking down 30 degrees: from near the camera to far.
+const V3 kEye{0, 2, 0};
+fixtures::Scene open_floor() {
   auto floor_only = [](V3 o, V3 d, V3& n) {
     n = {0, 1, 0};
     return d.y < 0 ? -o.y / d.y : INFINITY;
   };
-  const V3 eye{0, 2, 0}, target{0, 0, -2 / std::tan(60 * fixtures::kPi / 180)};
-  auto s = fixtures::render(floor_only, eye, target, 96, 64, 60, 0.5f);
+  const V3 target{0, 0, -2 / std::tan(60 * fixtures::kPi / 180)};
+  return fixtures::render(floor_only, kEye, target, 96, 64, 60, 0.5f);
+}
+
+}  // namespace
+
+TEST(HorizonFeatures, OpenPlaneHasNoHorizonAndFullVisibility) {
+  const auto s = open_floor();
   auto g = ao::gbuffer_from_view(s.view);
   const int64_t extra = int64_t(kLayout.directions) * kLayout.bands;
   for (int y = 0; y < g.height; y += 7)
@@ -43,7 +49,7 @@ TEST(HorizonFeatures, OpenPlaneHasNoHorizonAndFullVisibility) {
       for (int b = 0; b < kLayout.bands; ++b) EXPECT_GT(f[size_t(extra + 2 + b)], 0.9999f);
       // N.V: the cosine between the floor's normal and the direction to the camera.
       const V3 p = s.hit[size_t(y) * g.width + x];
-      const V3 to_eye = fixtures::unit(fixtures::sub(eye, p));
+      const V3 to_eye = fixtures::unit(fixtures::sub(kEye, p));
       EXPECT_NEAR(f[size_t(extra)], to_eye.y, 1e-4);
       EXPECT_EQ(nnao::horizon_base_index(kLayout), extra + 2 + kLayout.bands - 1);
     }
@@ -119,12 +125,7 @@ TEST(HorizonFeatures, RotatingTheImageAboutTheViewAxisKeepsTheFeatures) {
 // radius_term_max holds the radius term log2(1 + R_px) / 8 at a ceiling and leaves every
 // other feature as it was; a layout with a ceiling of 0 or below is refused.
 TEST(HorizonFeatures, RadiusTermCeilingChangesOnlyTheRadiusTerm) {
-  auto floor_only = [](V3 o, V3 d, V3& n) {
-    n = {0, 1, 0};
-    return d.y < 0 ? -o.y / d.y : INFINITY;
-  };
-  const V3 eye{0, 2, 0}, target{0, 0, -2 / std::tan(60 * fixtures::kPi / 180)};
-  auto s = fixtures::render(floor_only, eye, target, 96, 64, 60, 0.5f);
+  const auto s = open_floor();
   auto g = ao::gbuffer_from_view(s.view);
   const int64_t radius_q = int64_t(kLayout.directions) * kLayout.bands + 1;
   std::vector<float> terms;  // the ceiling: the median term, so it holds about half the pixels
