@@ -51,8 +51,8 @@ int main(int argc, char** argv) {
     o.net.horizon.bands = args.get_int("--bands", p.horizon.bands, "horizon features: distance bands (must divide --steps)", 1, 64);
     o.blur_passes = args.get_int("--blur-passes", p.blur_passes, "horizon features: bilateral blur passes of the exact inference (recorded in the blob)", 1, 16);
     o.blur_depth = args.get_double("--blur-depth", p.blur_depth, "horizon features: the blur's depth term, exp(-(dz / (D r))^2): larger blurs across bigger depth steps (recorded)", 0.01, 100);
-    o.radius_term_max = args.get_double("--radius-term-max", p.radius_term_max, "horizon features: the inference holds the radius term log2(1 + R_px) / 8 at most at X (0: no ceiling; training sees it unclamped; recorded)", 0, 100);
     o.blur_normal_power = args.get_int("--blur-normal-power", p.blur_normal_power, "horizon features: the blur's normal term, max(0, n.n')^P: smaller blurs across sharper creases (recorded)", 0, 64);
+    o.radius_term_max = args.get_double("--radius-term-max", p.radius_term_max, "horizon features: the inference holds the radius term log2(1 + R_px) / 8 at most at X (0: no ceiling; training sees it unclamped; recorded)", 0, 100);
     o.net.hidden = args.get_int("--hidden", p.hidden, "hidden units per layer", 1, 64);
     o.radius = float(args.get_double("--radius", 0, "AO radius (0 = each view's aoRadius)", 0, HUGE_VAL));
     o.net.dropout = args.get_double("--dropout", p.dropout, "dropout on the input", 0, 0.99);

@@ -112,16 +112,15 @@ struct NnaoWeights {
           if (p < 1 || p > 16) throw blob.error("blur_passes " + std::to_string(p) + " out of range 1..16");
           m.blur_passes = int(p);
         }
-        if (blob.has_config("radius_term_max")) {  // 0: no ceiling
-          const double v = blob.config_double("radius_term_max");
-          if (!(v >= 0 && v <= 100)) throw blob.error("radius_term_max " + blob.config_string("radius_term_max") + " out of range 0..100");
-          if (v > 0) m.input.horizon.radius_term_max = float(v);
-        }
-        if (blob.has_config("blur_depth")) {
-          const double d = blob.config_double("blur_depth");
-          if (!(d >= 0.01 && d <= 100)) throw blob.error("blur_depth " + blob.config_string("blur_depth") + " out of range 0.01..100");
-          m.blur_edges.depth = float(d);
-        }
+        // A number in [lo, hi] (NaN is not), named with its range when it is not.
+        auto ranged_double = [&](const char* key, double lo, double hi, const char* range) {
+          const double v = blob.config_double(key);
+          if (!(v >= lo && v <= hi)) throw blob.error(std::string(key) + " " + blob.config_string(key) + " out of range " + range);
+          return float(v);
+        };
+        if (blob.has_config("radius_term_max"))  // 0: no ceiling
+          if (const float v = ranged_double("radius_term_max", 0, 100, "0..100"); v > 0) m.input.horizon.radius_term_max = v;
+        if (blob.has_config("blur_depth")) m.blur_edges.depth = ranged_double("blur_depth", 0.01, 100, "0.01..100");
         if (blob.has_config("blur_normal_power")) {
           const int64_t p = blob.config_int("blur_normal_power");
           if (p < 0 || p > 64) throw blob.error("blur_normal_power " + std::to_string(p) + " out of range 0..64");
