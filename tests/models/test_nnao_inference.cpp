@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <tuple>
 #include <vector>
 
@@ -296,6 +297,18 @@ TEST(NnaoInference, HorizonModelHoldsTheRadiusTermAtTheBlobsCeiling) {
     b.set_config("radius_term_max", bad);
     EXPECT_THROW(nnao::NnaoWeights::from_blob(b), std::runtime_error) << bad;
   }
+  // Read from a file (a valid checksum, a bad value): the message names the file and the key.
+  const std::string path = (std::filesystem::temp_directory_path() / "nnao_bad_radius_term_max.blob").string();
+  blob.set_config("radius_term_max", "nan");
+  blob.save(path);
+  try {
+    nnao::NnaoWeights::load(path);
+    ADD_FAILURE() << "a NaN ceiling was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("radius_term_max nan out of range 0..100"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
 }
 
 // x^p by squaring: power 8 is the ((x^2)^2)^2 of the first models' blur, to the bit.
