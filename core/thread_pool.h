@@ -167,6 +167,25 @@ void parallel_for(int64_t n, F&& f, int64_t min_work = 1, int64_t align = 1) {
   });
 }
 
+// Calls f(begin, end) on consecutive pieces of [0, n), `grain` items each, handed to the
+// workers as they come free. For loops whose items cost unequal time and are each
+// computed the same way whoever takes them (the rows of a screen-space AO pass: a sky
+// row costs nothing, a row of geometry the whole march): an even split there leaves one
+// worker idle while the other finishes the costly half of the frame.
+template <class F>
+void parallel_for_dynamic(int64_t n, int64_t grain, F&& f) {
+  if (n <= 0) return;
+  ThreadPool& pool = ThreadPool::global();
+  if (pool.threads() == 1 || n <= grain) {
+    f(int64_t(0), n);
+    return;
+  }
+  std::atomic<int64_t> next{0};
+  pool.run([&](int, int) {
+    for (int64_t b; (b = next.fetch_add(grain, std::memory_order_relaxed)) < n;) f(b, std::min(n, b + grain));
+  });
+}
+
 // Calls f(chunk, begin, end) for the fixed chunks [k*chunk, (k+1)*chunk) of [0, n),
 // distributed over the workers. Chunk boundaries never depend on the thread count,
 // which is what keeps reductions bitwise identical for 1 and 2 threads.

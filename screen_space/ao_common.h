@@ -17,10 +17,10 @@ namespace nns::ao {
 // once, so the result is the same for any thread count.
 template <class F>
 void for_each_pixel(const GBuffer& g, F&& f) {
-  parallel_for(g.height, [&](int64_t y0, int64_t y1) {
+  parallel_for_dynamic(g.height, 2, [&](int64_t y0, int64_t y1) {  // rows of unequal cost: as for_each_block
     for (int64_t y = y0; y < y1; ++y)
       for (int x = 0; x < g.width; ++x) f(x, int(y), y * g.width + x);
-  }, 4);
+  });
 }
 
 // The scalar references' loop over surface pixels: a sky pixel is unoccluded (1); every

@@ -185,13 +185,16 @@ inline Mask on_screen(const GBuffer& g, VF px, VF py) {
 // workers as in for_each_pixel, so results do not depend on the thread count.
 template <class F>
 void for_each_block(const GBuffer& g, F&& f) {
-  parallel_for(g.height, [&](int64_t y0, int64_t y1) {
+  // Rows go to whichever worker is free, two at a time: a frame's rows cost unequal time
+  // (sky rows nothing), and an even split of the rows left the second thread idle for
+  // much of a 320x180 frame (docs/nnao.md, "Speed").
+  parallel_for_dynamic(g.height, 2, [&](int64_t y0, int64_t y1) {
     for (int64_t y = y0; y < y1; ++y)
       for (int x0 = 0; x0 < g.width; x0 += kLanes) {
         const int n = g.width - x0 < kLanes ? g.width - x0 : kLanes;
         f(x0, int(y), Mask((1u << n) - 1));
       }
-  }, 4);
+  });
 }
 
 // What every method reads first for a block: depth (tail lanes read as sky), which lanes

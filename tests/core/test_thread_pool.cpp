@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <mutex>
+#include <set>
 #include <thread>
 #include <vector>
 
@@ -131,3 +133,36 @@ TEST(ThreadPool, SetThreadsRightAfterStart) {
 }
 
 TEST(ThreadPool, RejectsZeroThreads) { EXPECT_THROW(set_num_threads(0), std::invalid_argument); }
+
+TEST(ThreadPool, DynamicForCoversEveryIndexOnceAndSharesUnevenWork) {
+  for (int threads : {1, 2})
+    for (int64_t n : {1, 2, 3, 7, 180, 181}) {
+      set_num_threads(threads);
+      std::vector<std::atomic<int>> hits(static_cast<size_t>(n));
+      std::atomic<int> callers_seen{0};
+      std::mutex mu;
+      std::set<std::thread::id> callers;
+      parallel_for_dynamic(n, 2, [&](int64_t b, int64_t e) {
+        if (threads == 2) EXPECT_LE(e - b, 2);  // one thread takes the whole range in one call
+        for (int64_t i = b; i < e; ++i) hits[size_t(i)]++;
+        std::lock_guard<std::mutex> lock(mu);
+        callers.insert(std::this_thread::get_id());
+        ++callers_seen;
+      });
+      for (int64_t i = 0; i < n; ++i) ASSERT_EQ(hits[size_t(i)].load(), 1) << threads << " threads, n " << n << ", index " << i;
+      EXPECT_EQ(callers_seen.load(), threads == 1 || n <= 2 ? 1 : int((n + 1) / 2)) << n;
+    }
+  // The point of it: when the first half of the items is costly (rows of geometry) and
+  // the second free (sky), both workers still take part in the costly half. An even
+  // split would give all of it to one worker.
+  set_num_threads(2);
+  std::mutex mu;
+  std::set<std::thread::id> costly;
+  parallel_for_dynamic(64, 2, [&](int64_t b, int64_t) {
+    if (b >= 32) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    std::lock_guard<std::mutex> lock(mu);
+    costly.insert(std::this_thread::get_id());
+  });
+  EXPECT_EQ(costly.size(), 2u);
+}
