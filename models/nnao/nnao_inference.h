@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "screen_space/ao_common.h"
+#include "screen_space/low_resolution.h"
 #include "screen_space/simd16.h"
 #include "models/nnao/horizon_simd.h"
 #include "models/nnao/nnao_exact_per_pixel.h"
@@ -212,6 +213,17 @@ inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out, co
   pass(tmp.data(), out, false);
 }
 
+// A horizon model's march and network, then its blur passes, at the G-buffer's resolution.
+inline void infer_horizon_blurred(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
+  std::vector<float> raw(size_t(g.pixels()));
+  infer_horizon(m, g, raw.data());
+  for (int p = 1; p < m.blur_passes; ++p) {
+    bilateral_blur(g, raw.data(), out, m.blur_edges);
+    std::copy(out, out + g.pixels(), raw.data());
+  }
+  bilateral_blur(g, raw.data(), out, m.blur_edges);
+}
+
 inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
   using namespace ao::simd;
   // A horizon model (nnao_inputs.h) marches its directions instead (horizon_simd.h),
@@ -221,13 +233,15 @@ inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) 
   // (the default model's 4: flicker 1.11x -> 0.93x the truth's, SSIM +0.019 and MSE -2%
   // on the validation families, 3 seeds; docs/nnao.md, "Flicker").
   if (m.input.is_horizon()) {
-    std::vector<float> raw(size_t(g.pixels()));
-    infer_horizon(m, g, raw.data());
-    for (int p = 1; p < m.blur_passes; ++p) {
-      bilateral_blur(g, raw.data(), out, m.blur_edges);
-      std::copy(out, out + g.pixels(), raw.data());
+    if (m.downsample > 1) {
+      // The same passes on one pixel of every s x s block, then the guided upsample
+      // with the blur's edge terms (screen_space/low_resolution.h).
+      const ao::LowResGBuffer lr = ao::downsample_gbuffer(g, m.downsample);
+      std::vector<float> low(size_t(lr.g.pixels()));
+      infer_horizon_blurred(m, lr.g, low.data());
+      return ao::upsample(g, lr, low.data(), out, {m.blur_edges.depth, m.blur_edges.normal_power});
     }
-    return bilateral_blur(g, raw.data(), out, m.blur_edges);
+    return infer_horizon_blurred(m, g, out);
   }
   const std::vector<float> packed = detail::pack_normal_depth(g);
   for_each_block(g, [&](int x0, int y, Mask valid) {

@@ -58,6 +58,14 @@ inline void bilateral_blur_reference(const ao::GBuffer& g, const float* in, floa
 // then for a horizon model the blur infer_exact applies (m.blur_passes times).
 inline void infer_exact_reference(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
   if (!m.input.is_horizon()) return infer_exact_per_pixel(m, g, out);
+  if (m.downsample > 1) {  // at 1/s of the resolution, then the guided upsample
+    NnaoWeights full = m;
+    full.downsample = 1;
+    const ao::LowResGBuffer lr = ao::downsample_gbuffer(g, m.downsample);
+    std::vector<float> low(size_t(lr.g.pixels()));
+    infer_exact_reference(full, lr.g, low.data());
+    return ao::upsample_reference(g, lr, low.data(), out, {m.blur_edges.depth, m.blur_edges.normal_power});
+  }
   std::vector<float> raw(size_t(g.pixels()));
   infer_exact_per_pixel(m, g, raw.data());
   for (int p = 1; p < m.blur_passes; ++p) {

@@ -8,7 +8,8 @@
 //           the output is added to the horizons' visibility, nnao_inputs.h),
 //           features ("grid" when absent, or "horizon" with directions, steps, bands,
 //           blur_passes: 1 when absent, blur_depth: 0.1 and blur_normal_power: 8
-//           when absent, radius_term_max: 0 = none when absent)
+//           when absent, radius_term_max: 0 = none when absent, downsample: 1, 2 or 4,
+//           1 when absent)
 //   fc0.weight (H, F)  fc0.bias (H)  act0.alpha (H)  act0.beta (H)   (F: nnao_inputs.h)
 //   fc1.weight (H, H) ...  fc2 ...       fc3.weight (1, H) fc3.bias (1) act3.alpha/beta (1)
 //   feature_mean (F)  feature_std (F)  target_stats (2: mean, std)
@@ -25,6 +26,7 @@
 
 #include "core/blob.h"
 #include "models/nnao/nnao_inputs.h"
+#include "screen_space/pow_by_squaring.h"
 
 namespace nns::nnao {
 
@@ -39,17 +41,8 @@ struct BlurEdges {
   int normal_power = 8;
 };
 
-// x^p by squaring (p >= 0). The CPU paths, the GLSL and the torch tool multiply in this
-// order, so they agree to the bit; p = 8 is the ((x^2)^2)^2 the first models used.
-template <class T>
-T pow_by_squaring(T x, int p, T one) {
-  T r = one;
-  for (; p > 0; p >>= 1) {
-    if (p & 1) r = r * x;
-    if (p > 1) x = x * x;
-  }
-  return r;
-}
+// The blur's normal term is x^p by squaring (screen_space/pow_by_squaring.h).
+using ao::pow_by_squaring;
 
 struct NnaoWeights {
   int hidden = 4;
@@ -59,6 +52,11 @@ struct NnaoWeights {
   // (nnao_inference.h), chosen on validation families (docs/nnao.md, "Flicker").
   int blur_passes = 1;
   BlurEdges blur_edges;  // horizon models; the grid keeps the defaults
+  // Horizon models: the frame is marched, run through the network and blurred at 1/s of
+  // its resolution in each axis, then upsampled guided by the full-resolution depth and
+  // normals (screen_space/low_resolution.h); the model was trained on points of frames
+  // downsampled the same way, against the full-resolution truth. 1: full resolution.
+  int downsample = 1;
   std::vector<float> w0;              // (hidden, F) with the standardisation folded in
   std::vector<float> b0;              // (hidden)
   std::vector<float> w[3], b[3];      // layers 1..3: (hidden, hidden), (hidden, hidden), (1, hidden)
@@ -121,6 +119,11 @@ struct NnaoWeights {
         if (blob.has_config("radius_term_max"))  // 0: no ceiling
           if (const float v = ranged_double("radius_term_max", 0, 100, "0..100"); v > 0) m.input.horizon.radius_term_max = v;
         if (blob.has_config("blur_depth")) m.blur_edges.depth = ranged_double("blur_depth", 0.01, 100, "0.01..100");
+        if (blob.has_config("downsample")) {  // absent in blobs made before it: full resolution
+          const int64_t d = blob.config_int("downsample");
+          if (d != 1 && d != 2 && d != 4) throw blob.error("downsample " + std::to_string(d) + " must be 1, 2 or 4");
+          m.downsample = int(d);
+        }
         if (blob.has_config("blur_normal_power")) {
           const int64_t p = blob.config_int("blur_normal_power");
           if (p < 0 || p > 64) throw blob.error("blur_normal_power " + std::to_string(p) + " out of range 0..64");

@@ -22,6 +22,7 @@
 #include "core/thread_pool.h"
 #include "data/view.h"
 #include "models/nnao/nnao_inputs.h"
+#include "screen_space/low_resolution.h"
 #include "runs/ao/point_file.h"
 
 namespace nns::nnao {
@@ -64,13 +65,30 @@ struct PointFile {
 // the view's aoRadius. The pixels are drawn from `rng`; the features are computed in
 // parallel (each row on its own, so the rows are the same for any thread count).
 // Returns the number of points.
+//
+// `downsample` s > 1: the points are pixels of the view's G-buffer at 1/s of its
+// resolution (screen_space/low_resolution.h), as the model will see frames at inference,
+// and each target is the full-resolution truth at the pixel that low pixel is.
 inline int64_t view_points(const data::View& v, const InputSpec& input, int per_view, float radius, Rng& rng,
-                           std::vector<char>& rows) {
-  ao::GBuffer g = ao::gbuffer_from_view(v, radius);
+                           std::vector<char>& rows, int downsample = 1) {
+  const ao::GBuffer full = ao::gbuffer_from_view(v, radius);
   if (!v.has("AO"))
     throw std::runtime_error((v.source.empty() ? std::string("view") : v.source) +
                              ": missing channel 'AO' (NNAO training needs ground-truth AO)");
-  const auto& ao = v.channel("AO");
+  const auto& ao_full = v.channel("AO");
+  ao::LowResGBuffer lr;
+  std::vector<float> ao_low;
+  if (downsample > 1) {
+    lr = ao::downsample_gbuffer(full, downsample);
+    ao_low.resize(size_t(lr.g.pixels()));
+    for (int y = 0; y < lr.g.height; ++y)
+      for (int x = 0; x < lr.g.width; ++x)
+        ao_low[size_t(y) * size_t(lr.g.width) + size_t(x)] =
+            ao_full[size_t(ao::LowResGBuffer::source(y, downsample, full.height)) * size_t(full.width) +
+                    size_t(ao::LowResGBuffer::source(x, downsample, full.width))];
+  }
+  const ao::GBuffer& g = downsample > 1 ? lr.g : full;
+  const std::vector<float>& ao = downsample > 1 ? ao_low : ao_full;
   std::vector<int64_t> pix = non_sky_pixels(g);
   const int64_t n = std::min<int64_t>(per_view, int64_t(pix.size()));
   // Partial Fisher-Yates: the first n entries become a uniform random subset.

@@ -101,6 +101,7 @@ struct TrainOptions {
   double blur_depth = 0.1;     // and the blur's edge terms (nnao::BlurEdges)
   int blur_normal_power = 8;
   double radius_term_max = 0;  // horizon models: recorded for inference only (training sees the term unclamped)
+  int downsample = 1;  // horizon models: points and inference at 1/s of the resolution (NnaoWeights::downsample)
   int batch = 16;       // the global batch, whatever the number of MPI ranks
   int accumulate = 1;   // micro-batches per step (batch / accumulate points each)
   double bucket_mb = 25;  // MiB per gradient bucket of the MPI exchange (<= 0: one)
@@ -174,7 +175,7 @@ inline PointFile build_points(const std::vector<std::string>& paths, const Train
         throw std::runtime_error(paths[i] + ": NNSHADE_TEST_FAIL_POINT_VIEW");
       data::View v = data::read_view(paths[i]);
       Rng rng = base.fork(i);
-      view_points(v, pf.input, per_view, o.radius, rng, round[me]);
+      view_points(v, pf.input, per_view, o.radius, rng, round[me], o.downsample);
       ++share.views_built;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -252,6 +253,7 @@ inline std::map<std::string, std::string> blob_config(const TrainOptions& o) {
     c["blur_depth"] = d(o.blur_depth);
     c["blur_normal_power"] = std::to_string(o.blur_normal_power);
     c["radius_term_max"] = d(o.radius_term_max);
+    if (o.downsample != 1) c["downsample"] = std::to_string(o.downsample);  // absent: 1, as before it existed
     c["target"] = "ao-minus-horizon-visibility";
   }
   return c;
@@ -272,6 +274,7 @@ inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing&
   spec.unrecorded_means.emplace_back("blur_depth", blob_config_double(0.1));
   spec.unrecorded_means.emplace_back("blur_normal_power", "8");
   spec.unrecorded_means.emplace_back("radius_term_max", blob_config_double(0));
+  spec.unrecorded_means.emplace_back("downsample", "1");
   spec.config.emplace_back("test_points_per_view", std::to_string(o.test_points_per_view));
   // They set the order of every epoch, so a resume with others would not replay it.
   spec.config.emplace_back("shuffle_chunk", std::to_string(o.shuffle_chunk));
@@ -313,6 +316,8 @@ inline TrainResult train_nnao(const TrainOptions& o) {
       o.points_per_view < 1 || !(o.net.dropout >= 0 && o.net.dropout < 1) || o.shuffle_chunk < 1 ||
       !(o.shuffle_buffer_mb > 0))
     throw std::invalid_argument("train-nnao: batch, epochs, window, hidden (1..64), points per view, dropout or shuffle sizes out of range");
+  if (o.downsample != 1 && (o.downsample != 2 && o.downsample != 4 || !o.net.input().is_horizon()))
+    throw std::invalid_argument("train-nnao: --downsample " + std::to_string(o.downsample) + " needs horizon features and 1, 2 or 4");
   if (o.accumulate < 1 || o.batch % o.accumulate != 0)
     throw std::invalid_argument("train-nnao: --accumulate " + std::to_string(o.accumulate) + " must divide --batch " +
                                 std::to_string(o.batch));

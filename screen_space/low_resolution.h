@@ -1,0 +1,143 @@
+#pragma once
+// Screen-space AO at a fraction of the frame's resolution, the way engines run GTAO and
+// HBAO+ at half resolution: a G-buffer with one pixel of every s x s block, the effect
+// computed on it, then brought back to full resolution by an upsample guided by the
+// full-resolution depth and normals (a joint bilateral upsample: Kopf et al. 2007).
+//
+// The low-resolution pixel (x, y) is the full-resolution pixel (s x + s/2, s y + s/2)
+// (clamped to the frame): a real surface point, never an average of depths across an
+// edge. Its plane is read as a frame of ceil(W/s) x ceil(H/s) pixels of the same camera;
+// that places it within half a full-resolution pixel of where it is, the same for every
+// pixel (a shift of the principal point, not a distortion).
+//
+// The upsample: a full-resolution pixel X lies at u = (X - s/2) / s in low-resolution
+// coordinates (the low pixels' own positions); its four neighbours get their bilinear
+// weights times exp(-(dz / (depth r))^2) max(0, n.n')^normal_power, the edge terms of the
+// bilateral blur, so light does not bleed across a depth step or a crease. Where every
+// neighbour is stopped (a thin object seen at no low-resolution pixel) the pixel takes
+// the neighbour of nearest depth. Sky stays 1.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "screen_space/gbuffer.h"
+#include "screen_space/pow_by_squaring.h"
+#include "screen_space/simd16.h"
+
+namespace nns::ao {
+
+struct LowResGBuffer {
+  int scale = 1;
+  std::vector<float> z, nx, ny, nz;
+  GBuffer g;  // views the planes above
+  // The full-resolution pixel that low-resolution pixel (x, y) is.
+  static int source(int x, int scale, int full) { return std::min(full - 1, x * scale + scale / 2); }
+};
+
+inline LowResGBuffer downsample_gbuffer(const GBuffer& full, int scale) {
+  LowResGBuffer lr;
+  lr.scale = scale;
+  const int w = (full.width + scale - 1) / scale, h = (full.height + scale - 1) / scale;
+  const size_t n = size_t(w) * size_t(h);
+  lr.z.resize(n), lr.nx.resize(n), lr.ny.resize(n), lr.nz.resize(n);
+  for (int y = 0; y < h; ++y) {
+    const int64_t row = int64_t(LowResGBuffer::source(y, scale, full.height)) * full.width;
+    for (int x = 0; x < w; ++x) {
+      const int64_t j = row + LowResGBuffer::source(x, scale, full.width);
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      lr.z[i] = full.z[j], lr.nx[i] = full.nx[j], lr.ny[i] = full.ny[j], lr.nz[i] = full.nz[j];
+    }
+  }
+  const float fov_y_deg = 2.0f * std::atan(full.sy) * 180.0f / 3.14159265358979f;
+  lr.g = make_gbuffer(w, h, fov_y_deg, full.radius, lr.z.data(), lr.nx.data(), lr.ny.data(), lr.nz.data());
+  // The same tangents as the full frame's (make_gbuffer recomputes them from the angle
+  // and the rounded size, which would scale the image by up to one pixel in W).
+  lr.g.sx = full.sx, lr.g.sy = full.sy;
+  return lr;
+}
+
+struct UpsampleEdges {
+  float depth = 0.3f;    // the depth term's scale, in AO radii
+  int normal_power = 2;  // max(0, n.n')^power
+};
+
+// The scalar loop the vectorised upsample must match: one full-resolution pixel.
+inline float upsample_pixel(const GBuffer& full, const LowResGBuffer& lr, const float* low, int X, int Y,
+                            const UpsampleEdges& e) {
+  const int64_t i = int64_t(Y) * full.width + X;
+  if (full.sky(i)) return 1.0f;
+  const int s = lr.scale, w = lr.g.width, h = lr.g.height;
+  const float u = (float(X) - float(s / 2)) / float(s), v = (float(Y) - float(s / 2)) / float(s);
+  const float fu = std::floor(u), fv = std::floor(v);
+  const float ax = u - fu, ay = v - fv;
+  const int x0 = int(fu), y0 = int(fv);
+  const float z = full.z[i], nxc = full.nx[i], nyc = full.ny[i], nzc = full.nz[i];
+  const float inv_dz = 1.0f / (e.depth * full.radius);
+  float s_sum = 0, w_sum = 0, nearest = 1, nearest_dz = INFINITY;
+  for (int t = 0; t < 4; ++t) {
+    const int tx = std::clamp(x0 + (t & 1), 0, w - 1), ty = std::clamp(y0 + (t >> 1), 0, h - 1);
+    const int64_t j = int64_t(ty) * w + tx;
+    const float zj = lr.z[size_t(j)];
+    if (data::is_sky(zj)) continue;
+    const float bw = ((t & 1) ? ax : 1 - ax) * ((t >> 1) ? ay : 1 - ay);
+    const float dz = (zj - z) * inv_dz;
+    const float nd = std::max(0.0f, nxc * lr.nx[size_t(j)] + nyc * lr.ny[size_t(j)] + nzc * lr.nz[size_t(j)]);
+    const float wt = bw * std::exp(-(dz * dz)) * pow_by_squaring(nd, e.normal_power, 1.0f);
+    s_sum += wt * low[j], w_sum += wt;
+    if (std::fabs(dz) < nearest_dz) nearest_dz = std::fabs(dz), nearest = low[j];
+  }
+  return w_sum > 1e-6f ? s_sum / w_sum : nearest;
+}
+
+inline void upsample_reference(const GBuffer& full, const LowResGBuffer& lr, const float* low, float* out,
+                               const UpsampleEdges& e = {}) {
+  for (int y = 0; y < full.height; ++y)
+    for (int x = 0; x < full.width; ++x) out[int64_t(y) * full.width + x] = upsample_pixel(full, lr, low, x, y, e);
+}
+
+// upsample_pixel for 16 pixels of a row at once (the same expressions; exp through
+// exp_nonpositive, which the tests hold against std::exp).
+inline void upsample(const GBuffer& full, const LowResGBuffer& lr, const float* low, float* out,
+                     const UpsampleEdges& e = {}) {
+  using namespace simd;
+  const int s = lr.scale, w = lr.g.width, h = lr.g.height;
+  const float inv_dz = 1.0f / (e.depth * full.radius), half = float(s / 2), inv_s = 1.0f / float(s);
+  for_each_block(full, [&](int x0, int y, Mask valid) {
+    const int64_t i0 = int64_t(y) * full.width + x0;
+    const VF z = load(full.z + i0, valid, INFINITY);
+    const Mask live = valid & ~sky(z);
+    if (!live) {
+      store(out + i0, splat(1.0f), valid);
+      return;
+    }
+    const VF nxc = load(full.nx + i0, live, 0.0f), nyc = load(full.ny + i0, live, 0.0f), nzc = load(full.nz + i0, live, 0.0f);
+    const VF u = (to_float(lane_index() + splat_i(x0)) - splat(half)) * splat(inv_s);
+    const float v = (float(y) - half) * inv_s, fv = std::floor(v), ay = v - fv;
+    const VF fu = floor(u), ax = u - fu;
+    const VI xa = floor_to_int(u);
+    VF s_sum = splat(0.0f), w_sum = splat(0.0f), nearest = splat(1.0f), nearest_dz = splat(INFINITY);
+    for (int t = 0; t < 4; ++t) {
+      const VI tx = clamp(xa + splat_i(t & 1), 0, w - 1);
+      const int ty = std::clamp(int(fv) + (t >> 1), 0, h - 1);
+      const VI j = tx + splat_i(ty * w);
+      const VF zj = gather(lr.z.data(), j, live, INFINITY);
+      const Mask m = live & ~sky(zj);
+      if (!m) continue;
+      const VF bw = ((t & 1) ? ax : splat(1.0f) - ax) * splat((t >> 1) ? ay : 1 - ay);
+      const VF dz = select(m, (zj - z) * splat(inv_dz), splat(0.0f));
+      const VF nd = max(splat(0.0f), nxc * gather(lr.nx.data(), j, m, 0.0f) + nyc * gather(lr.ny.data(), j, m, 0.0f) +
+                                         nzc * gather(lr.nz.data(), j, m, 0.0f));
+      const VF p = pow_by_squaring(nd, e.normal_power, splat(1.0f));
+      const VF lo = gather(low, j, m, 0.0f);
+      const VF wt = select(m, bw * exp_nonpositive(-(dz * dz)) * p, splat(0.0f));
+      s_sum = s_sum + wt * lo, w_sum = w_sum + wt;
+      const Mask closer = m & lt(abs(dz), nearest_dz);
+      nearest_dz = select(closer, abs(dz), nearest_dz), nearest = select(closer, lo, nearest);
+    }
+    const VF res = select(gt(w_sum, splat(1e-6f)), s_sum / w_sum, nearest);
+    store(out + i0, select(live, res, splat(1.0f)), valid);
+  });
+}
+
+}  // namespace nns::ao
