@@ -4,7 +4,8 @@
 //    for a grid model the shader-style inference (nnao_glsl_grid.h), for a horizon
 //    model its march (nnao_glsl_horizon.h); nnao_blur.frag: the bilateral blur that
 //    follows it in nnao-infer (nnao_glsl_blur.h), drawn as NNAO_BLUR_PAIRS pairs. docs/nnao.md says how
-//    an engine draws them; examples/nnao_gl runs them.
+//    an engine draws them; examples/nnao_gl runs them. A model at 1/s resolution adds
+//    nnao_downsample.frag before them and nnao_upsample.frag after (nnao_glsl_resolution.h).
 //  * grid models only: the first layer's weights as H filter images (the paper's
 //    Figure 2): filter k is a w x w RGBA image, channels = weights of the (Nx, Ny, Nz,
 //    depth) features at that grid point, with the feature standardisation folded in
@@ -24,6 +25,7 @@
 #include "runs/ao/nnao_glsl_blur.h"
 #include "runs/ao/nnao_glsl_grid.h"
 #include "runs/ao/nnao_glsl_horizon.h"
+#include "runs/ao/nnao_glsl_resolution.h"
 
 namespace nns::nnao {
 
@@ -102,6 +104,14 @@ inline std::vector<std::string> write_export(const NnaoWeights& m, const std::st
   const bool horizon = m.input.is_horizon();  // the grid's blur keeps the first terms, one pair
   write_file_atomic((fs::path(dir) / "nnao_blur.frag").string(),
                     glsl_blur_pass(horizon ? m.blur_passes : 1, horizon ? m.blur_edges : BlurEdges{}));
+  if (horizon && m.downsample > 1) {  // the frame at 1/s, then back (nnao_glsl_resolution.h)
+    write_file_atomic((fs::path(dir) / "nnao_downsample.frag").string(), glsl_downsample_pass(m.downsample));
+    write_file_atomic((fs::path(dir) / "nnao_upsample.frag").string(), glsl_upsample_pass(m.downsample, m.blur_edges));
+    files.push_back("nnao_downsample.frag");
+    files.push_back("nnao_upsample.frag");
+  } else {  // a full-resolution model's export holds no resolution passes, even over an older export
+    for (const char* f : {"nnao_downsample.frag", "nnao_upsample.frag"}) fs::remove(fs::path(dir) / f);
+  }
   return files;
 }
 

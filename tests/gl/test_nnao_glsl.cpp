@@ -182,6 +182,60 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
   check_passes(capped, dir_ / "capped", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, radius term at most 0.2");
 }
 
+// A model at 1/s resolution: the downsample, the NNAO pass and the blur on the low
+// frame, the guided upsample, drawn as an engine draws them, against the CPU path. The
+// NNAO pass is compared on the low frame (marked: a sample near a pixel edge there); the
+// whole chain at full resolution, where a pixel may differ only if a low pixel within
+// the blur's and the upsample's reach differed.
+void check_low_resolution(const nnao::NnaoWeights& m, const fs::path& dir, const data::View& view, const char* name) {
+  const ao::GBuffer g = ao::gbuffer_from_view(view);
+  const ao::LowResGBuffer lr = ao::downsample_gbuffer(g, m.downsample);
+  gl::NnaoGlPasses passes(dir.string());
+  ASSERT_EQ(passes.downsample(), m.downsample) << name;
+  passes.set_gbuffer(g);
+  std::vector<float> raw(size_t(lr.g.pixels())), cpu(size_t(g.pixels()));
+  nnao::infer_horizon(m, lr.g, raw.data());
+  const std::vector<bool> edge = test::horizon_edge_pixels(lr.g, m.input.horizon);
+  const Diff pass = compare(passes.ao_pass({}), raw, edge);
+  report((std::string(name) + ", NNAO pass on the low frame").c_str(), pass, raw.size());
+  EXPECT_EQ(pass.off_not_edge, 0) << name;
+  EXPECT_GT(pass.unclamped, int64_t(raw.size() * 4 / 10)) << name;
+  nnao::infer_exact(m, g, cpu.data());
+  const std::vector<float> gpu_pass = passes.ao_pass({});
+  const int s = m.downsample, reach = 2 * m.blur_passes + 1;
+  std::vector<bool> near_off(cpu.size(), false);
+  for (int y = 0; y < lr.g.height; ++y)
+    for (int x = 0; x < lr.g.width; ++x) {
+      const size_t i = size_t(y) * lr.g.width + x;
+      if (!(std::abs(gpu_pass[i] - raw[i]) > kTolerance)) continue;
+      for (int fy = (y - reach) * s; fy <= (y + reach + 1) * s; ++fy)
+        for (int fx = (x - reach) * s; fx <= (x + reach + 1) * s; ++fx)
+          if (fx >= 0 && fx < g.width && fy >= 0 && fy < g.height) near_off[size_t(fy) * g.width + fx] = true;
+    }
+  const Diff all = compare(passes.run({}), cpu, near_off);
+  report((std::string(name) + ", all passes at full resolution").c_str(), all, cpu.size());
+  EXPECT_EQ(all.off_not_edge, 0) << name;
+  EXPECT_GT(all.unclamped, int64_t(cpu.size() * 4 / 10)) << name;
+}
+
+TEST_F(NnaoGlsl, LowResolutionModelMatchesTheCpuPath) {
+  Blob blob = fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(0, 8, 31, false, {8, 8, 4}), 20, -0.3f);
+  blob.set_config("blur_passes", 2);
+  blob.set_config("blur_depth", 0.3);
+  blob.set_config("blur_normal_power", 2);
+  for (int s : {2, 4}) {
+    blob.set_config("downsample", s);
+    const fs::path dir = dir_ / ("s" + std::to_string(s));
+    const auto m = export_model(blob, dir, 64);
+    ASSERT_TRUE(fs::exists(dir / "nnao_downsample.frag") && fs::exists(dir / "nnao_upsample.frag"));
+    check_low_resolution(m, dir, test::rendered_view(), s == 2 ? "d8 s8 h8 at 1/2" : "d8 s8 h8 at 1/4");
+  }
+  // Exported again at full resolution into the same folder: the resolution passes go.
+  blob.set_config("downsample", 1);
+  export_model(blob, dir_ / "s2", 64);
+  EXPECT_FALSE(fs::exists(dir_ / "s2" / "nnao_downsample.frag"));
+}
+
 // The pair count travels as text in nnao_blur.frag: a count outside 1..16 is refused,
 // naming the file, before anything is drawn.
 TEST_F(NnaoGlsl, ABadBlurPairCountIsRefusedNamingTheFile) {
