@@ -2,11 +2,12 @@
 // and scored against the ray-traced AO — the paper's Table 1 and Figure 4 for this data.
 //
 //   eval-ao --data DIR --model nnao.blob --out DIR [--methods NNAO,SSAO,...] [--threads 2]
+//   eval-ao --data DIR --ladder LADDER --out DIR   (every rung of train-nnao --ladder as one curve)
 //
 // DIR is a split folder or a flat folder; a dataset root with train/ + test/ means its
 // test/ split, and its holdout/ split (whole families never trained on) goes to OUT/holdout
 // with the same files. Writes results.csv, results_by_scene.csv, failure_bands.csv,
-// temporal.csv, timing.csv, speed_vs_accuracy.svg/.png, previews/, report.md and report.html.
+// temporal.csv, timing.csv, pareto.csv, speed_vs_accuracy.svg/.png, previews/, report.md and report.html.
 // Temporal stability is measured on camera-path frames (files "<scene>-pNN-fNNN.exr", or
 // surround frame folders of that name, as render-dataset --path-frames writes them),
 // reprojected: classical_ao/temporal.h.
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
     ao_eval::EvalAoOptions o;
     std::string data_dir = args.get_string("--data", "", "dataset: a split folder, a flat folder, or a root with test/ (default: the built-in default nnao dataset)");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao (omit to run only the classical methods)");
+    o.ladder = args.get_string("--ladder", "", "a trained NNAO ladder's folder (train-nnao --ladder): every rung as NNAO-exact, drawn as one curve (instead of --model)");
     std::string out = args.get_string("--out", "eval-out", "output folder");
     std::string methods_flag = args.get_string("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO", "comma-separated methods");
     std::vector<int> nnao_samples = args.get_int_list("--nnao-samples", "16,32,64,128,256", "shader-style NNAO sample counts", 1, INT_MAX);

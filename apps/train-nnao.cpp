@@ -7,8 +7,8 @@
 // The points go to unnamed files in --out (7.7 KB each for a w-31 grid, 0.14 KB for the
 // default horizons): memory stays at the two shuffle buffers whatever the data size.
 // Without --data it renders (once, cached) and uses the built-in default dataset.
-// --sweep trains a size ladder instead (runs/ao/nnao_sweep.h; --resume continues an
-// interrupted sweep).
+// --sweep trains a size sweep instead (runs/ao/nnao_sweep.h; --resume continues an
+// interrupted sweep); --ladder trains the speed/accuracy ladder (runs/ao/nnao_ladder.h).
 // `mpirun -np N train-nnao --accumulate K ...` (K >= N) trains data-parallel with the
 // weights of the one-process run with --accumulate K (docs/distributed.md).
 #include <chrono>
@@ -19,6 +19,7 @@
 #include "apps/args.h"
 #include "core/thread_pool.h"
 #include "render/default_dataset.h"
+#include "runs/ao/nnao_ladder.h"
 #include "runs/ao/nnao_sweep.h"
 #include "runs/ao/train_nnao.h"
 #include "runs/distributed/world.h"
@@ -53,6 +54,7 @@ int main(int argc, char** argv) {
     o.blur_depth = args.get_double("--blur-depth", p.blur_depth, "horizon features: the blur's depth term, exp(-(dz / (D r))^2): larger blurs across bigger depth steps (recorded)", 0.01, 100);
     o.blur_normal_power = args.get_int("--blur-normal-power", p.blur_normal_power, "horizon features: the blur's normal term, max(0, n.n')^P: smaller blurs across sharper creases (recorded)", 0, 64);
     o.radius_term_max = args.get_double("--radius-term-max", p.radius_term_max, "horizon features: the inference holds the radius term log2(1 + R_px) / 8 at most at X (0: no ceiling; training sees it unclamped; recorded)", 0, 100);
+    o.downsample = std::stoi(args.get_choice("--downsample", "1", {"1", "2", "4"}, "horizon features: march, network and blur at 1/s of the resolution, then a depth- and normal-guided upsample; trained on points of frames downsampled alike, against the full-resolution truth (recorded)"));
     o.net.hidden = args.get_int("--hidden", p.hidden, "hidden units per layer", 1, 64);
     o.radius = float(args.get_double("--radius", 0, "AO radius (0 = each view's aoRadius)", 0, HUGE_VAL));
     o.net.dropout = args.get_double("--dropout", p.dropout, "dropout on the input", 0, 0.99);
@@ -67,16 +69,29 @@ int main(int argc, char** argv) {
     o.validation_fraction = args.get_double("--validation-fraction", 0, "share of the training split's scenes held out as validation (val_mse); --sweep uses 0.2 when 0", 0, 0.9);
     o.validation_families = args.get_names("--validation-families", "", "scene families of the training split held out as validation (val_mse), e.g. vaults,foliage,terrain");
     o.resume = args.get_flag("--resume", "continue from OUT/checkpoint.blob (refused if any other flag changed)");
+    const bool ladder = args.get_flag("--ladder", "train the NNAO ladder instead of one model: every rung (cheapest first) into OUT/<rung>/, listed in OUT/ladder.csv, for eval-ao --ladder and export-nnao --ladder (runs/ao/nnao_ladder.h)");
+    const std::string rungs = args.get_string("--ladder-rungs", "", "--ladder's rungs as D:S:B:H:s:P (directions, steps, bands, hidden, downsample 1/2/4, blur passes), comma-separated (default: the ladder chosen on the validation families)");
     bool sweep = args.get_flag("--sweep", "train the size ladder (grid: w 7/15/23/31 x hidden 4/8/16; horizon: directions 8/16/32 x hidden 8/16/32) and chart error vs ms/frame");
     int sweep_epochs = args.get_int("--sweep-epochs", o.net.features == "horizon" ? 8 : 40,
                                     "epochs per model in --sweep (grid 40: converged on the default data; horizon 8, as the preset; the sweep trains with the preset's or --gamma's gamma)", 1, 100000);
     if (o.batch % o.accumulate != 0) args.error("--accumulate must divide --batch");
     if (sweep && dist::size() > 1) args.error("--sweep runs in one process (not under mpirun)");
+    if (ladder && (sweep || dist::size() > 1)) args.error("--ladder runs in one process, without --sweep");
+    std::vector<nnao::Rung> ladder_rungs = nnao::default_ladder();
+    if (!rungs.empty()) try {
+        ladder_rungs = nnao::parse_rungs(rungs);
+      } catch (const std::invalid_argument& e) {
+        args.error(e.what());
+      }
     if (o.accumulate < dist::size()) args.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(dist::size()) + ")");
     args.done();
     o.quiet = !dist::writer();
     set_num_threads(threads);
     if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return data::ensure_default_dataset("nnao", threads); });
+    if (ladder) {
+      nnao::train_ladder(o, ladder_rungs);
+      return 0;
+    }
     if (sweep) {
       o.epochs = sweep_epochs;
       // Choose on validation, never test.

@@ -1,30 +1,35 @@
-// Per-frame time of the default NNAO (horizon features, exact, with its blur) against
-// HBAO-64 and GTAO-32 on the same frames, the methods interleaved round by round, so
-// that a machine shared with other jobs slows them alike (a plain program, not a
-// Google Benchmark: `valgrind --tool=callgrind` can run one method alone, and it takes
+// Per-frame time of AO methods on the same frames, the methods interleaved round by
+// round, so that a machine shared with other jobs slows them alike (a plain program, not
+// a Google Benchmark: `valgrind --tool=callgrind` can run one method alone, and it takes
 // dataset views as they are).
-//   profile_ao_frame [threads=2] [rounds=20] [methods=all|NNAO|HBAO|GTAO] [view=320x180|FILE.exr] [model.blob]
-// Without a model: a random one of the default shape (16 directions x 8 steps, 4
-// bands, hidden 16; the weights do not change the work). Without a view file: the
-// synthetic box frame of fixtures/synthetic_gbuffer.h at that size. Prints per method
-// the best and median wall ms per frame, ms per depth sample, and the median over
-// rounds of the per-round ratio to HBAO-64 per sample.
+//   profile_ao_frame [threads=2] [rounds=20] [methods=all] [view=320x180] [model.blob|LADDER_DIR]
+// methods: all (NNAO, HBAO-64, GTAO-32), every (NNAO and every classical setting eval-ao
+// runs), or a name prefix (NNAO, HBAO, GTAO, ...). view: WxH (the synthetic box frame of
+// fixtures/synthetic_gbuffer.h), FILE.exr, or FILE.exr@WxH (the view's depth and normals
+// brought to WxH by nearest-pixel resampling). A ladder folder (train-nnao --ladder)
+// times every rung; without a model, a random one of the default shape (16 directions x
+// 8 steps, 4 bands, hidden 16, 4 blur passes; the weights do not change the work).
+// Prints per method the best and median wall ms per frame, the median process CPU ms,
+// their ratio (the threads the method kept busy) and the machine's processor.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
 
-#include "classical_ao/gtao.h"
-#include "classical_ao/hbao.h"
+#include "classical_ao/methods.h"
+#include "classical_ao/params.h"
 #include "core/blob.h"
 #include "core/thread_pool.h"
 #include "data/exr_io.h"
 #include "fixtures/random_nnao_blob.h"
 #include "fixtures/synthetic_gbuffer.h"
 #include "models/nnao/nnao_inference.h"
+#include "runs/ao/nnao_budget.h"
 
 using namespace nns;
 
@@ -35,12 +40,26 @@ double median(std::vector<double> v) {
   return v.empty() ? 0 : v[v.size() / 2];
 }
 
+double cpu_ms() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
 struct Method {
   std::string name;
-  int samples;  // depth samples per pixel
   std::function<void(const ao::GBuffer&, float*)> run;
-  std::vector<double> ms;
+  std::vector<double> ms, cpu;
 };
+
+data::View load_view(const std::string& arg) {
+  int w = 0, h = 0;
+  if (std::sscanf(arg.c_str(), "%dx%d", &w, &h) == 2 && w > 0 && h > 0) return fixtures::synthetic_view(w, h, 1, 1);
+  const auto at = arg.rfind('@');
+  if (at != std::string::npos && std::sscanf(arg.c_str() + at + 1, "%dx%d", &w, &h) == 2 && w > 0 && h > 0)
+    return nnao::resize_nearest(data::read_view(arg.substr(0, at)), w, h);
+  return data::read_view(arg);
+}
 
 }  // namespace
 
@@ -50,47 +69,50 @@ int main(int argc, char** argv) {
   const std::string which = argc > 3 ? argv[3] : "all";
   const std::string view_arg = argc > 4 ? argv[4] : "320x180";
   if (threads < 1 || rounds < 1) {
-    std::fprintf(stderr, "usage: profile_ao_frame [threads>=1] [rounds>=1] [all|NNAO|HBAO|GTAO] [WxH|VIEW.exr] [model.blob]\n");
+    std::fprintf(stderr, "usage: profile_ao_frame [threads>=1] [rounds>=1] [all|every|PREFIX] [WxH|VIEW.exr[@WxH]] [model.blob|LADDER_DIR]\n");
     return 2;
   }
   try {
     set_num_threads(threads);
-    const nnao::NnaoWeights model =
-        argc > 5 ? nnao::NnaoWeights::from_blob(Blob::load(argv[5]))
-                 : nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 16, 7, false, {16, 8, 4}));
-    data::View view;
-    int w = 0, h = 0;
-    if (std::sscanf(view_arg.c_str(), "%dx%d", &w, &h) == 2 && w > 0 && h > 0) view = fixtures::synthetic_view(w, h, 1, 1);
-    else view = data::read_view(view_arg);
+    std::vector<std::pair<std::string, nnao::NnaoWeights>> models;
+    if (argc > 5 && std::filesystem::is_directory(argv[5])) {
+      for (const auto& r : nnao::read_ladder(argv[5])) models.emplace_back("NNAO " + r.name, nnao::NnaoWeights::load(r.blob));
+    } else if (argc > 5) {
+      models.emplace_back("NNAO", nnao::NnaoWeights::from_blob(Blob::load(argv[5])));
+    } else {
+      Blob b = fixtures::random_nnao_blob(0, 16, 7, false, {16, 8, 4});
+      b.set_config("blur_passes", 4);
+      models.emplace_back("NNAO", nnao::NnaoWeights::from_blob(b));
+    }
+    const data::View view = load_view(view_arg);
     const ao::GBuffer g = ao::gbuffer_from_view(view);
-    std::vector<Method> methods = {
-        {"NNAO", int(model.input.samples()), [&](const ao::GBuffer& gb, float* o) { nnao::infer_exact(model, gb, o); }, {}},
-        {"HBAO-64", 64, [](const ao::GBuffer& gb, float* o) { ao::hbao(gb, 64, o); }, {}},
-        {"GTAO-32", 32, [](const ao::GBuffer& gb, float* o) { ao::gtao(gb, 32, o); }, {}},
-    };
+    std::vector<Method> methods;
+    for (auto& [name, m] : models) methods.push_back({name, [&m = m](const ao::GBuffer& gb, float* o) { nnao::infer_exact(m, gb, o); }, {}, {}});
+    const ao::ClassicalParams params;
+    for (auto& c : ao::classical_methods())
+      for (int n : c.sample_counts) {
+        const std::string name = c.name + "-" + std::to_string(n);
+        if (which == "all" && name != "HBAO-64" && name != "GTAO-32") continue;
+        methods.push_back({name, [&c, &params, n](const ao::GBuffer& gb, float* o) { ao::run_classical(c.name, params, gb, n, o, false); }, {}, {}});
+      }
     std::vector<float> out(size_t(g.pixels()));
+    auto selected = [&](const Method& m) { return which == "all" || which == "every" || m.name.rfind(which, 0) == 0; };
     for (int r = 0; r < rounds + 1; ++r)  // round 0 warms the caches and the pool
       for (auto& m : methods) {
-        if (which != "all" && m.name.rfind(which, 0) != 0) continue;
+        if (!selected(m)) continue;
+        const double c0 = cpu_ms();
         const auto t0 = std::chrono::steady_clock::now();
         m.run(g, out.data());
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        if (r > 0) m.ms.push_back(ms);
+        if (r > 0) m.ms.push_back(ms), m.cpu.push_back(cpu_ms() - c0);
       }
-    std::printf("%dx%d, %d thread(s), %d rounds (%s)\n", g.width, g.height, threads, rounds, view_arg.c_str());
-    std::printf("%-8s %8s %9s %9s %16s %22s\n", "method", "samples", "best ms", "median ms", "median ms/sample",
-                "per-sample vs HBAO-64");
-    const Method& hbao = methods[1];
+    std::printf("%dx%d, %d thread(s), %d rounds (%s) on %s\n", g.width, g.height, threads, rounds, view_arg.c_str(),
+                nnao::cpu_model().c_str());
+    std::printf("%-30s %9s %9s %9s %12s\n", "method", "best ms", "median ms", "CPU ms", "threads used");
     for (const auto& m : methods) {
       if (m.ms.empty()) continue;
-      std::string ratio = "-";
-      if (!hbao.ms.empty()) {
-        std::vector<double> q;
-        for (size_t r = 0; r < m.ms.size(); ++r) q.push_back((m.ms[r] / m.samples) / (hbao.ms[r] / hbao.samples));
-        ratio = std::to_string(median(q)).substr(0, 5) + "x";
-      }
-      std::printf("%-8s %8d %9.3f %9.3f %16.5f %22s\n", m.name.c_str(), m.samples, *std::min_element(m.ms.begin(), m.ms.end()),
-                  median(m.ms), median(m.ms) / m.samples, ratio.c_str());
+      std::printf("%-30s %9.3f %9.3f %9.3f %12.2f\n", m.name.c_str(), *std::min_element(m.ms.begin(), m.ms.end()), median(m.ms),
+                  median(m.cpu), median(m.cpu) / median(m.ms));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "profile_ao_frame: %s\n", e.what());

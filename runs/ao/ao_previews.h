@@ -44,6 +44,9 @@ struct Method {
   std::string name;  // "NNAO-exact", "NNAO", "SSAO", ...; "<method>+TA": accumulated (run is null)
   int samples;
   std::function<void(const ao::GBuffer&, float*)> run;
+  std::string setting = "";  // an NNAO ladder's rung; empty: the sample count names the setting
+  // The point's label in charts and tables: the rung, or the sample count.
+  std::string label() const { return setting.empty() ? std::to_string(samples) : setting; }
 };
 
 inline std::string fmt(double v, int prec = 6) {
@@ -78,13 +81,13 @@ inline std::vector<data::Comparison> write_ao_previews(const std::vector<std::st
     for (auto& m : methods) {
       m.run(g, result.data());
       for (size_t i = 0; i < err.size(); ++i) err[i] = mask[i] ? std::abs(result[i] - gt[i]) : 0.0f;
-      const std::string base = "previews/" + stem + "_" + safe(m.name) + "_" + std::to_string(m.samples);
+      const std::string base = "previews/" + stem + "_" + safe(m.name) + "_" + safe(m.label());
       const std::string numbers =
           "MSE " + fmt(data::masked_mse(result.data(), gt.data(), mask.data(), g.pixels()), 4) + ", SSIM " +
           fmt(data::masked_ssim(result.data(), gt.data(), mask.data(), g.width, g.height), 4);
       data::write_png_gray((fs::path(out) / (base + ".png")).string(), result.data(), g.width, g.height);
       data::write_png_heatmap((fs::path(out) / (base + "_error.png")).string(), err.data(), g.width, g.height, 0.5f);
-      const std::string label = m.name + ", " + std::to_string(m.samples) + " samples";
+      const std::string label = m.name + ", " + (m.setting.empty() ? std::to_string(m.samples) + " samples" : m.setting);
       c.images.push_back({label, base + ".png", numbers});
       c.images.push_back({label + ": error", base + "_error.png", numbers + "; |AO - truth| black 0, white 0.5"});
     }

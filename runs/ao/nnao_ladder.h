@@ -1,0 +1,129 @@
+#pragma once
+// NNAO as a curve, not a point: a ladder of trained models from very cheap to the
+// default's quality, so that an engine with a time budget has an NNAO to pick. A rung is
+// a horizon layout (directions x steps in bands), a hidden width, the resolution it runs
+// at (screen_space/low_resolution.h: 1, 1/2 or 1/4 of the frame in each axis, upsampled
+// guided by the full-resolution depth and normals) and its blur passes. Every rung is a
+// train-nnao run of its own (same data, seed and epochs), in OUT/<rung>/, listed in
+// OUT/ladder.csv from the least to the most accurate (on the validation families);
+// eval-ao --ladder OUT draws them as one curve and export-nnao --ladder OUT --budget-ms X
+// picks the highest rung within a budget.
+//
+// The rungs were chosen on the validation families (docs/nnao.md, "The ladder").
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "runs/ao/train_nnao.h"
+
+namespace nns::nnao {
+
+struct Rung {
+  int directions, steps, bands, hidden, downsample, blur_passes;
+  std::string name() const {
+    static const char* res[] = {"", "full", "half", "", "quarter"};
+    return "d" + std::to_string(directions) + "s" + std::to_string(steps) + "h" + std::to_string(hidden) + "-" +
+           res[downsample] + "-b" + std::to_string(blur_passes);
+  }
+  // Depth samples per full-resolution pixel: the march's cost, spread over s^2 pixels.
+  double samples_per_pixel() const { return double(directions) * steps / double(downsample * downsample); }
+};
+
+// The default ladder, least accurate (and cheapest) first.
+inline std::vector<Rung> default_ladder() {
+  return {
+      {4, 4, 2, 8, 4, 2},   {8, 4, 2, 8, 4, 2},  {8, 8, 4, 8, 2, 2},
+      {16, 8, 4, 16, 2, 4}, {8, 8, 4, 8, 1, 4},  {16, 8, 4, 16, 1, 4},
+  };
+}
+
+// Parses "D:S:B:H:s:P" rungs, comma-separated (train-nnao --ladder-rungs).
+inline std::vector<Rung> parse_rungs(const std::string& text) {
+  std::vector<Rung> rungs;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    Rung r{};
+    char tail = 0;
+    if (std::sscanf(item.c_str(), "%d:%d:%d:%d:%d:%d%c", &r.directions, &r.steps, &r.bands, &r.hidden, &r.downsample,
+                    &r.blur_passes, &tail) != 6)
+      throw std::invalid_argument("--ladder-rungs: '" + item + "' is not D:S:B:H:s:P (directions, steps, bands, hidden, downsample, blur passes)");
+    if (r.downsample != 1 && r.downsample != 2 && r.downsample != 4)
+      throw std::invalid_argument("--ladder-rungs: '" + item + "': downsample must be 1, 2 or 4");
+    rungs.push_back(r);
+  }
+  if (rungs.empty()) throw std::invalid_argument("--ladder-rungs: no rungs");
+  return rungs;
+}
+
+// One rung's train-nnao options: the base's data, seed, epochs and blur edges.
+inline TrainOptions rung_options(const TrainOptions& base, const Rung& r, const std::string& dir) {
+  TrainOptions o = base;
+  o.net.features = "horizon";
+  o.net.horizon.directions = r.directions, o.net.horizon.steps = r.steps, o.net.horizon.bands = r.bands;
+  o.net.hidden = r.hidden;
+  o.downsample = r.downsample;
+  o.blur_passes = r.blur_passes;
+  o.out_dir = (std::filesystem::path(dir) / r.name()).string();
+  o.resume = base.resume && std::filesystem::exists(std::filesystem::path(o.out_dir) / "checkpoint.blob");
+  return o;
+}
+
+struct LadderEntry {
+  std::string name, blob;  // the rung's folder name and its nnao.blob
+  double samples_per_pixel = 0;
+};
+
+// Trains every rung into OUT/<rung>/ and writes OUT/ladder.csv (cheapest first). A rung
+// that stops on a non-finite value is left out and said so.
+inline void train_ladder(const TrainOptions& base, const std::vector<Rung>& rungs) {
+  namespace fs = std::filesystem;
+  fs::create_directories(base.out_dir);
+  std::string csv = "rung,directions,steps,bands,hidden,downsample,blur_passes,samples_per_pixel,test_mse,val_mse,seconds\n";
+  for (size_t i = 0; i < rungs.size(); ++i) {
+    const Rung& r = rungs[i];
+    if (!base.quiet) std::fprintf(stderr, "ladder: rung %zu of %zu: %s\n", i + 1, rungs.size(), r.name().c_str());
+    const TrainResult t = train_nnao(rung_options(base, r, base.out_dir));
+    if (t.exit_code != 0) {
+      std::fprintf(stderr, "ladder: %s left out: %s\n", r.name().c_str(), t.stop_message.c_str());
+      continue;
+    }
+    char line[256];
+    std::snprintf(line, sizeof line, "%s,%d,%d,%d,%d,%d,%d,%.6g,%.6g,%.6g,%.1f\n", r.name().c_str(), r.directions, r.steps,
+                  r.bands, r.hidden, r.downsample, r.blur_passes, r.samples_per_pixel(), t.test_mse, t.val_mse, t.seconds);
+    csv += line;
+  }
+  write_file_atomic((fs::path(base.out_dir) / "ladder.csv").string(), csv);
+  if (!base.quiet) std::printf("ladder: %s\n", (fs::path(base.out_dir) / "ladder.csv").string().c_str());
+}
+
+// The rungs of a trained ladder, in ladder.csv's order; every blob must exist.
+inline std::vector<LadderEntry> read_ladder(const std::string& dir) {
+  namespace fs = std::filesystem;
+  const std::string csv = (fs::path(dir) / "ladder.csv").string();
+  std::ifstream in(csv);
+  if (!in) throw std::runtime_error(csv + ": cannot read (train-nnao --ladder writes it)");
+  std::vector<LadderEntry> rungs;
+  std::string line;
+  std::getline(in, line);
+  if (line.rfind("rung,", 0) != 0) throw std::runtime_error(csv + ": not a ladder file (its first line must start 'rung,')");
+  for (int n = 2; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+    if (f.size() < 8 || f[0].empty() || f[0].find_first_of("/\\") != std::string::npos || f[0][0] == '.')
+      throw std::runtime_error(csv + ": line " + std::to_string(n) + " is not a rung");
+    LadderEntry e{f[0], (fs::path(dir) / f[0] / "nnao.blob").string(), std::atof(f[7].c_str())};
+    if (!fs::is_regular_file(e.blob)) throw std::runtime_error(csv + ": rung " + e.name + " has no model (" + e.blob + ")");
+    rungs.push_back(e);
+  }
+  if (rungs.empty()) throw std::runtime_error(csv + ": no rungs");
+  return rungs;
+}
+
+}  // namespace nns::nnao
