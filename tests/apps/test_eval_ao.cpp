@@ -4,6 +4,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -11,7 +12,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
+#include "core/blob.h"
 #include "data/exr_io.h"
 #include "fixtures/random_nnao_blob.h"
 #include "fixtures/synthetic_gbuffer.h"
@@ -54,7 +57,7 @@ TEST(EvalAo, WritesResultsForClassicalMethods) {
               " --methods SSAO,HBAO --threads 2 --previews 1");
   ASSERT_EQ(r.code, 0) << r.output;
   std::string csv = read(d / "out" / "results.csv");
-  EXPECT_EQ(csv.rfind("method,samples,ms_per_frame,mse,ssim,psnr\n", 0), 0u) << csv;
+  EXPECT_EQ(csv.rfind("method,samples,ms_per_frame,mse,ssim,psnr,setting\n", 0), 0u) << csv;
   EXPECT_NE(csv.find("\nHBAO,64,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\nSSAO,4,"), std::string::npos) << csv;
   EXPECT_EQ(csv.find("nan"), std::string::npos) << csv;
@@ -202,5 +205,79 @@ TEST(EvalAo, VaryPatternChangesShaderStyleJitterPerFrame) {
   EXPECT_EQ(fixed.first, 0.0);
   EXPECT_GT(varied.first, 0.0);
   EXPECT_LT(varied.second, varied.first);
+  fs::remove_all(d);
+}
+
+// A ladder of NNAO models (train-nnao --ladder's folder: ladder.csv and one folder per
+// rung) is evaluated as one curve: every rung a row of results.csv with its name, and
+// pareto.csv saying for every classical setting which rung beats it at no more wall time
+// — a claim checked here against the rows themselves. export-nnao --ladder then picks a
+// rung within a budget from times it measures, or says that none fits.
+TEST(EvalAo, LadderIsOneCurveAndTheFrontNamesItsWins) {
+  fs::path d = temp_dir("ladder");
+  fs::create_directories(d / "data");
+  for (int v = 0; v < 2; ++v) {
+    auto view = nns::fixtures::synthetic_view(48, 32, 3, 16);
+    nns::data::write_view((d / "data" / ("v" + std::to_string(v) + ".exr")).string(), view);
+  }
+  std::string csv = "rung,directions,steps,bands,hidden,downsample,blur_passes,samples_per_pixel,test_mse,val_mse,seconds\n";
+  for (int s : {4, 2, 1}) {
+    nns::Blob b = nns::fixtures::random_nnao_blob(0, 4, 11 + s, false, {8, 4, 2});
+    b.set_config("downsample", s);
+    const std::string name = "r" + std::to_string(s);
+    fs::create_directories(d / "ladder" / name);
+    b.save((d / "ladder" / name / "nnao.blob").string());
+    csv += name + ",8,4,2,4," + std::to_string(s) + ",1," + std::to_string(32 / (s * s)) + ",,,\n";
+  }
+  std::ofstream(d / "ladder" / "ladder.csv") << csv;
+  CommandResult r = run("--data " + (d / "data").string() + " --ladder " + (d / "ladder").string() + " --out " +
+                        (d / "out").string() + " --methods NNAO-exact,SSAO,GTAO --previews 1 --repeat 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string results = read(d / "out" / "results.csv");
+  for (const char* rung : {"r4", "r2", "r1"})
+    EXPECT_NE(results.find(std::string(",") + rung + "\n"), std::string::npos) << results;
+  std::ifstream pareto(d / "out" / "pareto.csv");
+  std::string line;
+  std::getline(pareto, line);
+  ASSERT_EQ(line, "method,setting,wall_ms,cpu_ms,mse,ssim,flicker_x_truth,on_front,beaten_by_nnao_at_no_more_time");
+  struct Row { std::string method, setting; double ms, mse, ssim; std::string beaten_by; };
+  std::vector<Row> rows;
+  while (std::getline(pareto, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+    if (line.back() == ',') f.push_back("");
+    ASSERT_EQ(f.size(), 9u) << line;
+    rows.push_back({f[0], f[1], std::stod(f[2]), std::stod(f[4]), std::stod(f[5]), f[8]});
+  }
+  ASSERT_EQ(rows.size(), 3u + 4 + 5);  // the rungs, SSAO at 4 counts, GTAO at 5
+  for (auto& c : rows) {
+    if (c.method == "NNAO-exact") {
+      EXPECT_EQ(c.beaten_by, "");
+      continue;
+    }
+    ASSERT_FALSE(c.beaten_by.empty()) << c.method;
+    if (c.beaten_by == "none") continue;
+    const auto w = std::find_if(rows.begin(), rows.end(), [&](const Row& q) { return "NNAO-exact@" + q.setting == c.beaten_by; });
+    ASSERT_NE(w, rows.end()) << c.beaten_by;
+    EXPECT_LE(w->ms, c.ms);
+    EXPECT_LT(w->mse, c.mse);
+    EXPECT_GT(w->ssim, c.ssim);
+  }
+  EXPECT_NE(read(d / "out" / "report.md").find("The speed/accuracy front"), std::string::npos);
+
+  // The budget: a generous one ships the top rung (listed last), an impossible one nothing.
+  const std::string base = "--ladder " + (d / "ladder").string() + " --view " + (d / "data" / "v0.exr").string() + " --size 64x40";
+  CommandResult e = nns::testing::run_app("export-nnao", base + " --budget-ms 100000 --out " + (d / "shaders").string());
+  ASSERT_EQ(e.code, 0) << e.output;
+  EXPECT_NE(e.output.find("r1 "), std::string::npos) << e.output;
+  EXPECT_NE(e.output.find("<- picked"), std::string::npos) << e.output;
+  EXPECT_FALSE(fs::exists(d / "shaders" / "nnao_downsample.frag"));  // r1 runs at full resolution
+  e = nns::testing::run_app("export-nnao", base + " --budget-ms 0.001 --out " + (d / "none").string());
+  EXPECT_EQ(e.code, 1) << e.output;
+  EXPECT_NE(e.output.find("no rung"), std::string::npos) << e.output;
+  EXPECT_FALSE(fs::exists(d / "none" / "nnao.frag"));
+  e = nns::testing::run_app("export-nnao", "--ladder " + (d / "ladder").string() + " --out " + (d / "x").string());
+  EXPECT_EQ(e.code, 2) << e.output;  // a ladder without a budget
   fs::remove_all(d);
 }
