@@ -35,6 +35,19 @@
 
 namespace nns::gi {
 
+// The files of a train-gan run in its output folder, named once.
+struct GanRunFiles {
+  std::string out;
+  std::string path(const char* name) const { return (std::filesystem::path(out) / name).string(); }
+  std::string generator() const { return path("G.blob"); }
+  std::string discriminator() const { return path("D.blob"); }
+  std::string samples() const { return path("samples"); }
+  // samples/step<N>, the prefix of that step's PNGs (write_sample_pngs).
+  std::string sample_prefix(int64_t step) const { return samples() + "/step" + std::to_string(step); }
+  std::string eval() const { return path("eval"); }
+  std::string eval_holdout() const { return path("eval/holdout"); }
+};
+
 struct GanRunOptions {
   GanTrainConfig train;
   std::string out;
@@ -104,7 +117,7 @@ class GanTask : public runs::TrainingTask {
  public:
   GanTask(const GanRunOptions& o, GanTrainer& t, GiTrainData& train, runs::TrainingRun& run)
       : o_(o), t_(t), train_(train), run_(run), n_(int64_t(train.size())), K_(o.accumulate),
-        g_blob_(run.path("G.blob")), d_blob_(run.path("D.blob")) {}
+        files_{o.out} {}
   int64_t steps_per_epoch() const { return n_ / K_; }
 
   std::vector<Var<float>> trained_parameters() override { return t_.trained_parameters(); }
@@ -152,7 +165,7 @@ class GanTask : public runs::TrainingTask {
     if (acc_n_ > 0) flush_log();
     if (run_.writes_files()) write_loss_chart(run_.metrics(), run_.path("loss.svg"));
   }
-  void write_outputs() override { t_.save_models(g_blob_, d_blob_); }
+  void write_outputs() override { t_.save_models(files_.generator(), files_.discriminator()); }
   bool interrupt_after(int64_t epochs_done) const override { return epochs_done == o_.stop_after_epochs; }
 
   int64_t first_d_wins_step = -1;
@@ -198,7 +211,7 @@ class GanTask : public runs::TrainingTask {
   // The step's first sample (read again when the step read others after it).
   void write_samples(int64_t j) {
     const GiSample& s = shown_ ? *shown_ : prepared(j * K_, sample(j * K_, -1));
-    write_sample_pngs(o_.out + "/samples/step" + std::to_string(t_.step()), s,
+    write_sample_pngs(files_.sample_prefix(t_.step()), s,
                       t_.predict(s, /*bn_batch_stats=*/true, /*dropout_on=*/false),
                       HdrMapping(o_.train.inputs.norm.hdr_scale));
   }
@@ -209,7 +222,7 @@ class GanTask : public runs::TrainingTask {
   runs::TrainingRun& run_;
   const int64_t n_;
   const int K_;
-  const std::string g_blob_, d_blob_;
+  const GanRunFiles files_;
   int epoch_ = 0;
   std::vector<int64_t> order_;
   bool poison_ = false;
@@ -226,7 +239,7 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   t.add_to(ck);
   runs::TrainingLoop loop(run_spec(o, t), ck, t.step_counter(), o.precision, o.quiet);
   runs::TrainingRun& run = loop.run();
-  if (run.writes_files()) std::filesystem::create_directories(o.out + "/samples");
+  if (run.writes_files()) std::filesystem::create_directories(GanRunFiles{o.out}.samples());
   GanTask task(o, t, train, run);
   if (task.steps_per_epoch() == 0) throw std::runtime_error("train-gan: fewer training samples than --accumulate");
   const runs::LoopResult lr = loop.train(task, {.progress_label = "train-gan " + std::string(loss_name(o.train.loss)),
