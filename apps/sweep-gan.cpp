@@ -2,7 +2,7 @@
 // face sizes x ngf x levels, scores each on the validation split (eval-gi's metrics), charts
 // SSIM against ms per frame and against training time, and names the smallest model
 // (fewest parameters) within 0.01 SSIM of the best. train-gan's defaults
-// (runs/gi/gan_defaults.h) come from its answer; docs/gan.md has the table.
+// (runs/gi/train_gan.h) come from its answer; docs/gan.md has the table.
 //
 //   sweep-gan --out sweep --sizes 16,32 --ngf 8,16,32 --levels 4,5 --epochs 6
 //   sweep-gan --out sweep --points 32:16:5,64:16:5     explicit points; finished ones are reused
@@ -12,8 +12,8 @@
 #include "core/thread_pool.h"
 #include "data/require_valid_dataset.h"
 #include "render/default_dataset.h"
-#include "runs/gi/gan_defaults.h"
 #include "runs/gi/gan_sweep.h"
+#include "runs/gi/train_gan.h"
 
 using namespace nns;
 using namespace nns::gi;
@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     int epochs = a.get_int("--epochs", 6, "epochs per model", 1, 100000);
     std::string loss = a.get_choice("--loss", "gan", {"gan", "l1", "dssim"}, "training loss of every point");
     std::string arch = a.get_choice("--arch", "pix2pix", {"pix2pix", "deepshading"}, "generator architecture");
-    std::string residual = a.get_choice("--residual", GanDefaults{}.residual, {"off", "mapped", "linear"}, "residual output (docs/gan.md)");
+    std::string residual = a.get_choice("--residual", TrainGanOptions{}.residual, {"off", "mapped", "linear"}, "residual output (docs/gan.md)");
     int max_frames = a.get_int("--max-frames", 0, "at most N train and N test frames (0: all)", 0, INT_MAX);
     double tolerance = a.get_double("--ssim-tolerance", 0.01, "how far below the best SSIM still counts", 0, 1);
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);

@@ -13,7 +13,7 @@
 
 #include "core/kernels/gemm_precision.h"
 #include "core/thread_pool.h"
-#include "runs/gi/gan_defaults.h"
+#include "runs/gi/train_gan.h"
 #include "runs/gi/gan_trainer.h"
 
 using namespace nns;
@@ -22,7 +22,7 @@ using namespace nns::gi;
 int main(int argc, char** argv) {
   const int steps = argc > 1 ? std::atoi(argv[1]) : 50;
   set_num_threads(1);
-  const GanDefaults def;
+  const TrainGanOptions def;
   std::printf("bf16 GEMM on %s; %d steps of the default GAN (synthetic inputs)\n",
               bf16_isa_description().c_str(), steps);
   std::printf("| precision | gradient entries | zero | 0 < |g| < 2^-126 | |g| < 2^-14 (fp16 normal) | "
@@ -32,8 +32,8 @@ int main(int argc, char** argv) {
     GanTrainConfig c;
     c.inputs.mode = GiMode::front;
     c.inputs.size = def.size;
-    c.ngf = def.ngf, c.ndf = def.ndf, c.levels = def.levels, c.d_layers = 3;
-    c.dssim_weight = def.dssim_weight;
+    c.ngf = def.ngf, c.ndf = def.ndf, c.levels = def.levels, c.d_layers = def.d_layers;
+    c.dssim_weight = def.dssim_weight_used();
     c.seed = 1;
     GanTrainer t(c);
     Rng rng(7);

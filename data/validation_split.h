@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -43,6 +44,38 @@ inline std::pair<SplitListing, SplitListing> hold_out_validation_families(const 
   for (size_t i = 0; i < families.size(); ++i)
     if (!seen[i]) throw std::runtime_error(train.dir + ": no training view of family '" + families[i] + "' to validate on");
   return {kept, val};
+}
+
+// The share of a flat dataset's scenes (no train/ and test/ folders) that becomes its
+// test split: whole scenes, never pixels.
+inline constexpr double kFlatTestFraction = 0.2;
+
+// The dataset's train and test splits: its folders, or a flat folder split by scene.
+inline DatasetListing list_splits(const std::string& dir) {
+  DatasetListing d = list_dataset(dir);
+  if (d.flat) d = split_flat_by_scene(d, kFlatTestFraction);
+  return d;
+}
+
+// What a trainer reads: the listing, whose train split has lost the validation scenes,
+// and the validation split.
+struct TrainingSplits {
+  DatasetListing listing;
+  SplitListing validation;
+};
+
+// The splits with about `validation_fraction` of the training scenes held out, or
+// (when named) every view of `validation_families`. Throws when nothing is left to
+// train on.
+inline TrainingSplits open_training_splits(const std::string& dir, double validation_fraction,
+                                           const std::vector<std::string>& validation_families = {}) {
+  TrainingSplits s{list_splits(dir), {}};
+  if (s.listing.train.size() == 0) throw std::runtime_error(dir + ": no training views or frames found");
+  std::tie(s.listing.train, s.validation) =
+      validation_families.empty() ? hold_out_validation(s.listing.train, validation_fraction)
+                                  : hold_out_validation_families(s.listing.train, validation_families);
+  if (s.listing.train.size() == 0) throw std::runtime_error(dir + ": no training views left after the validation split");
+  return s;
 }
 
 }  // namespace nns::data

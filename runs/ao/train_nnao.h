@@ -38,8 +38,6 @@
 #include <vector>
 
 #include "core/atomic_file.h"
-#include "core/kernels/gemm_precision.h"
-#include "core/progress.h"
 #include "report/chart.h"
 #include "data/dataset.h"
 #include "data/exr_io.h"
@@ -53,7 +51,7 @@
 #include "optim/checkpoint.h"
 #include "runs/distributed/grad_sync.h"
 #include "runs/distributed/world.h"
-#include "runs/training_run.h"
+#include "runs/training_loop.h"
 
 namespace nns::nnao {
 
@@ -307,10 +305,8 @@ inline void write_loss_chart(runs::TrainingRun& run) {
                     co);
 }
 
-inline TrainResult train_nnao(const TrainOptions& o) {
-  namespace fs = std::filesystem;
-  auto t_start = std::chrono::steady_clock::now();
-  const ScopedGemmPrecision precision(o.precision);
+// The options train_nnao refuses before it reads anything.
+inline void check_options(const TrainOptions& o) {
   if (const std::string p = o.net.input().problem(); !p.empty()) throw std::invalid_argument("train-nnao: " + p);
   if (o.batch < 1 || o.epochs < 0 || o.net.window < 1 || o.net.hidden < 1 || o.net.hidden > 64 ||
       o.points_per_view < 1 || !(o.net.dropout >= 0 && o.net.dropout < 1) || o.shuffle_chunk < 1 ||
@@ -321,173 +317,221 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   if (o.accumulate < 1 || o.batch % o.accumulate != 0)
     throw std::invalid_argument("train-nnao: --accumulate " + std::to_string(o.accumulate) + " must divide --batch " +
                                 std::to_string(o.batch));
+}
+
+// The dataset's views: train (without validation), validation, test.
+inline data::TrainingSplits open_splits(const TrainOptions& o) {
   data::require_valid_dataset(o.data_dir, data::Purpose::nnao);
-  data::DatasetListing d = data::list_dataset(o.data_dir);
-  if (d.flat) d = data::split_flat_by_scene(d, 0.2);
-  if (d.train.views.empty()) throw std::runtime_error(o.data_dir + ": no training views (*.exr) found");
-  data::SplitListing val;
-  std::tie(d.train, val) = o.validation_families.empty()
-                              ? data::hold_out_validation(d.train, o.validation_fraction)
-                              : data::hold_out_validation_families(d.train, o.validation_families);
-  if (o.validation_fraction > 0 && val.size() == 0)
+  data::TrainingSplits s = data::open_training_splits(o.data_dir, o.validation_fraction, o.validation_families);
+  if (o.validation_fraction > 0 && s.validation.size() == 0)
     throw std::runtime_error(o.data_dir + ": cannot hold out validation scenes: the training split has a single scene");
-  if (d.train.views.empty()) throw std::runtime_error(o.data_dir + ": no training views left after the validation split");
-  auto say = [&](const std::string& s) {
-    if (!o.quiet) std::fprintf(stderr, "%s\n", s.c_str());
-  };
+  return s;
+}
 
-  Rng init_rng(o.seed);
-  NnaoNet<float> net(init_rng, o.net);
-  AdamOptions ao;
-  ao.lr = o.lr;
-  Adam<float> opt(net.parameters(), ao);
-  Rng data_rng = init_rng.fork(77);
-  int64_t step = 0;
+// The trained state, in the order its random numbers are drawn: the weights, then the
+// data order's generator forked from the same seed; the checkpoint holds all of it.
+struct NnaoModel {
+  explicit NnaoModel(const TrainOptions& o)
+      : init_rng(o.seed), net(init_rng, o.net), opt(net.parameters(), AdamOptions{.lr = o.lr}),
+        data_rng(init_rng.fork(77)) {
+    ck.add_module("net", net).add_optimizer("adam", opt).add_rng("data", data_rng);
+  }
+  Rng init_rng;
+  NnaoNet<float> net;
+  Adam<float> opt;
+  Rng data_rng;
   Checkpoint<float> ck;
-  ck.add_module("net", net).add_optimizer("adam", opt).add_rng("data", data_rng);
-  runs::TrainingRun run(run_spec(o, d), ck, step);
-  int64_t epoch = run.epochs_done();
-  if (o.resume) say("resuming from " + run.path("checkpoint.blob") + " at epoch " + std::to_string(epoch));
+  int64_t step = 0;
+};
 
-  // The points come after the run layer has made the folder (they are written into it)
-  // and has accepted or refused a --resume (a refusal costs no feature building). They
-  // are rebuilt from the seed on every start, so a resume sees the same rows.
-  say("building training points: " + std::to_string(d.train.views.size()) + " views x " +
+// The standardised points of the three splits, in files in the output folder.
+struct NnaoPoints {
+  PointFile train, test, valid;
+  Standardizer standardizer;
+  int64_t views = 0;  // of the three splits
+  BuildShare share;
+  double seconds = 0;
+};
+
+// Built after the run layer has made the folder (they are written into it) and has
+// accepted or refused a --resume (a refusal costs no feature building). They are rebuilt
+// from the seed on every start, so a resume sees the same rows.
+inline NnaoPoints build_all_points(const TrainOptions& o, const data::TrainingSplits& s, NnaoNet<float>& net) {
+  auto say = [&](const std::string& line) {
+    if (!o.quiet) std::fprintf(stderr, "%s\n", line.c_str());
+  };
+  say("building training points: " + std::to_string(s.listing.train.views.size()) + " views x " +
       std::to_string(o.points_per_view) + " pixels, " + std::to_string(o.net.inputs()) + " " +
       o.net.features + " features each, in files in " + o.out_dir);
   const auto t_build = std::chrono::steady_clock::now();
+  NnaoPoints p;
   StandardizerSums sums(o.net.inputs());
-  BuildShare share;
-  PointFile train = build_points(d.train.views, o, o.points_per_view, 1, "train-points", &sums, share);
-  PointFile test = build_points(d.test.views, o, o.test_points_per_view, 2, "test-points", nullptr, share);
-  PointFile valid = build_points(val.views, o, o.test_points_per_view, 3, "val-points", nullptr, share);
-  const int64_t views = int64_t(d.train.views.size() + d.test.views.size() + val.views.size());
+  p.train = build_points(s.listing.train.views, o, o.points_per_view, 1, "train-points", &sums, p.share);
+  p.test = build_points(s.listing.test.views, o, o.test_points_per_view, 2, "test-points", nullptr, p.share);
+  p.valid = build_points(s.validation.views, o, o.test_points_per_view, 3, "val-points", nullptr, p.share);
+  p.views = int64_t(s.listing.train.views.size() + s.listing.test.views.size() + s.validation.views.size());
   if (dist::size() > 1)
-    say("rank " + std::to_string(dist::rank()) + " built " + std::to_string(share.views_built) + " of " +
-        std::to_string(views) + " views' points; " + std::to_string(share.exchange_seconds) +
+    say("rank " + std::to_string(dist::rank()) + " built " + std::to_string(p.share.views_built) + " of " +
+        std::to_string(p.views) + " views' points; " + std::to_string(p.share.exchange_seconds) +
         " s in the exchange (waiting for the other ranks included)");
-  const Standardizer st = sums.finish();
-  standardize_file(train, st);
-  standardize_file(test, st);
-  standardize_file(valid, st);
-  copy_standardizer(net, st);
+  p.standardizer = sums.finish();
+  standardize_file(p.train, p.standardizer);
+  standardize_file(p.test, p.standardizer);
+  standardize_file(p.valid, p.standardizer);
+  copy_standardizer(net, p.standardizer);
+  p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
+  return p;
+}
 
-  TrainResult res;
-  res.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
-  res.train_points = train.count();
-  res.test_points = test.count();
-  const int64_t F = train.features, B = o.batch;
-  const int64_t steps_per_epoch = train.count() / B;  // full batches only
-  if (steps_per_epoch == 0) throw std::runtime_error("fewer training points than one batch");
-  runs::ShuffledRows order(train.rows, o.shuffle_chunk, shuffle_buffer_rows(o));
-  auto params = net.parameters();
-  const int K = o.accumulate;
-  NnaoFastStep fast(net, o.batch / K);
-  std::vector<Rng*> rngs;
-  for (auto& [name, r] : net.named_rngs()) rngs.push_back(r);
-  dist::GradSync sync(params, rngs, K, o.bucket_mb);
-  std::vector<float> xb(static_cast<size_t>(B * F)), yb(static_cast<size_t>(B));
-  Progress bar("train-nnao", (o.epochs - epoch) * steps_per_epoch);
-  int64_t done = 0;
-  double step_seconds = 0, epoch_seconds = 0;
-  int64_t timed_steps = 0, epochs_run = 0;
-  net.train();
-  const int threads = num_threads();
-  const std::string blob_path = run.path("nnao.blob");
-  auto save_model = [&] { save_weights(blob_path, net, "nnao", blob_config(o)); };
-  std::string stop;
-  try {
-    for (; epoch < o.epochs;) {
-      const auto t_epoch = std::chrono::steady_clock::now();
-      order.start_epoch(data_rng);
-      double loss_sum = 0;
-      // The step is ~20 us of work: waking a second core for it costs more than it saves
-      // (the results are the same either way), so the steps run on one thread.
-      set_num_threads(1);
-      auto t0 = std::chrono::steady_clock::now();
-      for (int64_t s = 0; s < steps_per_epoch; ++s) {
-        for (int64_t b = 0; b < B; ++b) {
-          const char* row = order.next(data_rng);
-          to_float(row_features(row), xb.data() + b * F, F);
-          yb[size_t(b)] = row_target(row, F);
-        }
-        float loss = 0;
-        if (!sync.active()) {
-          for (auto& prm : params) prm.grad_buffer().zero();
-          loss = fast.forward_backward(xb.data(), yb.data(), float(o.gamma));
-        } else {
-          const int64_t mb = B / K;
-          std::vector<std::vector<double>> micro_losses;
-          for (int m = sync.mine().begin; m < sync.mine().end; ++m) {
-            sync.begin_micro(m);
-            for (auto& prm : params) prm.grad_buffer().zero();
-            micro_losses.push_back({fast.forward_backward(xb.data() + m * mb * F, yb.data() + m * mb, float(o.gamma))});
-            sync.end_micro(m);
-          }
-          sync.finish_step();
-          loss = float(sync.mean_over_micro(micro_losses)[0]);
-        }
-        // A NaN or Inf loss (a diverging learning rate, a NaN that slipped into the data)
-        // stops the run before Adam touches the weights; one isfinite per ~20 us step.
-        runs::check_finite(double(loss), step + 1, "training loss");
-        loss_sum += loss;
-        opt.step();
-        ++step;
-        ++done;
-        if (!o.quiet && (s % 256 == 0 || s + 1 == steps_per_epoch)) {
-          char status[80];
-          std::snprintf(status, sizeof status, "epoch %lld loss %.4f", (long long)epoch + 1,
-                        loss_sum / double(s + 1));
-          bar.update(done, status);
-        }
-      }
-      step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      set_num_threads(threads);
-      timed_steps += steps_per_epoch;
-      ++epoch;
-      res.train_loss = loss_sum / double(steps_per_epoch);
-      res.test_mse = evaluate_mse(net, test, st.target_std);
-      runs::check_finite(res.test_mse, step, "test MSE");
-      runs::MetricsRecord rec{step, epoch, {{"train_loss", res.train_loss}, {"test_mse", res.test_mse}}};
-      if (valid.count()) rec.values.emplace_back("val_mse", res.val_mse = evaluate_mse(net, valid, st.target_std));
-      run.log(rec);
-      if (run.writes_files()) write_loss_chart(run);
-      run.end_epoch(epoch, save_model);
-      epoch_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_epoch).count();
-      ++epochs_run;
-    }
-    // Also after a resume that found every epoch done: the model always matches the
-    // checkpoint, even if a run was killed between the two writes.
-    if (run.writes_files()) save_model();
-  } catch (const runs::NonFiniteError& e) {
-    set_num_threads(threads);
-    stop = run.stop_message(e);
-    if (!o.quiet) std::fprintf(stderr, "\ntrain-nnao: stopped: %s\n", stop.c_str());
+// train-nnao's part of the training loop (runs/training_loop.h): a step is a batch of
+// points from the chunked shuffle through the fused MLP step; an epoch ends with the test
+// (and validation) MSE, the log and the chart; the output is nnao.blob.
+class NnaoTask : public runs::TrainingTask {
+ public:
+  NnaoTask(const TrainOptions& o, NnaoModel& m, const NnaoPoints& p, runs::TrainingRun& run)
+      : o_(o), m_(m), p_(p), run_(run), F_(p.train.features), B_(o.batch), mb_(o.batch / o.accumulate),
+        order_(p.train.rows, o.shuffle_chunk, shuffle_buffer_rows(o)), params_(m.net.parameters()),
+        fast_(m.net, o.batch / o.accumulate), xb_(size_t(B_ * F_)), yb_(size_t(B_)), threads_(num_threads()),
+        blob_path_(run.path("nnao.blob")) {
+    m_.net.train();
   }
-  if (!o.quiet) bar.finish();
+  int64_t steps_per_epoch() const { return p_.train.count() / B_; }  // full batches only
+
+  std::vector<Var<float>> trained_parameters() override { return params_; }
+  std::vector<Rng*> rngs() override {
+    std::vector<Rng*> r;
+    for (auto& [name, g] : m_.net.named_rngs()) r.push_back(g);
+    return r;
+  }
+
+  void begin_epoch(int64_t) override {
+    order_.start_epoch(m_.data_rng);
+    loss_sum_ = 0;
+    // The step is ~20 us of work: waking a second core for it costs more than it saves
+    // (the results are the same either way), so the steps run on one thread.
+    set_num_threads(1);
+    t_steps_ = std::chrono::steady_clock::now();
+  }
+  void begin_step(int64_t) override {
+    for (int64_t b = 0; b < B_; ++b) {
+      const char* row = order_.next(m_.data_rng);
+      to_float(row_features(row), xb_.data() + b * F_, F_);
+      yb_[size_t(b)] = row_target(row, F_);
+    }
+  }
+  runs::StepValues step(int64_t) override {
+    for (auto& prm : params_) prm.grad_buffer().zero();
+    const float loss = fast_.forward_backward(xb_.data(), yb_.data(), float(o_.gamma));
+    update(loss);
+    return {loss};
+  }
+  runs::StepValues micro_batch(int64_t, int m, const dist::MicroRange&) override {
+    for (auto& prm : params_) prm.grad_buffer().zero();
+    return {fast_.forward_backward(xb_.data() + m * mb_ * F_, yb_.data() + m * mb_, float(o_.gamma))};
+  }
+  void apply(const runs::StepValues& mean) override { update(float(mean[0])); }
+  std::string end_step(int64_t epoch, int64_t s, const runs::StepValues& v) override {
+    loss_sum_ += float(v[0]);
+    ++m_.step;
+    if (s % 256 != 0 && s + 1 != steps_per_epoch()) return "";
+    char status[80];
+    std::snprintf(status, sizeof status, "epoch %lld loss %.4f", (long long)epoch + 1, loss_sum_ / double(s + 1));
+    return status;
+  }
+  void end_epoch(int64_t epochs_done) override {
+    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_steps_).count();
+    set_num_threads(threads_);
+    timed_steps += steps_per_epoch();
+    train_loss = loss_sum_ / double(steps_per_epoch());
+    test_mse = evaluate_mse(m_.net, p_.test, p_.standardizer.target_std);
+    runs::check_finite(test_mse, m_.step, "test MSE");
+    runs::MetricsRecord rec{m_.step, epochs_done, {{"train_loss", train_loss}, {"test_mse", test_mse}}};
+    if (p_.valid.count())
+      rec.values.emplace_back("val_mse", val_mse = evaluate_mse(m_.net, p_.valid, p_.standardizer.target_std));
+    run_.log(rec);
+    if (run_.writes_files()) write_loss_chart(run_);
+  }
+  void write_outputs() override { save_weights(blob_path_, m_.net, "nnao", blob_config(o_)); }
+  void stopped() override { set_num_threads(threads_); }
+
+  // NaN until an epoch has run.
+  double train_loss = std::nan(""), test_mse = std::nan(""), val_mse = std::nan("");
+  double step_seconds = 0;  // the steps alone (no test pass)
+  int64_t timed_steps = 0;
+
+ private:
+  // A NaN or Inf loss (a diverging learning rate, a NaN that slipped into the data) stops
+  // the run before Adam touches the weights; one isfinite per ~20 us step.
+  void update(float loss) {
+    runs::check_finite(double(loss), m_.step + 1, "training loss");
+    m_.opt.step();
+  }
+
+  const TrainOptions& o_;
+  NnaoModel& m_;
+  const NnaoPoints& p_;
+  runs::TrainingRun& run_;
+  const int64_t F_, B_, mb_;
+  runs::ShuffledRows order_;
+  std::vector<Var<float>> params_;
+  NnaoFastStep fast_;
+  std::vector<float> xb_, yb_;
+  const int threads_;
+  const std::string blob_path_;
+  double loss_sum_ = 0;
+  std::chrono::steady_clock::time_point t_steps_;
+};
+
+// The result, summary.json and the report.
+inline TrainResult finish_run(runs::TrainingLoop& loop, const NnaoTask& task, const NnaoPoints& p,
+                              const runs::LoopResult& lr, int64_t steps,
+                              std::chrono::steady_clock::time_point t_start) {
+  namespace fs = std::filesystem;
+  runs::TrainingRun& run = loop.run();
+  TrainResult res;
+  res.build_seconds = p.seconds;
+  res.train_points = p.train.count();
+  res.test_points = p.test.count();
+  res.train_loss = task.train_loss;
+  res.test_mse = task.test_mse;
+  res.val_mse = task.val_mse;
   if (!run.metrics().records().empty()) res.test_mse = run.metrics().records().back().get("test_mse");
-  res.steps = step;
-  res.step_microseconds = timed_steps ? 1e6 * step_seconds / double(timed_steps) : 0;
-  res.epoch_seconds = epochs_run ? epoch_seconds / double(epochs_run) : 0;
+  res.steps = steps;
+  res.step_microseconds = task.timed_steps ? 1e6 * task.step_seconds / double(task.timed_steps) : 0;
+  res.epoch_seconds = lr.epochs_run ? lr.epoch_seconds / double(lr.epochs_run) : 0;
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  res.stop_message = stop;
+  res.stop_message = lr.stop_message;
   std::vector<std::pair<std::string, double>> figures = {{"train_points", double(res.train_points)},
                                                          {"test_points", double(res.test_points)},
                                                          {"test_mse", res.test_mse},
                                                          {"step_microseconds", res.step_microseconds},
                                                          {"build_seconds", res.build_seconds},
                                                          // The sharding of the build (about 1/N under mpirun -np N).
-                                                         {"point_views", double(views)},
-                                                         {"point_views_read_by_rank_0", double(share.views_built)},
+                                                         {"point_views", double(p.views)},
+                                                         {"point_views_read_by_rank_0", double(p.share.views_built)},
                                                          {"epoch_seconds", res.epoch_seconds},
                                                          {"seconds", res.seconds}};
-  dist::add_sync_figures(sync, figures);
-  res.exit_code = run.finish(stop, figures,
-                              [&](data::Report& r) {
-                                if (fs::exists(run.path("loss.svg")))
-                                  r.chart("loss.svg", "train loss and test MSE per epoch");
-                              });
+  res.exit_code = loop.finish(lr.stop_message, figures, [&](data::Report& r) {
+    if (fs::exists(run.path("loss.svg"))) r.chart("loss.svg", "train loss and test MSE per epoch");
+  });
   return res;
+}
+
+inline TrainResult train_nnao(const TrainOptions& o) {
+  const auto t_start = std::chrono::steady_clock::now();
+  check_options(o);
+  const data::TrainingSplits splits = open_splits(o);
+  NnaoModel model(o);
+  runs::TrainingLoop loop(run_spec(o, splits.listing), model.ck, model.step, o.precision, o.quiet);
+  const NnaoPoints points = build_all_points(o, splits, model.net);
+  if (points.train.count() < o.batch) throw std::runtime_error("fewer training points than one batch");
+  NnaoTask task(o, model, points, loop.run());
+  const runs::LoopResult r = loop.train(task, {.progress_label = "train-nnao",
+                                               .epochs = o.epochs,
+                                               .steps_per_epoch = task.steps_per_epoch(),
+                                               .accumulate = o.accumulate,
+                                               .bucket_mb = o.bucket_mb});
+  return finish_run(loop, task, points, r, model.step, t_start);
 }
 
 }  // namespace nns::nnao

@@ -27,15 +27,26 @@
 #include <string>
 #include <vector>
 
-#include "core/progress.h"
-#include "core/kernels/gemm_precision.h"
-#include "runs/distributed/grad_sync.h"
 #include "runs/gi/gan_trainer.h"
 #include "runs/gi/gi_augment.h"
 #include "runs/gi/gi_previews.h"
 #include "runs/gi/gi_train_data.h"
+#include "runs/training_loop.h"
 
 namespace nns::gi {
+
+// The files of a train-gan run in its output folder, named once.
+struct GanRunFiles {
+  std::string out;
+  std::string path(const char* name) const { return (std::filesystem::path(out) / name).string(); }
+  std::string generator() const { return path("G.blob"); }
+  std::string discriminator() const { return path("D.blob"); }
+  std::string samples() const { return path("samples"); }
+  // samples/step<N>, the prefix of that step's PNGs (write_sample_pngs).
+  std::string sample_prefix(int64_t step) const { return samples() + "/step" + std::to_string(step); }
+  std::string eval() const { return path("eval"); }
+  std::string eval_holdout() const { return path("eval/holdout"); }
+};
 
 struct GanRunOptions {
   GanTrainConfig train;
@@ -81,12 +92,8 @@ struct GanRunResult {
   int64_t first_d_wins_step = -1;
 };
 
-inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train) {
-  if (train.empty()) throw std::runtime_error("train-gan: no training samples");
-  const ScopedGemmPrecision precision(o.precision);
-  GanTrainer t(o.train);
-  Checkpoint<float> ck;
-  t.add_to(ck);
+// What the checkpoint records and a --resume must match (runs/training_run.h).
+inline runs::RunSpec run_spec(const GanRunOptions& o, const GanTrainer& t) {
   runs::RunSpec spec;
   spec.app = "train-gan";
   spec.out = o.out;
@@ -99,138 +106,162 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   // It changes the rounding; checkpoints older than --accumulate lack it (RunSpec::unrecorded_means).
   spec.config.emplace_back("accumulate", std::to_string(o.accumulate));
   add_augment_config(spec, o.augment);
-  runs::TrainingRun run(spec, ck, t.step_counter());
-  if (run.writes_files()) std::filesystem::create_directories(o.out + "/samples");
-  dist::GradSync sync(t.trained_parameters(), t.rngs(), o.accumulate, o.bucket_mb);
-  sync.set_buffers(t.buffers());
-  const int K = o.accumulate;
-  const int start_epoch = int(run.epochs_done());
-  if (o.resume && !o.quiet)
-    std::fprintf(stderr, "train-gan: resuming from %s at epoch %d, step %lld\n", run.path("checkpoint.blob").c_str(),
-                 start_epoch, (long long)t.step());
+  return spec;
+}
 
-  GanRunResult r;
-  r.epochs_done = start_epoch;
-  const int total = o.train.total_epochs();
-  const int64_t n = int64_t(train.size());
-  const int64_t steps_per_epoch = n / K;
-  if (steps_per_epoch == 0) throw std::runtime_error("train-gan: fewer training samples than --accumulate");
-  Progress bar("train-gan " + std::string(loss_name(o.train.loss)), int64_t(total - start_epoch) * steps_per_epoch);
-  StepLosses acc;
-  int acc_n = 0;
-  auto flush_log = [&](int epoch) {
-    const double k = 1.0 / acc_n;
-    run.log({t.step(), epoch, {{"lr", t.lr()}, {"d", acc.d * k}, {"d_real", acc.d_real * k}, {"d_fake", acc.d_fake * k},
-                               {"g_adv", acc.g_adv * k}, {"g_rec", acc.g_rec * k}, {"g", acc.g * k}}});
-    acc = {};
-    acc_n = 0;
-  };
-  const std::string g_blob = run.path("G.blob"), d_blob = run.path("D.blob");
-  try {
-    for (int epoch = start_epoch; epoch < total; ++epoch) {
-      t.begin_epoch(epoch);
-      // The order of an epoch depends on (seed, epoch) only, so a resumed run replays it.
-      Rng order_rng = Rng(o.train.seed).fork(1000 + uint64_t(epoch));
-      std::vector<int64_t> order(static_cast<size_t>(n));
-      for (int64_t i = 0; i < n; ++i) order[size_t(i)] = i;
-      for (int64_t i = n - 1; i > 0; --i) std::swap(order[size_t(i)], order[order_rng.below(uint64_t(i + 1))]);
-      // Sample q of the epoch's order (q: a position in it), reading `next` ahead.
-      auto sample = [&](int64_t q, int64_t next) -> const GiSample& {
-        return train.get(size_t(order[size_t(q)]),
-                         next >= 0 && next < n ? std::optional<size_t>(size_t(order[size_t(next)])) : std::nullopt);
-      };
-      // Sample q as trained on: augmented when asked (gi_augment.h), from its own stream.
-      GiSample augmented_sample;
-      auto prepared = [&](int64_t q, const GiSample& s) -> const GiSample& {
-        if (!o.augment.any()) return s;
-        Rng rng = augment_rng(o.train.seed, epoch, q);
-        augmented_sample = augmented(s, draw_augment(o.augment, rng), o.train.inputs.norm.hdr_scale);
-        return augmented_sample;
-      };
-      GiSample poisoned;
-      auto maybe_poisoned = [&](const GiSample& s, bool poison) -> const GiSample& {
-        if (!poison) return s;
-        poisoned = s;
-        poisoned.input = s.input.clone();
-        poisoned.input[0] = NAN;
-        return poisoned;
-      };
-      for (int64_t j = 0; j < steps_per_epoch; ++j) {
-        const bool poison = t.step() + 1 == o.poison_step;  // micro-batch 0's input, with --accumulate
-        StepLosses l;
-        const GiSample* shown = nullptr;  // K = 1: the step's sample, for the PNGs
-        if (!sync.active()) {
-          shown = &prepared(j, sample(j, j + 1));
-          l = t.train_step(maybe_poisoned(*shown, poison));
-        } else {
-          const dist::MicroRange mine = sync.mine();
-          std::vector<std::vector<double>> per;
-          for (int m = mine.begin; m < mine.end; ++m) {
-            const int64_t q = j * K + m, next = m + 1 < mine.end ? q + 1 : (j + 1 < steps_per_epoch ? (j + 1) * K + mine.begin : -1);
-            const GiSample& s = prepared(q, sample(q, next));
-            sync.begin_micro(m);
-            const StepLosses lm = t.accumulate_sample(maybe_poisoned(s, poison && m == 0));
-            sync.end_micro(m);
-            per.push_back({lm.d, lm.d_real, lm.d_fake, lm.g_adv, lm.g_rec, lm.g});
-          }
-          sync.finish_step();
-          const std::vector<double> mean = sync.mean_over_micro(per);
-          l = {mean[0], mean[1], mean[2], mean[3], mean[4], mean[5]};
-          t.apply_accumulated(l);
-        }
-        if (o.train.loss == GiLoss::gan && t.watch().add(l.d, l.g_adv)) {
-          ++r.d_wins_windows;
-          if (r.first_d_wins_step < 0) r.first_d_wins_step = t.step();
-          if (!o.quiet)
-            std::fprintf(stderr, "\ntrain-gan: warning: the discriminator wins outright at step %lld "
-                         "(D loss < %.2f over %d steps while G's adversarial loss climbs)\n",
-                         (long long)t.step(), DiscriminatorWatch::kNearZero, DiscriminatorWatch::kWindow);
-        }
-        acc.d += l.d, acc.d_real += l.d_real, acc.d_fake += l.d_fake;
-        acc.g_adv += l.g_adv, acc.g_rec += l.g_rec, acc.g += l.g;
-        ++acc_n;
-        if (t.step() % o.log_every == 0) flush_log(epoch);
-        if (run.writes_files() && o.sample_every > 0 && t.step() % o.sample_every == 0) {
-          // The step's first sample (read again when the step read others after it).
-          const GiSample& s = shown ? *shown : prepared(j * K, sample(j * K, -1));
-          write_sample_pngs(o.out + "/samples/step" + std::to_string(t.step()), s,
-                            t.predict(s, /*bn_batch_stats=*/true, /*dropout_on=*/false),
-                            HdrMapping(o.train.inputs.norm.hdr_scale));
-        }
-        if (!o.quiet) {
-          char status[96];
-          std::snprintf(status, sizeof status, "D %.3f G_adv %.3f rec %.4f", l.d, l.g_adv, l.g_rec);
-          bar.update(int64_t(epoch - start_epoch) * steps_per_epoch + j + 1, status);
-        }
-      }
-      // The epoch's last partial window: a resumed run starts afresh at this step.
-      if (acc_n > 0) flush_log(epoch);
-      if (run.writes_files()) write_loss_chart(run.metrics(), run.path("loss.svg"));
-      run.end_epoch(epoch + 1, [&] { t.save_models(g_blob, d_blob); });
-      r.epochs_done = epoch + 1;
-      if (epoch + 1 == o.stop_after_epochs) break;
-    }
-    // Also after a resume that found every epoch done: G.blob always matches the
-    // checkpoint, even if a run was killed between writing the two.
-    if (run.writes_files()) t.save_models(g_blob, d_blob);
-    r.finished = true;
-  } catch (const NonFiniteError& e) {
-    r.stop_message = run.stop_message(e);
-    if (!o.quiet) std::fprintf(stderr, "\ntrain-gan: stopped: %s\n", r.stop_message.c_str());
+// train-gan's part of the training loop (runs/training_loop.h): a step is one sample of
+// the epoch's shuffled order (or K of them, accumulated) through D's and G's updates; the
+// log averages every `log_every` steps; sample PNGs every `sample_every` steps; the
+// outputs are G.blob and D.blob.
+class GanTask : public runs::TrainingTask {
+ public:
+  GanTask(const GanRunOptions& o, GanTrainer& t, GiTrainData& train, runs::TrainingRun& run)
+      : o_(o), t_(t), train_(train), run_(run), n_(int64_t(train.size())), K_(o.accumulate),
+        files_{o.out} {}
+  int64_t steps_per_epoch() const { return n_ / K_; }
+
+  std::vector<Var<float>> trained_parameters() override { return t_.trained_parameters(); }
+  std::vector<Rng*> rngs() override { return t_.rngs(); }
+  std::vector<Tensor<float>*> buffers() override { return t_.buffers(); }
+
+  void begin_epoch(int64_t epoch) override {
+    epoch_ = int(epoch);
+    t_.begin_epoch(epoch_);
+    // The order of an epoch depends on (seed, epoch) only, so a resumed run replays it.
+    Rng order_rng = Rng(o_.train.seed).fork(1000 + uint64_t(epoch));
+    order_.resize(size_t(n_));
+    for (int64_t i = 0; i < n_; ++i) order_[size_t(i)] = i;
+    for (int64_t i = n_ - 1; i > 0; --i) std::swap(order_[size_t(i)], order_[order_rng.below(uint64_t(i + 1))]);
   }
-  if (!o.quiet) bar.finish();
+  void begin_step(int64_t) override {
+    poison_ = t_.step() + 1 == o_.poison_step;  // micro-batch 0's input, with --accumulate
+    shown_ = nullptr;
+  }
+  runs::StepValues step(int64_t j) override {
+    shown_ = &prepared(j, sample(j, j + 1));
+    return values(t_.train_step(maybe_poisoned(*shown_, poison_)));
+  }
+  runs::StepValues micro_batch(int64_t j, int m, const dist::MicroRange& mine) override {
+    const int64_t q = j * K_ + m;
+    const int64_t next = m + 1 < mine.end ? q + 1 : (j + 1 < steps_per_epoch() ? (j + 1) * K_ + mine.begin : -1);
+    const GiSample& s = prepared(q, sample(q, next));
+    return values(t_.accumulate_sample(maybe_poisoned(s, poison_ && m == 0)));
+  }
+  void apply(const runs::StepValues& mean) override { t_.apply_accumulated(losses(mean)); }
+  std::string end_step(int64_t, int64_t j, const runs::StepValues& v) override {
+    const StepLosses l = losses(v);
+    watch(l);
+    acc_.d += l.d, acc_.d_real += l.d_real, acc_.d_fake += l.d_fake;
+    acc_.g_adv += l.g_adv, acc_.g_rec += l.g_rec, acc_.g += l.g;
+    ++acc_n_;
+    if (t_.step() % o_.log_every == 0) flush_log();
+    if (run_.writes_files() && o_.sample_every > 0 && t_.step() % o_.sample_every == 0) write_samples(j);
+    char status[96];
+    std::snprintf(status, sizeof status, "D %.3f G_adv %.3f rec %.4f", l.d, l.g_adv, l.g_rec);
+    return status;
+  }
+  void end_epoch(int64_t) override {
+    // The epoch's last partial window: a resumed run starts afresh at this step.
+    if (acc_n_ > 0) flush_log();
+    if (run_.writes_files()) write_loss_chart(run_.metrics(), run_.path("loss.svg"));
+  }
+  void write_outputs() override { t_.save_models(files_.generator(), files_.discriminator()); }
+  bool interrupt_after(int64_t epochs_done) const override { return epochs_done == o_.stop_after_epochs; }
+
+  int64_t first_d_wins_step = -1;
+
+ private:
+  static runs::StepValues values(const StepLosses& l) { return {l.d, l.d_real, l.d_fake, l.g_adv, l.g_rec, l.g}; }
+  static StepLosses losses(const runs::StepValues& v) { return {v[0], v[1], v[2], v[3], v[4], v[5]}; }
+
+  // Sample q of the epoch's order (q: a position in it), reading `next` ahead.
+  const GiSample& sample(int64_t q, int64_t next) {
+    return train_.get(size_t(order_[size_t(q)]),
+                      next >= 0 && next < n_ ? std::optional<size_t>(size_t(order_[size_t(next)])) : std::nullopt);
+  }
+  // Sample q as trained on: augmented when asked (gi_augment.h), from its own stream.
+  const GiSample& prepared(int64_t q, const GiSample& s) {
+    if (!o_.augment.any()) return s;
+    Rng rng = augment_rng(o_.train.seed, epoch_, q);
+    augmented_ = augmented(s, draw_augment(o_.augment, rng), o_.train.inputs.norm.hdr_scale);
+    return augmented_;
+  }
+  const GiSample& maybe_poisoned(const GiSample& s, bool poison) {
+    if (!poison) return s;
+    poisoned_ = s;
+    poisoned_.input = s.input.clone();
+    poisoned_.input[0] = NAN;
+    return poisoned_;
+  }
+  void watch(const StepLosses& l) {
+    if (o_.train.loss != GiLoss::gan || !t_.watch().add(l.d, l.g_adv)) return;
+    if (first_d_wins_step < 0) first_d_wins_step = t_.step();
+    if (!o_.quiet)
+      std::fprintf(stderr, "\ntrain-gan: warning: the discriminator wins outright at step %lld "
+                   "(D loss < %.2f over %d steps while G's adversarial loss climbs)\n",
+                   (long long)t_.step(), DiscriminatorWatch::kNearZero, DiscriminatorWatch::kWindow);
+  }
+  void flush_log() {
+    const double k = 1.0 / acc_n_;
+    run_.log({t_.step(), epoch_, {{"lr", t_.lr()}, {"d", acc_.d * k}, {"d_real", acc_.d_real * k}, {"d_fake", acc_.d_fake * k},
+                                  {"g_adv", acc_.g_adv * k}, {"g_rec", acc_.g_rec * k}, {"g", acc_.g * k}}});
+    acc_ = {};
+    acc_n_ = 0;
+  }
+  // The step's first sample (read again when the step read others after it).
+  void write_samples(int64_t j) {
+    const GiSample& s = shown_ ? *shown_ : prepared(j * K_, sample(j * K_, -1));
+    write_sample_pngs(files_.sample_prefix(t_.step()), s,
+                      t_.predict(s, /*bn_batch_stats=*/true, /*dropout_on=*/false),
+                      HdrMapping(o_.train.inputs.norm.hdr_scale));
+  }
+
+  const GanRunOptions& o_;
+  GanTrainer& t_;
+  GiTrainData& train_;
+  runs::TrainingRun& run_;
+  const int64_t n_;
+  const int K_;
+  const GanRunFiles files_;
+  int epoch_ = 0;
+  std::vector<int64_t> order_;
+  bool poison_ = false;
+  const GiSample* shown_ = nullptr;  // K = 1: the step's sample, for the PNGs
+  GiSample augmented_, poisoned_;
+  StepLosses acc_;
+  int acc_n_ = 0;
+};
+
+inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train) {
+  if (train.empty()) throw std::runtime_error("train-gan: no training samples");
+  GanTrainer t(o.train);
+  Checkpoint<float> ck;
+  t.add_to(ck);
+  runs::TrainingLoop loop(run_spec(o, t), ck, t.step_counter(), o.precision, o.quiet);
+  runs::TrainingRun& run = loop.run();
+  if (run.writes_files()) std::filesystem::create_directories(GanRunFiles{o.out}.samples());
+  GanTask task(o, t, train, run);
+  if (task.steps_per_epoch() == 0) throw std::runtime_error("train-gan: fewer training samples than --accumulate");
+  const runs::LoopResult lr = loop.train(task, {.progress_label = "train-gan " + std::string(loss_name(o.train.loss)),
+                                                .epochs = o.train.total_epochs(),
+                                                .steps_per_epoch = task.steps_per_epoch(),
+                                                .accumulate = o.accumulate,
+                                                .bucket_mb = o.bucket_mb});
+  GanRunResult r;
+  r.finished = lr.finished();
+  r.stop_message = lr.stop_message;
+  r.epochs_done = int(run.epochs_done());
   r.steps = t.step();
   r.d_wins_windows = t.watch().windows_won();
-  r.seconds = bar.elapsed_seconds();
-  std::vector<std::pair<std::string, double>> figures = {{"seconds", r.seconds}, {"d_wins_windows", double(r.d_wins_windows)},
-                                                         {"first_d_wins_step", double(r.first_d_wins_step)},
-                                                         {"g_parameters", double(t.G.parameter_count())}};
-  dist::add_sync_figures(sync, figures);
-  run.finish(r.stop_message, figures,
-             [&](data::Report& report) {
-               if (std::filesystem::exists(run.path("loss.svg"))) report.chart("loss.svg", "D and G losses per step");
-               add_sample_comparisons(report, o.out, o.sample_every, t.step());
-             });
+  r.first_d_wins_step = task.first_d_wins_step;
+  r.seconds = lr.seconds;
+  loop.finish(r.stop_message,
+              {{"seconds", r.seconds}, {"d_wins_windows", double(r.d_wins_windows)},
+               {"first_d_wins_step", double(r.first_d_wins_step)}, {"g_parameters", double(t.G.parameter_count())}},
+              [&](data::Report& report) {
+                if (std::filesystem::exists(run.path("loss.svg"))) report.chart("loss.svg", "D and G losses per step");
+                add_sample_comparisons(report, o.out, o.sample_every, t.step());
+              });
   return r;
 }
 

@@ -241,8 +241,7 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   namespace fs = std::filesystem;
   if (o.models.empty()) throw std::invalid_argument("eval-gi: no --model given");
   fs::create_directories(o.out + "/previews");
-  auto listing = data::list_dataset(o.data);
-  if (listing.flat) listing = data::split_flat_by_scene(listing, 0.2);
+  data::DatasetListing listing = data::list_splits(o.data);
   // Every model read once, before any frame: a bad blob stops the run at once.
   std::vector<LoadedGenerator> generators;
   for (const auto& path : o.models) generators.push_back(load_generator(path));

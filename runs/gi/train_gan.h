@@ -1,0 +1,212 @@
+#pragma once
+// train-gan's whole work behind one call, as train_nnao is train-nnao's: the data (the
+// splits, the normalisation fitted on the training scenes, the frames held in memory or
+// streamed), the run (gan_run.h), then G.blob evaluated on the test split and on the
+// held-out families (gi_evaluate.h).
+//
+//   TrainGanOptions o;            // the defaults below are the chosen model
+//   o.data_dir = "data/surround";
+//   return train_gan(o).exit_code;
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "data/require_valid_dataset.h"
+#include "data/validation_split.h"
+#include "runs/distributed/world.h"
+#include "runs/gi/gan_run.h"
+#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_evaluate.h"
+
+namespace nns::gi {
+
+// train-gan's options; the initialisers are the defaults, and the flags read them.
+//
+// The model and schedule come from the sweep (apps/sweep-gan.cpp, docs/gan.md "Model no
+// more than a scene needs"): on the default surround data, the smallest generator
+// within 0.01 SSIM of the best of 16 points (faces 16/32/64, ngf 8/16/32, levels 4/5/6,
+// 10 epochs each) is face 64 (global view 256x128), ngf 16, 5 levels: 1.05 M generator
+// parameters. ndf follows ngf as in the sweep. 10 epochs: 20 changed SSIM by 0.003 at
+// face 32, the limit is the data, not the schedule. The residual output in linear light
+// (generator.h) and the DSSIM term are measured deviations from pix2pix (the sweep
+// itself ran with L1 alone).
+// Rechecked on data v3's validation split (docs/gan.md, "Choosing the default on the
+// validation split"): L1 alone, DSSIM weight 0, ngf 32, 30 epochs and the Deep Shading
+// U-Net all land within 0.01 SSIM of this model (the best, Deep Shading, 0.937 against
+// 0.934, is 7x slower per frame), so the rule above keeps it. Training on v3: ~5 minutes
+// with one thread; on data v4 (twice the frames): 6 min 52 s with two threads.
+struct TrainGanOptions {
+  std::string data_dir;          // train/ + test/ (or flat: split by scene)
+  std::string out = "gan-out";
+  std::string mode = "surround";  // front | surround (the six-face global view)
+  int size = 64;                  // face size the views are box-filtered to (0: as stored)
+  int ngf = 16, ndf = 16;         // generator and discriminator base widths
+  int levels = 5;                 // U-Net levels
+  int d_layers = 3;               // PatchGAN layers (3: 70x70 patches)
+  int epochs = 10;                // in all
+  int decay_epochs = -1;          // of which the last N decay the rate linearly to 0 (-1: half)
+  double lambda = 100;            // weight of the reconstruction term in G's loss
+  // Reconstruction = L1 + w x DSSIM (gan_trainer.h); -1: 1 with loss gan, 0 otherwise (an
+  // l1 run stays L1 alone). Measured at the chosen size, 1 beats L1 alone on MSE, PSNR,
+  // SSIM and linear MSE (docs/gan.md, final table).
+  double dssim_weight = -1;
+  double dssim_weight_used() const { return dssim_weight >= 0 ? dssim_weight : loss == "gan" ? 1 : 0; }
+  double lr = 2e-4;
+  // Data v4 (docs/gan.md, "Results (default data v4)"): the discriminator at a quarter of
+  // the generator's rate (two time-scale updates) wins the validation split on MSE and
+  // PSNR by more than the 3-seed spread, ties SSIM, and had none of the equal rate's
+  // linear-light blow-ups (validation linear MSE: one seed in three at 0.70, the others
+  // 0.037-0.042, at a quarter 0.032-0.033; on test four frames at 30-51). At the equal
+  // rate D stays ahead (last 10% of steps: D loss 0.16-0.17, G's adversarial 5.8); at a
+  // quarter, 0.20-0.21 and 4.7-4.9. lr_d is a rate, not a ratio: another lr leaves it.
+  double lr_d = 5e-5;             // 0: lr (pix2pix)
+  double beta1 = 0.5;
+  bool coordconv = true;          // coordinate channels appended to the input
+  std::string loss = "gan";       // gan | l1 | dssim
+  std::string g_norm = "batch";   // batch | none: normalisation in the pix2pix U-Net
+  std::string arch = "pix2pix";   // pix2pix | deepshading
+  std::string residual = "linear";  // off | mapped | linear (generator.h)
+  Precision precision = Precision::fp32;
+  int accumulate = 1;             // samples per optimizer step
+  double bucket_mb = 25;          // MiB per gradient bucket of the MPI exchange (0: one)
+  int seed = 1;
+  GiAugment augment;              // off
+  bool resume = false;
+  int max_frames = 0;             // at most N train and N test items (0: all)
+  int sample_every = 250;         // sample PNGs every N steps (0: never)
+  bool eval = true;               // evaluate G.blob on the test split (and holdout/) after training
+  double train_subset = 1;        // about this share of the training scenes (data-size curves)
+  std::string stream = "auto";    // auto | on | off: read training frames from disk as needed
+  double memory_budget_gib = 2;   // frames held in memory before stream auto streams
+  double validation_fraction = 0.15;  // share of train/'s scenes held out for model selection
+  bool test_bn_batch = true;      // BatchNorm batch statistics at test time (else running)
+  bool test_dropout = false;
+  int poison_step = -1;           // testing: a NaN enters the input at this step
+  int stop_after_epochs = -1;     // testing: stop after N epochs as if interrupted
+};
+
+struct TrainGanResult {
+  GanRunResult run;
+  int exit_code = 0;  // 0 finished, 3 stopped on a non-finite value
+};
+
+// The splits train-gan reads: validation scenes carved out before anything is fitted,
+// then (for data-size curves) a share of the training scenes.
+struct GanSplits {
+  data::TrainingSplits splits;
+  data::SplitListing train;  // splits.listing.train, or the --train-subset of it
+};
+
+inline GanSplits open_gan_splits(const TrainGanOptions& o) {
+  data::require_valid_dataset(o.data_dir, data::Purpose::gi);
+  GanSplits s{data::open_training_splits(o.data_dir, o.validation_fraction), {}};
+  // The scenes hold_out_validation would move, i.e. the same hash order, so a smaller
+  // subset is contained in a larger one.
+  s.train = o.train_subset < 1 ? data::hold_out_validation(s.splits.listing.train, o.train_subset).second
+                               : s.splits.listing.train;
+  return s;
+}
+
+inline size_t max_items(const TrainGanOptions& o) { return o.max_frames > 0 ? size_t(o.max_frames) : size_t(-1); }
+
+// The run's options: the model, the schedule and what a --resume must match.
+inline GanRunOptions run_options(const TrainGanOptions& o, const GanSplits& s) {
+  GanRunOptions r;
+  r.out = o.out;
+  r.resume = o.resume;
+  r.sample_every = o.sample_every;
+  r.poison_step = o.poison_step;
+  r.stop_after_epochs = o.stop_after_epochs;
+  r.precision = o.precision;
+  r.accumulate = o.accumulate;
+  r.augment = o.augment;
+  r.bucket_mb = o.bucket_mb;
+  r.quiet = !dist::writer();
+  r.data_identity = std::filesystem::weakly_canonical(o.data_dir).string() + " (" + std::to_string(s.train.size()) +
+                    " train, " + std::to_string(s.splits.validation.size()) + " validation, " +
+                    std::to_string(s.splits.listing.test.size()) + " test)";
+  GanTrainConfig& c = r.train;
+  c.inputs.mode = parse_mode(o.mode);
+  c.inputs.coordconv = o.coordconv;
+  c.inputs.size = o.size;
+  c.inputs.validation_fraction = s.splits.validation.size() > 0 ? o.validation_fraction : 0;
+  c.ngf = o.ngf, c.ndf = o.ndf, c.levels = o.levels, c.d_layers = o.d_layers;
+  c.loss = parse_loss(o.loss);
+  c.arch = parse_arch(o.arch);
+  c.residual = parse_residual(o.residual);
+  c.g_batchnorm = o.g_norm == "batch";
+  c.lambda = o.lambda, c.lr = o.lr, c.lr_d = o.lr_d, c.beta1 = o.beta1;
+  c.dssim_weight = o.dssim_weight_used();
+  const int decay = o.decay_epochs >= 0 ? o.decay_epochs : o.epochs / 2;
+  c.epochs = o.epochs - decay, c.epochs_decay = decay;
+  c.seed = uint64_t(o.seed);
+  return r;
+}
+
+// The training frames, normalised with statistics of the training scenes alone; held in
+// memory, or streamed from disk when asked or when they would take more than the budget.
+inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplits& s, GiInputConfig& inputs) {
+  GiItemReader rd{inputs.mode, o.size};
+  inputs.norm = fit_normalisation(s.train, rd, max_items(o));
+  const size_t n_train = std::min(max_items(o), split_items(s.train, rd.mode));
+  if (n_train == 0) throw std::runtime_error(o.data_dir + ": no training samples for --mode " + o.mode);
+  const GiSample first = load_sample(s.train, rd, inputs, 0);
+  if (o.augment.mirror) (void)mirrored(first);  // refuses an odd face size before the first step
+  const double gib = double(sample_bytes(first)) * double(n_train) / double(1 << 30);
+  const bool streamed = o.stream == "on" || (o.stream == "auto" && gib > o.memory_budget_gib);
+  GiTrainData train = streamed ? GiTrainData(s.train, rd, inputs, n_train)
+                               : GiTrainData(load_samples(s.train, rd, inputs, max_items(o), "loading train"));
+  if (dist::writer())
+    std::fprintf(stderr, "train-gan: %zu training %s (%zu more in validation scenes) from %s, input %s, depth_max %.3g, "
+                 "hdr_scale %.3g, light_max %.3g; %.2f GiB of samples, %s\n",
+                 n_train, inputs.mode == GiMode::surround ? "frames" : "views", s.splits.validation.size(),
+                 o.data_dir.c_str(), first.input.shape().str().c_str(), inputs.norm.depth_max, inputs.norm.hdr_scale,
+                 inputs.norm.light_max, gib, streamed ? "streamed from disk" : "held in memory");
+  return train;
+}
+
+// G.blob on the test split, and on the held-out families when the data has them
+// (eval-ao's layout).
+inline void evaluate_trained(const TrainGanOptions& o, const GanSplits& s) {
+  const GanRunFiles files{o.out};
+  EvalOptions e;
+  e.data = o.data_dir;
+  e.out = files.eval();
+  e.models = {files.generator()};
+  e.bn_batch_stats = o.test_bn_batch;
+  e.dropout_on = o.test_dropout;
+  e.max_frames = max_items(o);
+  evaluate_gi(e);
+  std::printf("train-gan: training %s/report.html; evaluation %s/report.html, chart %s/speed_vs_ssim.png "
+              "(report.md, results.csv, previews/ beside them)\n", o.out.c_str(), e.out.c_str(), e.out.c_str());
+  if (!s.splits.listing.has_holdout) return;
+  e.split = "holdout";
+  e.out = files.eval_holdout();
+  evaluate_gi(e);
+  std::printf("train-gan: held-out families %s/report.html, chart %s/speed_vs_ssim.png\n", e.out.c_str(),
+              e.out.c_str());
+}
+
+inline TrainGanResult train_gan(const TrainGanOptions& o) {
+  if (o.precision == Precision::bf16) std::fprintf(stderr, "train-gan: bf16 GEMMs on %s\n", bf16_isa_description().c_str());
+  const GanSplits splits = open_gan_splits(o);
+  GanRunOptions run = run_options(o, splits);
+  TrainGanResult res;
+  {
+    GiTrainData train = load_training_frames(o, splits, run.train.inputs);
+    res.run = run_gan_training(run, train);
+  }  // the evaluation loads its own frames
+  const GanRunResult& r = res.run;
+  if (dist::writer() && r.d_wins_windows > 0)
+    std::fprintf(stderr, "train-gan: the discriminator won outright in %lld windows of %d steps (first at step %lld)\n",
+                 (long long)r.d_wins_windows, DiscriminatorWatch::kWindow, (long long)r.first_d_wins_step);
+  if (!r.finished) return res.exit_code = 3, res;  // the run layer's non-finite stop
+  if (!dist::writer()) return res;                 // rank 0 reports and evaluates
+  std::printf("train-gan: %d epochs, %lld steps in %s; generator %s\n", r.epochs_done, (long long)r.steps,
+              Progress::format_seconds(r.seconds).c_str(), GanRunFiles{o.out}.generator().c_str());
+  if (o.eval && splits.splits.listing.test.size() > 0) evaluate_trained(o, splits);
+  return res;
+}
+
+}  // namespace nns::gi
