@@ -28,8 +28,10 @@ int main(int argc, char** argv) {
     ao_eval::EvalAoOptions o;
     std::string data_dir = args.get_string("--data", "", "dataset: a split folder, a flat folder, or a root with test/ (default: the built-in default nnao dataset)");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao (omit to run only the classical methods)");
-    std::string out = args.get_string("--out", "eval-out", "output folder");
-    std::string methods_flag = args.get_string("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO", "comma-separated methods");
+    std::string out = args.get_path("--out", "eval-out", "output folder");
+    std::string methods_flag;
+    for (const std::string& m : args.get_names("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO", "methods"))
+      methods_flag += (methods_flag.empty() ? "" : ",") + m;
     std::vector<int> nnao_samples = args.get_int_list("--nnao-samples", "16,32,64,128,256", "shader-style NNAO sample counts", 1, INT_MAX);
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     int previews = args.get_int("--previews", 3, "views to write preview PNGs for", 0, 100000);

@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
     gi::EvalOptions o;
     o.data = a.get_string("--data", "", "dataset folder (its test split is scored, its train split fits the ambient term)");
     o.models = a.get_list("--model", "a generator blob (G.blob) from train-gan");
-    o.out = a.get_string("--out", "eval-gi-out", "output folder");
+    o.out = a.get_path("--out", "eval-gi-out", "output folder");
     o.split = a.get_choice("--split", "test", {"test", "validation", "holdout"},
                            "frames scored: test/, the validation scenes train-gan carved from train/, or holdout/");
     std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics at test time");

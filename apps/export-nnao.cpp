@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
   return cli::run_main("export-nnao", [&]() -> int {
     cli::Args args(argc, argv, "export-nnao", "Export NNAO as GLSL passes (and a grid model's filter texture) for engines.");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao");
-    std::string out = args.get_string("--out", "nnao-export", "output folder");
+    std::string out = args.get_path("--out", "nnao-export", "output folder");
     int samples = args.get_int("--samples", 64, "grid models: the shader's default filter samples per pixel (uSamples)", 1, INT_MAX);
     args.done();
     if (model.empty()) {

@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao");
     std::string in = args.get_string("--in", "", "input view (EXR with Z, N.X, N.Y, N.Z; or --channel)");
     cli::ImageInputFlags images = cli::image_input_flags(args, "nnao-infer", {"depth", "normal"});
-    std::string out = args.get_string("--out", "", "output EXR (channel AO)");
+    std::string out = args.get_path("--out", "", "output EXR (channel AO)");
     std::string png = args.get_string("--png", "", "also write a PNG preview");
     int samples = args.get_int("--samples", 0, "0 = exact; else shader-style filter samples (64, 128, 256, ...)", 0, INT_MAX);
     double radius = args.get_double("--radius", 0, "AO radius (0 = the view's aoRadius, else the model's)", 0, HUGE_VAL);

@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   return cli::run_main("sweep-gan", [&] {
     cli::Args a(argc, argv, "sweep-gan", "Sweep GI GAN sizes; name the smallest model within 0.01 SSIM of the best.");
     std::string data_dir = a.get_string("--data", "", "dataset (default: the built-in surround data)");
-    std::string out = a.get_string("--out", "sweep-gan-out", "output folder");
+    std::string out = a.get_path("--out", "sweep-gan-out", "output folder");
     std::string mode = a.get_choice("--mode", "surround", {"front", "surround"}, "input mode");
     auto sizes = a.get_int_list("--sizes", "16,32", "face sizes", 4, 4096);
     auto ngfs = a.get_int_list("--ngf", "8,16,32", "generator widths (ndf follows ngf)", 1, 1024);

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
                 "Train a pix2pix GAN (or an L1/DSSIM U-Net) to predict diffuse global illumination.");
     const GanDefaults def;
     std::string data_dir = a.get_string("--data", "", "dataset folder (default: the built-in surround data, rendered once and cached)");
-    std::string out = a.get_string("--out", "gan-out", "output folder");
+    std::string out = a.get_path("--out", "gan-out", "output folder");
     std::string mode = a.get_choice("--mode", "surround", {"front", "surround"}, "front view only, or the six-face global view");
     int size = a.get_int("--size", def.size, "face size the views are box-filtered to (0: as stored)", 4, 4096);
     int ngf = a.get_int("--ngf", def.ngf, "generator base width", 1, 1024);
