@@ -11,6 +11,7 @@
 #include <string>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "runs/edge_demo.h"
 
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
     std::string out = a.get_path("--out", "demo-out", "output folder for the weights blob");
     a.done();
     set_num_threads(threads);
+    FolderLock lock = prepare_output_folder(out, "demo");
     return demo::run_edge_demo(threads, seed, epochs, width, out);
   });
 }

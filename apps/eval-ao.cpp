@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "data/dataset.h"
 #include "render/default_dataset.h"
@@ -50,6 +51,7 @@ int main(int argc, char** argv) {
     o.threads = threads, o.previews = previews, o.max_views = max_views, o.repeat = repeat;
     o.params_file = params_file, o.scalar = scalar;
     const bool has_holdout = data::list_dataset(data_dir).has_holdout;
+    FolderLock lock = prepare_output_folder(out, "eval-ao");  // OUT/holdout is inside it
     if (split != "holdout") ao_eval::evaluate_ao(o);
     if (split == "holdout" || (split == "both" && has_holdout)) {
       o.split = "holdout";

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "runs/gi/gi_evaluate.h"
 
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
     o.dropout_on = drop == "on";
     if (max_frames > 0) o.max_frames = size_t(max_frames);
     set_num_threads(threads);
+    FolderLock lock = prepare_output_folder(o.out, "eval-gi");
     auto rows = gi::evaluate_gi(o);
     std::printf("%s", gi::results_csv(rows, false).c_str());
     std::printf("eval-gi: report %s/report.html (and report.md)\n", o.out.c_str());

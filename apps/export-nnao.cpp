@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "runs/ao/nnao_export.h"
 
 using namespace nns;
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     auto m = nnao::NnaoWeights::load(model);
+    FolderLock lock = prepare_output_folder(out, "export-nnao");
     std::string files;
     for (const std::string& f : nnao::write_export(m, out, samples)) files += (files.empty() ? "" : ", ") + f;
     std::printf("wrote %s into %s (%s)\n", files.c_str(), out.c_str(),

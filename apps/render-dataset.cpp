@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "data/exr_header_check.h"
 #include "render/dataset_writer.h"
@@ -67,6 +68,7 @@ int main(int argc, char** argv) {
   job.views_per_scene = args.get_int("--views-per-scene", 4, "views rendered in one scene before the next", 1, 1000000);
   job.test_fraction = args.get_double("--test-fraction", 0.2, "share of views from held-out scenes (test/)", 0, 0.95);
   job.fov_y_deg = float(args.get_double("--fov", 60, "vertical field of view in degrees (not surround; nnao-v2 draws one per view)", 1, 179));
+  const bool replace = args.get_flag("--replace", "remove the views of an earlier render in --out first (without it such a folder is refused)");
   args.done();
   if (job.out.empty()) args.error("--out is required"), args.done();
 
@@ -83,6 +85,13 @@ int main(int argc, char** argv) {
   job.part = dist::rank(), job.parts = dist::size();
   job.progress = dist::writer();
   return mpi.finish(cli::run_main("render-dataset", [&] {
+    // Rank 0 locks and checks the folder before any rank writes a view into it.
+    FolderLock lock;
+    if (dist::writer()) {
+      lock = prepare_output_folder(job.out, "render-dataset");
+      data::prepare_render_folder(job.out, replace);
+    }
+    dist::barrier();
     set_num_threads(threads);
     data::DatasetReport r = data::render_dataset(job);
     std::vector<double> sums = {double(r.train_views), double(r.test_views), double(r.holdout_views), double(r.rays),

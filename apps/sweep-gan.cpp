@@ -9,6 +9,7 @@
 #include <string>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "data/require_valid_dataset.h"
 #include "render/default_dataset.h"
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
     set_num_threads(threads);
     if (data_dir.empty()) data_dir = data::ensure_default_dataset("surround", threads);
     data::require_valid_dataset(data_dir, data::Purpose::gi);
+    FolderLock lock = prepare_output_folder(out, "sweep-gan");
     run_gan_sweep({data_dir, out, mode, points_s, loss, arch, residual, sizes, ngfs, levels, epochs, max_frames,
                    threads, seed, tolerance, val_fraction});
     return 0;

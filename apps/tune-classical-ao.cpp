@@ -77,6 +77,7 @@ int main(int argc, char** argv) {
     }
     std::string header = "tune-classical-ao on " + d.train.dir + " (" + std::to_string(views.size()) + " views, " +
                          std::to_string(rounds) + " rounds); MSE averaged over each method's sample counts";
+    remove_stale_temporaries_of(out);  // a killed earlier run's
     write_file_atomic(out, ao::format_classical_params(params, header) + summary.str());
     std::printf("wrote %s\n", out.c_str());
     return 0;

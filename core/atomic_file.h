@@ -17,6 +17,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace nns {
 
@@ -118,19 +119,55 @@ inline std::string target_of_temporary(const std::string& name) {
   return temporary_pid(name) < 0 ? name : name.substr(0, name.rfind(".tmp."));
 }
 
-// Removes "<name>.tmp.<pid>" files in `dir` whose writer is no longer running (a run
-// killed mid-write); returns how many. Another live process's temporaries are kept.
-inline int remove_stale_temporaries(const std::string& dir) {
+// Removes "<name>.tmp.<pid>" files in `dir` (and with `recursive` in its sub-folders:
+// previews/, a dataset's splits) whose writer is no longer running (a run killed
+// mid-write); returns how many. Another live process's temporaries are kept.
+inline int remove_stale_temporaries(const std::string& dir, bool recursive = false) {
   namespace fs = std::filesystem;
   int removed = 0;
   std::error_code ec;
+  std::vector<fs::path> stale;
+  auto consider = [&](const fs::directory_entry& e) {
+    std::error_code type_ec;
+    const int p = temporary_pid(e.path().filename().string());
+    if (p < 0 || !e.is_regular_file(type_ec)) return;
+    if (p == ::getpid() || (::kill(p, 0) == 0 || errno == EPERM)) return;  // a live writer
+    stale.push_back(e.path());
+  };
+  if (recursive) {
+    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+      consider(*it);
+  } else {
+    for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) consider(*it);
+  }
+  for (auto& p : stale)
+    if (std::error_code rm_ec; fs::remove(p, rm_ec)) ++removed;
+  return removed;
+}
+
+// Removes the temporaries of one target ("<path>.tmp.<pid>" of writers no longer
+// running): what a command that writes single files (nnao-infer --out x.exr) does, where
+// the folder is the user's and other files in it are none of ours.
+inline int remove_stale_temporaries_of(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string prefix = target.filename().string() + ".tmp.";
+  int removed = 0;
+  std::error_code ec;
+  std::vector<fs::path> stale;
   for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
     const std::string name = it->path().filename().string();
     const int p = temporary_pid(name);
-    if (p < 0 || !it->is_regular_file()) continue;
+    std::error_code type_ec;
+    if (p < 0 || name.rfind(prefix, 0) != 0 || name.size() != prefix.size() + std::to_string(p).size() ||
+        !it->is_regular_file(type_ec))
+      continue;
     if (p == ::getpid() || (::kill(p, 0) == 0 || errno == EPERM)) continue;  // a live writer
-    if (fs::remove(it->path(), ec)) ++removed;
+    stale.push_back(it->path());
   }
+  for (auto& p : stale)
+    if (std::error_code rm_ec; fs::remove(p, rm_ec)) ++removed;
   return removed;
 }
 

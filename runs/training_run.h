@@ -1,7 +1,8 @@
 #pragma once
 // What every training run shares, so that a trainer is only its loop body (the split of
 // dlib's dnn_trainer: the network code never touches files):
-//   - the output folder, with temporaries of a killed run's atomic writes removed;
+//   - the output folder, locked for the run (a second run into it is refused) and with
+//     temporaries of a killed run's atomic writes removed;
 //   - the metrics log (runs/metrics_log.h, one format, truncated correctly on resume);
 //   - the checkpoint (optim/checkpoint.h: modules, optimizer moments, RNGs, counters)
 //     holding the run's configuration, so that --resume with another learning rate,
@@ -33,6 +34,7 @@
 
 #include "core/atomic_file.h"
 #include "core/blob.h"
+#include "core/folder_lock.h"
 #include "optim/checkpoint.h"
 #include "runs/distributed/world.h"
 #include "runs/metrics_log.h"
@@ -89,7 +91,8 @@ class TrainingRun {
   TrainingRun(RunSpec spec, Checkpoint<float>& ck, int64_t& step) : spec_(std::move(spec)), ck_(ck), step_(step) {
     namespace fs = std::filesystem;
     fs::create_directories(spec_.out);
-    if (writes_files()) remove_stale_temporaries(spec_.out);
+    // One run per folder (core/folder_lock.h); rank 0 holds it for the whole world.
+    if (writes_files()) lock_ = prepare_output_folder(spec_.out, spec_.app);
     // At most the trainers' --epochs ceiling.
     ck_.add_counter("epochs_done", epochs_done_, 0, kMaxEpochs).add_counter("step", step_);
     const std::string ck_path = path(spec_.checkpoint_name);
@@ -173,6 +176,7 @@ class TrainingRun {
 
  private:
   RunSpec spec_;
+  FolderLock lock_;
   Checkpoint<float>& ck_;
   int64_t epochs_done_ = 0;
   int64_t& step_;

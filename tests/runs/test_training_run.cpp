@@ -304,6 +304,26 @@ TEST(TrainingRun, ResumeRefusesAMetricsLogThatIsNoRegularFile) {
   fs::remove_all(d);
 }
 
+// Two train-nnao runs with one --out both exited 0, interleaving one metrics.jsonl.
+TEST(TrainingRun, ASecondRunIntoTheSameFolderIsRefusedNamingFolderAndHolder) {
+  fs::path d = temp_dir("locked");
+  Checkpoint<float> ck1, ck2;
+  int64_t step1 = 0, step2 = 0;
+  RunSpec spec;
+  spec.app = "train-nnao";
+  spec.out = d.string();
+  TrainingRun first(spec, ck1, step1);
+  try {
+    TrainingRun second(spec, ck2, step2);
+    ADD_FAILURE() << "two runs share " << d;
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(d.string()), std::string::npos) << m;
+    EXPECT_NE(m.find("pid " + std::to_string(::getpid())), std::string::npos) << m;
+  }
+  fs::remove_all(d);
+}
+
 TEST(TrainingRun, FinishWritesValidJsonEvenForAStopMessageWithQuotes) {
   fs::path d = temp_dir("summary");
   Checkpoint<float> ck;
