@@ -112,7 +112,7 @@ TEST_F(ModelBlobTest, NnaoChecksKeysAsStoredBeforeNarrowing) {
     b.save(p);
     expect_refused(error_of([&] { nnao::NnaoWeights::load(p); }), p, key);
   }
-  Blob h = fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(0, 4, 4, false, {8, 4, 2}), 10, -0.3f);
+  Blob h = fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(0, 4, 4, false, {8, 8, 4}), 10, -0.3f);
   for (auto [key, value] : std::initializer_list<std::pair<const char*, const char*>>{
            {"directions", "4294967304"}, {"blur_depth", "inf"}, {"blur_passes", "4294967297"}}) {
     Blob b = h;
