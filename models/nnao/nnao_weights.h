@@ -94,7 +94,7 @@ struct NnaoWeights {
       throw blob.error("holds a '" + blob.kind() + "' model, expected 'nnao'");
     NnaoWeights m;
     // Checked as stored, then narrowed (a window of 4294967303 read as 7).
-    m.input.window = blob.config_int("window", 1, 63);
+    m.input.window = blob.config_int("window", 0, 63);  // horizon models store 0 (unused)
     m.hidden = blob.config_int("hidden", 1, 64);
     m.radius = float(blob.config_double("radius"));
     if (!(m.radius >= 0)) throw blob.error("radius " + blob.config_string("radius") + " out of range: expected >= 0 (0: each view's aoRadius)");
