@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,12 +19,17 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "core/blob.h"
+#include "fixtures/random_nnao_blob.h"
+#include "models/gi/gi_model_io.h"
 
 namespace fs = std::filesystem;
 
@@ -262,6 +268,87 @@ TEST(HostileFlags, EveryFlagOfEveryCommandRefusesWhatItsHelpDoesNotAllow) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("hostile flags: %d cases over %zu commands in %.1f s\n", cases, commands.size(), seconds);
   RecordProperty("cases", cases);
+  fs::remove_all(work);
+}
+
+// `b` with the first value of its first f32 tensor set to `v` (CRC and all valid).
+nns::Blob poisoned(const nns::Blob& b, float v) {
+  nns::Blob out(b.kind());
+  for (auto& [k, val] : b.config()) out.set_config(k, val);
+  bool first = true;
+  for (auto& [n, t] : b.tensors()) {
+    const nns::Shape sh(t.dims.begin(), t.dims.end());
+    if (t.dtype == nns::DType::F32) {
+      std::vector<float> x(size_t(t.numel()));
+      std::memcpy(x.data(), t.bytes.data(), t.bytes.size());
+      if (first && !x.empty()) x[0] = v, first = false;
+      out.put(n, sh, x.data());
+    } else if (t.dtype == nns::DType::F64) {
+      out.put(n, sh, reinterpret_cast<const double*>(t.bytes.data()));
+    } else if (t.dtype == nns::DType::U64) {
+      out.put(n, sh, reinterpret_cast<const uint64_t*>(t.bytes.data()));
+    } else {
+      out.put(n, sh, reinterpret_cast<const int64_t*>(t.bytes.data()));
+    }
+  }
+  return out;
+}
+
+// The corruptions a CRC does not catch, and files that are no files, against every
+// command that reads a model before anything else: refused (non-zero exit) naming the
+// file, at once, without a signal and without output.
+TEST(HostileFlags, EveryModelReaderRefusesAPoisonedOrEndlessModelNamingIt) {
+  const fs::path work = fs::temp_directory_path() / ("nns_hostile_models_" + std::to_string(::getpid()));
+  fs::remove_all(work);
+  fs::create_directories(work / "cwd");
+  std::vector<std::string> models;
+  auto save = [&](const nns::Blob& b, const std::string& name) {
+    b.save((work / name).string());
+    models.push_back((work / name).string());
+  };
+  const nns::Blob nnao = nns::fixtures::random_nnao_blob(3, 4, 1);
+  save(poisoned(nnao, std::nanf("")), "nnao-nan.blob");
+  save(poisoned(nnao, HUGE_VALF), "nnao-inf.blob");
+  nns::Blob wide = nnao;
+  wide.set_config("window", std::string("4294967299"));  // 3 after a 32-bit narrowing
+  save(wide, "nnao-huge-window.blob");
+  nns::gi::GeneratorConfig gc;
+  nns::gi::GiInputConfig in;
+  in.size = 16;
+  gc.unet.in_channels = in.channels(), gc.unet.ngf = 2, gc.unet.levels = 2, gc.unet.dropout_blocks = 1;
+  nns::Rng rng(1);
+  auto G = nns::gi::make_generator<float>(gc, rng);
+  nns::gi::save_generator_blob((work / "G.blob").string(), *G, in, gc, "gan");
+  const nns::Blob gi = nns::Blob::load((work / "G.blob").string());
+  save(poisoned(gi, std::nanf("")), "gi-nan.blob");
+  nns::Blob big = gi;
+  big.set_config("size", std::string("4294967312"));  // 16 after a 32-bit narrowing
+  save(big, "gi-huge-size.blob");
+  const std::string fifo = (work / "fifo.blob").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  models.push_back(fifo);
+  models.push_back("/dev/zero");
+  fs::create_directories(work / "folder.blob");
+  models.push_back((work / "folder.blob").string());
+
+  const fs::path bin = fs::path(NNSHADE_BINARY_DIR) / "bin";
+  const fs::path out = work / "out";
+  int cases = 0;
+  for (const char* app : {"nnao-infer", "export-nnao", "gi-infer"})
+    for (const std::string& model : models) {
+      ++cases;
+      fs::remove_all(out);
+      const Run r = run({(bin / app).string(), "--model", model, "--in", (work / "missing.exr").string(), "--out",
+                         (out / "o.exr").string()},
+                        (work / "cwd").string(), 20);
+      const std::string what = std::string(app) + " --model " + model;
+      EXPECT_FALSE(r.timed_out) << what << ": still reading after 20 s";
+      EXPECT_FALSE(r.signalled) << what << ": killed by signal " << r.signal << "\n" << r.output;
+      EXPECT_NE(r.code, 0) << what << "\n" << r.output;
+      EXPECT_NE(r.output.find(model), std::string::npos) << what << ": the file is not named\n" << r.output;
+      EXPECT_TRUE(leftovers(out).empty()) << what << ": wrote " << leftovers(out).front();
+    }
+  std::printf("hostile models: %d cases\n", cases);
   fs::remove_all(work);
 }
 
