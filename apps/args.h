@@ -10,6 +10,7 @@
 //   args.done();  // handles --help and reports every problem found
 #include <algorithm>
 #include <climits>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -53,15 +54,22 @@ class Args {
     auto v = last(name);
     return v ? *v : def;
   }
+  // A file or folder: given, it must name one ("--out ''" wrote into the current folder).
+  std::string get_path(const std::string& name, const std::string& def, const std::string& help) {
+    const std::string v = get_string(name, def, help);
+    if (last(name) && v.empty()) error(name + ": expected a path, got ''");
+    return v;
+  }
   // A comma-separated list of names ("cave,pipes,round"); empty items are dropped, and
-  // a value that names nothing (",") is an error.
+  // a value that names nothing ("", ",") is an error: "--methods ''" ran nothing and
+  // exited 0.
   std::vector<std::string> get_names(const std::string& name, const std::string& def, const std::string& help) {
     std::vector<std::string> out;
     const std::string text = get_string(name, def, help + " (comma-separated)");
     std::stringstream ss(text);
     for (std::string item; std::getline(ss, item, ',');)
       if (!item.empty()) out.push_back(item);
-    if (!text.empty() && out.empty()) error(name + ": no name in '" + text + "'");
+    if ((!text.empty() || last(name)) && out.empty()) error(name + ": no name in '" + text + "'");
     return out;
   }
   // Every occurrence of a repeatable flag (e.g. --scene a.obj --scene b.obj).
@@ -127,9 +135,13 @@ class Args {
     }
     return out;
   }
-  // A finite number in [lo, hi].
+  // A finite number in [lo, hi]. Every real-valued flag ends up a float somewhere, so the
+  // range never reaches past the largest float: 1e39 passed a check in double and became
+  // inf (an infinite radius, every pixel sky).
   double get_double(const std::string& name, double def, const std::string& help,
                     double lo = -HUGE_VAL, double hi = HUGE_VAL) {
+    lo = std::max(lo, -double(FLT_MAX));
+    hi = std::min(hi, double(FLT_MAX));
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", def);
     add_usage(name, "X", buf + range_text(lo, hi, -HUGE_VAL, HUGE_VAL), help);
@@ -145,7 +157,7 @@ class Args {
       errors_.push_back(name + ": expected a finite number, got '" + *v + "'");
       return def;
     }
-    if (r < lo || r > hi) {
+    if (r < lo || r > hi || !std::isfinite(float(r))) {
       errors_.push_back(name + ": " + *v + " is out of range: expected a number in " + bounds(lo, hi));
       return def;
     }
@@ -197,17 +209,18 @@ class Args {
   }
 
  private:
-  static std::string num(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.15g", v);
-    return b;
-  }
-  // "[0, 100]", "[1, inf)", "(-inf, 5]"
+  // "[0, 100]", "[1, inf)", "(-inf, 5]"; a real-valued flag's open end is the largest
+  // float, "[0, 3.40282e+38]".
   static std::string bounds(double lo, double hi) {
     std::string s = std::isinf(lo) ? std::string("(-inf") : "[" + num(lo);
     s += ", ";
     s += std::isinf(hi) ? std::string("inf)") : num(hi) + "]";
     return s;
+  }
+  static std::string num(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, std::fabs(v) == double(FLT_MAX) ? "%g" : "%.15g", v);
+    return b;
   }
   // ", range [lo, hi]" for the usage line, or nothing when the flag has no range.
   static std::string range_text(double lo, double hi, double none_lo, double none_hi) {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "runs/edge_demo.h"
 
@@ -24,9 +25,10 @@ int main(int argc, char** argv) {
     int seed = a.get_int("--seed", 1, "random seed (weights and data)", 0, INT_MAX);
     int epochs = a.get_int("--epochs", 20, "training epochs", 1, 100000);
     int width = a.get_int("--width", 8, "hidden channels", 1, 4096);
-    std::string out = a.get_string("--out", "demo-out", "output folder for the weights blob");
+    std::string out = a.get_path("--out", "demo-out", "output folder for the weights blob");
     a.done();
     set_num_threads(threads);
+    FolderLock lock = prepare_output_folder(out, "demo");
     return demo::run_edge_demo(threads, seed, epochs, width, out);
   });
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "data/dataset.h"
 #include "render/default_dataset.h"
@@ -30,8 +31,10 @@ int main(int argc, char** argv) {
     std::string data_dir = args.get_string("--data", "", "dataset: a split folder, a flat folder, or a root with test/ (default: the built-in default nnao dataset)");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao (omit to run only the classical methods)");
     o.ladder = args.get_string("--ladder", "", "a trained NNAO ladder's folder (train-nnao --ladder): every rung as NNAO-exact, drawn as one curve (instead of --model)");
-    std::string out = args.get_string("--out", "eval-out", "output folder");
-    std::string methods_flag = args.get_string("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO", "comma-separated methods");
+    std::string out = args.get_path("--out", "eval-out", "output folder");
+    std::string methods_flag;
+    for (const std::string& m : args.get_names("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO", "methods"))
+      methods_flag += (methods_flag.empty() ? "" : ",") + m;
     std::vector<int> nnao_samples = args.get_int_list("--nnao-samples", "16,32,64,128,256", "shader-style NNAO sample counts", 1, INT_MAX);
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     int previews = args.get_int("--previews", 3, "views to write preview PNGs for", 0, 100000);
@@ -50,6 +53,7 @@ int main(int argc, char** argv) {
     o.threads = threads, o.previews = previews, o.max_views = max_views, o.repeat = repeat;
     o.params_file = params_file, o.scalar = scalar;
     const bool has_holdout = data::list_dataset(data_dir).has_holdout;
+    FolderLock lock = prepare_output_folder(out, "eval-ao");  // OUT/holdout is inside it
     if (split != "holdout") ao_eval::evaluate_ao(o);
     if (split == "holdout" || (split == "both" && has_holdout)) {
       o.split = "holdout";

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "runs/gi/gi_evaluate.h"
 
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
     gi::EvalOptions o;
     o.data = a.get_string("--data", "", "dataset folder (its test split is scored, its train split fits the ambient term)");
     o.models = a.get_list("--model", "a generator blob (G.blob) from train-gan");
-    o.out = a.get_string("--out", "eval-gi-out", "output folder");
+    o.out = a.get_path("--out", "eval-gi-out", "output folder");
     o.split = a.get_choice("--split", "test", {"test", "validation", "holdout"},
                            "frames scored: test/, the validation scenes train-gan carved from train/, or holdout/");
     std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics at test time");
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
     o.dropout_on = drop == "on";
     if (max_frames > 0) o.max_frames = size_t(max_frames);
     set_num_threads(threads);
+    FolderLock lock = prepare_output_folder(o.out, "eval-gi");
     auto rows = gi::evaluate_gi(o);
     std::printf("%s", gi::results_csv(rows, false).c_str());
     std::printf("eval-gi: report %s/report.html (and report.md)\n", o.out.c_str());

@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "data/dataset.h"
 #include "render/default_dataset.h"
@@ -48,7 +49,7 @@ int main(int argc, char** argv) {
     const std::string size = args.get_string("--size", "1280x720", "--ladder: the frame size the budget is for, WxH");
     const std::string view = args.get_string("--view", "", "--ladder: the view timed, resized to --size (default: the default dataset's first test view)");
     const int threads = args.get_int("--threads", 2, "--ladder: worker threads for the timing", 1, 256);
-    std::string out = args.get_string("--out", "nnao-export", "output folder");
+    std::string out = args.get_path("--out", "nnao-export", "output folder");
     int samples = args.get_int("--samples", 64, "grid models: the shader's default filter samples per pixel (uSamples)", 1, INT_MAX);
     int w = 0, h = 0;
     char tail = 0;
@@ -56,7 +57,6 @@ int main(int argc, char** argv) {
       args.error("--size must be WxH with each side 1..16384, not '" + size + "'");
     if (model.empty() == ladder.empty()) args.error("give --model or --ladder (one of them)");
     if (!ladder.empty() && !(budget > 0)) args.error("--ladder needs --budget-ms");
-    if (out.empty()) args.error("--out must not be empty");
     args.done();
     if (!ladder.empty()) {
       set_num_threads(threads);
@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
       }
     }
     auto m = nnao::NnaoWeights::load(model);
+    FolderLock lock = prepare_output_folder(out, "export-nnao");
     std::string files;
     for (const std::string& f : nnao::write_export(m, out, samples)) files += (files.empty() ? "" : ", ") + f;
     std::printf("wrote %s into %s (%s)\n", files.c_str(), out.c_str(),

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
                                                            /*surround=*/true);
     o.channels = images.channels;
     o.images = images.view;
-    o.out = a.get_string("--out", "", "output .exr (default: <input name>_gi.exr in the current folder)");
+    o.out = a.get_path("--out", "", "output .exr (default: <input name>_gi.exr in the current folder)");
     std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics, as eval-gi");
     std::string drop = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time, as eval-gi");
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);

@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
                       "DiffCol, DiffDir, DiffInd, Emit, AO) into the nnshade dataset format. Files rendered by "
                       "tools/blender_capture.py carry their camera in the header; a flag given here overrides it "
                       "(with a note). Inputs are files or folders (converted whole, sub-folders kept).");
-  std::string out = args.get_string("--out", "", "output .exr (one input file) or folder (required)");
+  std::string out = args.get_path("--out", "", "output .exr (one input file) or folder (required)");
   double fov = args.get_double("--fov-y", 0, "vertical field of view in degrees (default: the file's capture note)", 0, 179);
   double ao_radius = args.get_double("--ao-radius", 0, "Blender's AO distance (default: the file's capture note)", 0, HUGE_VAL);
   std::string scene = args.get_string("--scene", "", "scene name for splits (default: capture note, else the file name)");

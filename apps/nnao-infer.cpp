@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "apps/args.h"
+#include "core/atomic_file.h"
 #include "apps/image_input_flags.h"
 #include "core/thread_pool.h"
 #include "data/exr_io.h"
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao");
     std::string in = args.get_string("--in", "", "input view (EXR with Z, N.X, N.Y, N.Z; or --channel)");
     cli::ImageInputFlags images = cli::image_input_flags(args, "nnao-infer", {"depth", "normal"});
-    std::string out = args.get_string("--out", "", "output EXR (channel AO)");
+    std::string out = args.get_path("--out", "", "output EXR (channel AO)");
     std::string png = args.get_string("--png", "", "also write a PNG preview");
     int samples = args.get_int("--samples", 0, "0 = exact; else shader-style filter samples (64, 128, 256, ...)", 0, INT_MAX);
     double radius = args.get_double("--radius", 0, "AO radius (0 = the view's aoRadius, else the model's)", 0, HUGE_VAL);
@@ -53,6 +54,9 @@ int main(int argc, char** argv) {
     if (samples == 0) nnao::infer_exact(m, g, ao_plane.data());
     else nnao::infer_shader_style(m, g, samples, ao_plane.data());
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    // What a killed earlier run left beside the targets (core/atomic_file.h's names).
+    remove_stale_temporaries_of(out);
+    if (!png.empty()) remove_stale_temporaries_of(png);
     data::write_view(out, o);
     if (!png.empty()) data::write_png_gray(png, ao_plane.data(), o.width, o.height);
     std::printf("%s: %dx%d, %s, %.2f ms\n", out.c_str(), o.width, o.height,

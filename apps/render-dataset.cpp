@@ -10,7 +10,9 @@
 #include <sstream>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
+#include "data/exr_header_check.h"
 #include "render/dataset_writer.h"
 #include "render/scenes/families.h"
 #include "runs/distributed/world.h"
@@ -18,6 +20,9 @@
 using namespace nns;
 
 namespace {
+// The side the dataset readers take (a larger view could not be read back).
+constexpr int kMaxSide = int(data::ExrHeaderLimits{}.max_side);
+
 bool parse_size(const std::string& s, int& w, int& h) {
   auto x = s.find('x');
   if (x == std::string::npos) return false;
@@ -39,7 +44,7 @@ int main(int argc, char** argv) {
   for (auto& f : data::scene_families()) families_help += f.name + (&f == &data::scene_families().back() ? ")" : ", ");
   cli::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
   data::DatasetJob job;
-  job.out = args.get_string("--out", "", "output dataset folder (required)");
+  job.out = args.get_path("--out", "", "output dataset folder (required)");
   job.preset = args.get_choice("--preset", "nnao", {"nnao", "nnao-v2", "gi", "surround", "surround-v2", "surround-v3"},
                                "channels: nnao = Z N albedo AO; nnao-v2 = nnao over all families with per-view fov, "
                                "aspect, size, AO radius and pitch varied; gi = + direct emission env indirect; "
@@ -47,7 +52,7 @@ int main(int argc, char** argv) {
                                "and extra lamps varied per scene, pitch widened; surround-v3 = surround-v2 plus the third generation "
                                "(corridor, courtyard, multiroom)");
   job.views = args.get_int("--views", 80, "views (surround: frames) over train + test", 1, 1000000);
-  std::string size = args.get_string("--size", "", "image size WxH (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
+  std::string size = args.get_string("--size", "", "image size WxH, each side 1 to " + std::to_string(kMaxSide) + " (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
   job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel", 1, 65536);
   job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel", 1, 65536);
   job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)", 1, 64);
@@ -63,6 +68,7 @@ int main(int argc, char** argv) {
   job.views_per_scene = args.get_int("--views-per-scene", 4, "views rendered in one scene before the next", 1, 1000000);
   job.test_fraction = args.get_double("--test-fraction", 0.2, "share of views from held-out scenes (test/)", 0, 0.95);
   job.fov_y_deg = float(args.get_double("--fov", 60, "vertical field of view in degrees (not surround; nnao-v2 draws one per view)", 1, 179));
+  const bool replace = args.get_flag("--replace", "remove the views of an earlier render in --out first (without it such a folder is refused)");
   args.done();
   if (job.out.empty()) args.error("--out is required"), args.done();
 
@@ -70,6 +76,8 @@ int main(int argc, char** argv) {
   int w = job.preset == "gi" ? 256 : surround ? 64 : 320;
   int h = job.preset == "gi" ? 144 : surround ? 64 : 180;
   if (!size.empty() && !parse_size(size, w, h)) args.error("--size: expected WxH, got '" + size + "'");
+  else if (w > kMaxSide || h > kMaxSide)  // 65536x65536 died in std::bad_alloc naming nothing
+    args.error("--size: " + size + " is out of range: each side at most " + std::to_string(kMaxSide) + " pixels");
   if (surround && w != h) args.error("--size: surround faces are square, got " + size);
   args.done();
   job.width = w, job.height = h;
@@ -77,6 +85,13 @@ int main(int argc, char** argv) {
   job.part = dist::rank(), job.parts = dist::size();
   job.progress = dist::writer();
   return mpi.finish(cli::run_main("render-dataset", [&] {
+    // Rank 0 locks and checks the folder before any rank writes a view into it.
+    FolderLock lock;
+    if (dist::writer()) {
+      lock = prepare_output_folder(job.out, "render-dataset");
+      data::prepare_render_folder(job.out, replace);
+    }
+    dist::barrier();
     set_num_threads(threads);
     data::DatasetReport r = data::render_dataset(job);
     std::vector<double> sums = {double(r.train_views), double(r.test_views), double(r.holdout_views), double(r.rays),

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "core/thread_pool.h"
 #include "data/require_valid_dataset.h"
 #include "render/default_dataset.h"
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
   return cli::run_main("sweep-gan", [&] {
     cli::Args a(argc, argv, "sweep-gan", "Sweep GI GAN sizes; name the smallest model within 0.01 SSIM of the best.");
     std::string data_dir = a.get_string("--data", "", "dataset (default: the built-in surround data)");
-    std::string out = a.get_string("--out", "sweep-gan-out", "output folder");
+    std::string out = a.get_path("--out", "sweep-gan-out", "output folder");
     std::string mode = a.get_choice("--mode", "surround", {"front", "surround"}, "input mode");
     auto sizes = a.get_int_list("--sizes", "16,32", "face sizes", 4, 4096);
     auto ngfs = a.get_int_list("--ngf", "8,16,32", "generator widths (ndf follows ngf)", 1, 1024);
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
     set_num_threads(threads);
     if (data_dir.empty()) data_dir = data::ensure_default_dataset("surround", threads);
     data::require_valid_dataset(data_dir, data::Purpose::gi);
+    FolderLock lock = prepare_output_folder(out, "sweep-gan");
     run_gan_sweep({data_dir, out, mode, points_s, loss, arch, residual, sizes, ngfs, levels, epochs, max_frames,
                    threads, seed, tolerance, val_fraction});
     return 0;

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     TrainGanOptions o;  // its initialisers are the defaults (runs/gi/train_gan.h)
     auto on = [](bool b) { return std::string(b ? "on" : "off"); };
     o.data_dir = a.get_string("--data", o.data_dir, "dataset folder (default: the built-in surround data, rendered once and cached)");
-    o.out = a.get_string("--out", o.out, "output folder");
+    o.out = a.get_path("--out", o.out, "output folder");
     o.mode = a.get_choice("--mode", o.mode, {"front", "surround"}, "front view only, or the six-face global view");
     o.size = a.get_int("--size", o.size, "face size the views are box-filtered to (0: as stored)", 4, 4096);
     o.ngf = a.get_int("--ngf", o.ngf, "generator base width", 1, 1024);

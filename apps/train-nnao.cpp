@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
     cli::Args args(argc, argv, "train-nnao", "Train NNAO (Holden et al. 2016) on EXR G-buffers.");
     nnao::TrainOptions o;
     o.data_dir = args.get_string("--data", "", "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
-    o.out_dir = args.get_string("--out", "nnao-out", "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");
+    o.out_dir = args.get_path("--out", "nnao-out", "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");
     // The presets are what the project's measurements chose (runs/ao/train_nnao.h,
     // docs/nnao.md); every flag below overrides its part of the preset.
     const std::string preset = args.get_choice("--preset", "default", {"default", "grid", "paper"},

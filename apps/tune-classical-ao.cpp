@@ -27,14 +27,14 @@ int main(int argc, char** argv) {
     cli::Args args(argc, argv, "tune-classical-ao",
                    "Fit the classical AO methods' parameters for minimum MSE on a dataset's training split.");
     std::string data_dir = args.get_string("--data", "", "dataset root with train/ (default: the built-in default nnao dataset)");
-    std::string out = args.get_string("--out", "classical-params.txt", "parameter file to write (eval-ao --classical-params)");
-    std::string methods = args.get_string("--methods", "SSAO,SSAO+,HBAO,Alchemy,GTAO", "comma-separated methods to tune");
+    std::string out = args.get_path("--out", "classical-params.txt", "parameter file to write (eval-ao --classical-params)");
+    std::vector<std::string> methods = args.get_names("--methods", "SSAO,SSAO+,HBAO,Alchemy,GTAO", "methods to tune");
     std::string start = args.get_string("--start", "", "parameter file to start from (default: the built-in values)");
-    int rounds = args.get_int("--rounds", 3, "coordinate-descent rounds (the steps halve after each)");
-    int max_views = args.get_int("--max-views", 0, "use at most this many training views, evenly spread (0 = all)");
-    int threads = args.get_int("--threads", 2, "worker threads");
+    // Past ~30 rounds the halved steps are below a float's resolution of the parameters.
+    int rounds = args.get_int("--rounds", 3, "coordinate-descent rounds (the steps halve after each)", 1, 100);
+    int max_views = args.get_int("--max-views", 0, "use at most this many training views, evenly spread (0 = all)", 0, INT_MAX);
+    int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     args.done();
-    if (rounds < 1) throw std::invalid_argument("--rounds must be >= 1, got " + std::to_string(rounds));
     set_num_threads(threads);
     if (data_dir.empty()) data_dir = data::ensure_default_dataset("nnao", threads);
     const data::DatasetListing d = data::list_dataset(data_dir);
@@ -58,11 +58,9 @@ int main(int argc, char** argv) {
 
     ao::ClassicalParams params = start.empty() ? ao::ClassicalParams{} : ao::read_classical_params(start);
     std::ostringstream summary;
-    std::stringstream ms(methods);
-    std::string name;
     std::set<std::string> seen;
-    while (std::getline(ms, name, ',')) {
-      if (name.empty() || !seen.insert(name).second) continue;
+    for (const std::string& name : methods) {
+      if (!seen.insert(name).second) continue;
       const ao::ClassicalMethod& m = ao::classical_method(name);  // throws on an unknown name
       std::printf("tuning %s at samples", name.c_str());
       for (int n : m.sample_counts) std::printf(" %d", n);
@@ -79,6 +77,7 @@ int main(int argc, char** argv) {
     }
     std::string header = "tune-classical-ao on " + d.train.dir + " (" + std::to_string(views.size()) + " views, " +
                          std::to_string(rounds) + " rounds); MSE averaged over each method's sample counts";
+    remove_stale_temporaries_of(out);  // a killed earlier run's
     write_file_atomic(out, ao::format_classical_params(params, header) + summary.str());
     std::printf("wrote %s\n", out.c_str());
     return 0;

@@ -8,6 +8,7 @@
 //
 // one "<method>.<parameter> <value>" per line; a parameter not in the file keeps its
 // default (the values the methods used before they had parameters).
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "classical_ao/methods.h"
+#include "core/atomic_file.h"
 
 namespace nns::ao {
 
@@ -86,11 +88,14 @@ inline std::string format_classical_params(const ClassicalParams& p, const std::
   return s.str();
 }
 
+// A parameter file holds a line per parameter; anything near this size is no such file.
+inline constexpr uint64_t kMaxClassicalParamsBytes = uint64_t(1) << 20;
+
 // Errors name the file and line: unknown parameters, unreadable values, values outside
-// the parameter's interval.
+// the parameter's interval. A file that cannot be read (a FIFO, a device, one above the
+// limit) is an error too, never the built-in parameters in its place.
 inline ClassicalParams read_classical_params(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw std::runtime_error(path + ": cannot open classical AO parameter file");
+  std::istringstream f(read_file(path, kMaxClassicalParamsBytes));
   ClassicalParams p;
   auto ts = tunables(p);
   std::string line;

@@ -6,14 +6,18 @@
 // killed process leaves behind are removed by remove_stale_temporaries on the next start.
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace nns {
 
@@ -115,37 +119,120 @@ inline std::string target_of_temporary(const std::string& name) {
   return temporary_pid(name) < 0 ? name : name.substr(0, name.rfind(".tmp."));
 }
 
-// Removes "<name>.tmp.<pid>" files in `dir` whose writer is no longer running (a run
-// killed mid-write); returns how many. Another live process's temporaries are kept.
-inline int remove_stale_temporaries(const std::string& dir) {
+// Removes "<name>.tmp.<pid>" files in `dir` (and with `recursive` in its sub-folders:
+// previews/, a dataset's splits) whose writer is no longer running (a run killed
+// mid-write); returns how many. Another live process's temporaries are kept.
+inline int remove_stale_temporaries(const std::string& dir, bool recursive = false) {
   namespace fs = std::filesystem;
   int removed = 0;
   std::error_code ec;
-  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    const int p = temporary_pid(name);
-    if (p < 0 || !it->is_regular_file()) continue;
-    if (p == ::getpid() || (::kill(p, 0) == 0 || errno == EPERM)) continue;  // a live writer
-    if (fs::remove(it->path(), ec)) ++removed;
+  std::vector<fs::path> stale;
+  auto consider = [&](const fs::directory_entry& e) {
+    std::error_code type_ec;
+    const int p = temporary_pid(e.path().filename().string());
+    if (p < 0 || !e.is_regular_file(type_ec)) return;
+    if (p == ::getpid() || (::kill(p, 0) == 0 || errno == EPERM)) return;  // a live writer
+    stale.push_back(e.path());
+  };
+  if (recursive) {
+    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+      consider(*it);
+  } else {
+    for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) consider(*it);
   }
+  for (auto& p : stale)
+    if (std::error_code rm_ec; fs::remove(p, rm_ec)) ++removed;
   return removed;
 }
 
-inline std::string read_file(const std::string& path) {
-  // A folder opens as a stream on Linux and fails on the first read with a message
-  // ("basic_filebuf::underflow ... Is a directory") that names no file.
+// Removes the temporaries of one target ("<path>.tmp.<pid>" of writers no longer
+// running): what a command that writes single files (nnao-infer --out x.exr) does, where
+// the folder is the user's and other files in it are none of ours.
+inline int remove_stale_temporaries_of(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string prefix = target.filename().string() + ".tmp.";
+  int removed = 0;
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw std::runtime_error("cannot read '" + path + "': it is a folder, not a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open '" + path + "': " + std::strerror(errno));
-  std::string bytes;
-  try {
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  } catch (const std::exception& e) {
-    throw std::runtime_error("cannot read '" + path + "': " + e.what());
+  std::vector<fs::path> stale;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const int p = temporary_pid(name);
+    std::error_code type_ec;
+    if (p < 0 || name.rfind(prefix, 0) != 0 || name.size() != prefix.size() + std::to_string(p).size() ||
+        !it->is_regular_file(type_ec))
+      continue;
+    if (p == ::getpid() || (::kill(p, 0) == 0 || errno == EPERM)) continue;  // a live writer
+    stale.push_back(it->path());
   }
-  if (in.bad()) throw std::runtime_error("cannot read '" + path + "'");
+  for (auto& p : stale)
+    if (std::error_code rm_ec; fs::remove(p, rm_ec)) ++removed;
+  return removed;
+}
+
+// The most read_file takes unless told otherwise: above every blob and checkpoint the
+// project writes (the 256x256 GAN's checkpoint is under 1 GiB), far below what would
+// exhaust a machine's memory.
+inline constexpr uint64_t kMaxReadBytes = uint64_t(4) << 30;
+
+// "4 GiB", "1 MiB", "1000 bytes": a limit as a person reads it.
+inline std::string byte_count_text(uint64_t n) {
+  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  int u = 0;
+  while (u < 4 && n >= 1024 && n % 1024 == 0) n /= 1024, ++u;
+  return std::to_string(n) + " " + units[u];
+}
+
+// The one way the project reads a file's bytes: only a regular file (a FIFO blocks a
+// reader forever, /dev/zero never ends, a folder has no bytes) and at most `max_bytes`,
+// both checked on the opened descriptor so nothing can be swapped in between. Errors
+// name the file, the problem and the limit.
+inline std::string read_file(const std::string& path, uint64_t max_bytes = kMaxReadBytes) {
+  // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer.
+  int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot open '" + path + "': " + std::strerror(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw std::runtime_error("cannot read '" + path + "': " + std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) throw std::runtime_error("cannot read '" + path + "': it is a folder, not a file");
+  if (!S_ISREG(st.st_mode)) {
+    const char* kind = S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISCHR(st.st_mode) ? "a character device"
+                       : S_ISBLK(st.st_mode) ? "a block device" : S_ISSOCK(st.st_mode) ? "a socket" : "not a file";
+    throw std::runtime_error("cannot read '" + path + "': it is " + std::string(kind) +
+                             ", not a regular file (only regular files of at most " + byte_count_text(max_bytes) +
+                             " are read)");
+  }
+  const auto too_large = [&](uint64_t n) {
+    return std::runtime_error("cannot read '" + path + "': " + std::to_string(n) + " bytes, more than the limit of " +
+                              byte_count_text(max_bytes));
+  };
+  if (uint64_t(st.st_size) > max_bytes) throw too_large(uint64_t(st.st_size));
+  std::string bytes(size_t(st.st_size), '\0');
+  size_t done = 0;
+  for (;;) {
+    // A file that grows while it is read is read to its end, within the limit.
+    if (done == bytes.size()) {
+      if (bytes.size() >= max_bytes) {
+        char probe;
+        const ssize_t r = ::read(fd, &probe, 1);
+        if (r > 0) throw too_large(uint64_t(bytes.size()) + 1);
+        if (r < 0 && errno == EINTR) continue;
+        if (r < 0) throw std::runtime_error("cannot read '" + path + "': " + std::strerror(errno));
+        break;
+      }
+      bytes.resize(size_t(std::min<uint64_t>(max_bytes, uint64_t(bytes.size()) * 2 + 4096)));
+    }
+    const ssize_t r = ::read(fd, bytes.data() + done, bytes.size() - done);
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0) throw std::runtime_error("cannot read '" + path + "': " + std::strerror(errno));
+    if (r == 0) break;
+    done += size_t(r);
+  }
+  bytes.resize(done);
   return bytes;
 }
 

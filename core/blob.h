@@ -15,6 +15,8 @@
 //   Blob r = Blob::load("nnao.blob");       // throws std::runtime_error naming the file
 //   Tensor<float> w2 = r.tensor<float>("fc1.weight", w.shape());
 #include <bit>
+#include <cmath>
+#include <cstdint>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -29,6 +31,7 @@
 
 #include "core/blob_crc32.h"
 #include "core/atomic_file.h"
+#include "core/kernels/finite.h"
 #include "core/tensor.h"
 
 static_assert(std::endian::native == std::endian::little,
@@ -109,15 +112,29 @@ class Blob {
     }
     throw error("config key '" + key + "' is '" + v + "', not an integer");
   }
+  // An integer key checked as stored, before a caller narrows it: a window of
+  // 4294967303 must not read as 7.
+  int config_int(const std::string& key, int64_t lo, int64_t hi) const {
+    const int64_t v = config_int(key);
+    if (v < lo || v > hi || v < INT32_MIN || v > INT32_MAX)
+      throw error("config key '" + key + "' is " + std::to_string(v) + ", out of range " + std::to_string(lo) + ".." +
+                  std::to_string(hi));
+    return int(v);
+  }
+  // A finite number: no key of ours means NaN or an infinity, and one read as a float
+  // must stay finite as a float (1e39 is inf there).
   double config_double(const std::string& key) const {
     const std::string& v = config_string(key);
+    double r = 0;
     try {
       size_t pos;
-      double r = std::stod(v, &pos);
-      if (pos == v.size()) return r;
+      r = std::stod(v, &pos);
+      if (pos != v.size()) throw std::exception();
     } catch (...) {
+      throw error("config key '" + key + "' is '" + v + "', not a number");
     }
-    throw error("config key '" + key + "' is '" + v + "', not a number");
+    if (!std::isfinite(float(r))) throw error("config key '" + key + "' is '" + v + "', not a finite number");
+    return r;
   }
 
   // ---- tensors, kept in insertion order so the same saves give the same bytes ----
@@ -155,11 +172,14 @@ class Blob {
     const size_t n = size_t(t.numel());
     if (t.dtype == dtype_of<T>()) {
       std::memcpy(out, t.bytes.data(), n * sizeof(T));
+      if constexpr (std::is_floating_point_v<T>) check_finite(name, out, n);
     } else if constexpr (std::is_floating_point_v<T>) {
-      if (t.dtype == DType::F32) return convert<float>(t, out, n);
-      if (t.dtype == DType::F64) return convert<double>(t, out, n);
-      throw error("tensor '" + name + "' has dtype " + dtype_name(t.dtype) + ", expected " +
-                  dtype_name(dtype_of<T>()));
+      if (t.dtype == DType::F32) convert<float>(t, out, n);
+      else if (t.dtype == DType::F64) convert<double>(t, out, n);
+      else
+        throw error("tensor '" + name + "' has dtype " + dtype_name(t.dtype) + ", expected " +
+                    dtype_name(dtype_of<T>()));
+      check_finite(name, out, n);
     } else {
       throw error("tensor '" + name + "' has dtype " + dtype_name(t.dtype) + ", expected " +
                   dtype_name(dtype_of<T>()));
@@ -308,6 +328,18 @@ class Blob {
       return std::string(take(len, "a string"));
     }
   };
+
+  // Every real value a reader takes is finite: no weight, statistic, optimizer moment or
+  // learning rate of ours is NaN or infinite, and one that is poisons every output while
+  // the run exits 0 (a CRC only says the bytes are the ones written).
+  template <class T>
+  void check_finite(const std::string& name, const T* v, size_t n) const {
+    if (all_finite(v, int64_t(n))) return;
+    size_t i = 0;
+    while (i < n && std::isfinite(v[i])) ++i;
+    throw error("tensor '" + name + "' holds a non-finite value (" + (std::isnan(v[i]) ? "NaN" : "Inf") +
+                ") at index " + std::to_string(i));
+  }
 
   void add(const std::string& name, BlobTensor t) {
     if (has(name)) throw error("tensor '" + name + "' is stored twice");

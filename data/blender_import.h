@@ -109,16 +109,33 @@ inline View convert(const View& in, const ImportSettings& s) {
   out.world_to_camera = s.world_to_camera ? s.world_to_camera : in.world_to_camera;
   const size_t n = size_t(in.width) * size_t(in.height);
 
+  // "<file>: pass <name>, pixel (x, y): <problem>": what a user needs to find it.
+  auto at = [&](const std::string& p, size_t i, const std::string& what) {
+    return std::runtime_error(in.source + ": pass " + p + ", pixel (" + std::to_string(i % size_t(in.width)) + ", " +
+                              std::to_string(i / size_t(in.width)) + "): " + what);
+  };
   auto& z = out.add_channel("Z");
   z = in.channel(pass("Depth.Z"));
-  for (float& v : z)
-    if (!(v > 0) || v >= s.sky_depth) v = INFINITY;
+  // Cycles writes the background as 0 or a huge value (sky); a NaN or a negative depth is
+  // no distance at all, and made sky it would hide a broken render.
+  for (size_t i = 0; i < z.size(); ++i) {
+    float& v = z[i];
+    if (std::isnan(v) || v < 0) throw at(pass("Depth.Z"), i, "depth " + std::to_string(v) + " is no distance (NaN or negative)");
+    if (v == 0 || v >= s.sky_depth) v = INFINITY;
+  }
 
   if (in.has(pass("Normal.X"))) {
     if (!out.world_to_camera)
       throw std::runtime_error(in.source + ": world-space normals need the camera: render with "
                                "tools/blender_capture.py, or pass --world-to-camera (docs/blender.md)");
     const auto& m = *out.world_to_camera;
+    // The rotation part must turn a direction into one: 16 zeros made every normal zero.
+    const double det = double(m[0]) * (double(m[5]) * m[10] - double(m[6]) * m[9]) -
+                       double(m[1]) * (double(m[4]) * m[10] - double(m[6]) * m[8]) +
+                       double(m[2]) * (double(m[4]) * m[9] - double(m[5]) * m[8]);
+    if (!(std::fabs(det) > 1e-12) || !std::isfinite(det))
+      throw std::runtime_error(in.source + ": the world-to-camera matrix's upper-left 3x3 is singular (determinant " +
+                               std::to_string(det) + "): it rotates no normal into camera space");
     const auto &wx = in.channel(pass("Normal.X")), &wy = in.channel(pass("Normal.Y")), &wz = in.channel(pass("Normal.Z"));
     auto &nx = out.add_channel("N.X"), &ny = out.add_channel("N.Y"), &nz = out.add_channel("N.Z");
     for (size_t i = 0; i < n; ++i) {
@@ -127,7 +144,12 @@ inline View convert(const View& in, const ImportSettings& s) {
       float c[3];
       for (int r = 0; r < 3; ++r) c[r] = m[size_t(4 * r)] * wx[i] + m[size_t(4 * r + 1)] * wy[i] + m[size_t(4 * r + 2)] * wz[i];
       float len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-      if (len > 0) nx[i] = c[0] / len, ny[i] = c[1] / len, nz[i] = c[2] / len;
+      if (!(len > 0 && std::isfinite(len))) {
+        const char* axis = !std::isfinite(wx[i]) ? "Normal.X" : !std::isfinite(wy[i]) ? "Normal.Y" : !std::isfinite(wz[i]) ? "Normal.Z" : "Normal.X";
+        throw at(pass(axis), i, "the normal (" + std::to_string(wx[i]) + ", " + std::to_string(wy[i]) + ", " +
+                                    std::to_string(wz[i]) + ") has no direction (NaN, infinite or zero)");
+      }
+      nx[i] = c[0] / len, ny[i] = c[1] / len, nz[i] = c[2] / len;
     }
   }
 

@@ -3,6 +3,7 @@
 #include "data/exr_io.h"
 
 #include "data/exr_header_check.h"
+#include "core/atomic_file.h"
 
 #include <unistd.h>
 
@@ -196,17 +197,15 @@ void write_view(const std::string& path, const View& v, const WriteOptions& opti
     }
   }
 
-  const std::string tmp = path + ".partial-" + std::to_string(getpid());
+  // The one temporary-name convention (core/atomic_file.h), so the next run into the
+  // folder removes what a killed render left.
   try {
-    {
+    write_path_atomic(path, [&](const std::string& tmp) {
       Imf::OutputFile out(tmp.c_str(), h);
       out.setFrameBuffer(fb);
       out.writePixels(v.height);
-    }
-    std::filesystem::rename(tmp, path);
+    });
   } catch (const std::exception& e) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
     throw file_error(path, std::string("cannot write EXR (") + e.what() + ")");
   }
 }

@@ -52,7 +52,8 @@ struct WriteOptions {
   bool half = false;
 };
 
-// Writes to "<path>.partial-<pid>" and renames, so a reader never sees half a file.
+// Writes to "<path>.tmp.<pid>" and renames (core/atomic_file.h), so a reader never sees
+// half a file.
 // Throws "<file>: <problem>" if the view is inconsistent (plane sizes) or on I/O errors.
 void write_view(const std::string& path, const View& v, const WriteOptions& options = {});
 

@@ -99,9 +99,15 @@ void check_view(const View& v, const ExrInfo* info, bool is_front, const Validat
   if (v.scene.empty()) sink.error(f, "", "missing header attribute 'scene' (string)");
   if (v.has("AO")) {
     if (!v.ao_radius) sink.error(f, "AO", "missing header attribute 'aoRadius' (required when AO is present)");
-    else if (!(*v.ao_radius > 0))
-      sink.error(f, "AO", "header attribute 'aoRadius' is " + fmt(*v.ao_radius) + ", expected > 0");
+    else if (!(*v.ao_radius > 0 && std::isfinite(*v.ao_radius)))  // import-blender --ao-radius 1e39 wrote inf
+      sink.error(f, "AO", "header attribute 'aoRadius' is " + fmt(*v.ao_radius) + ", expected a finite number > 0");
   }
+  if (v.world_to_camera)
+    for (float x : *v.world_to_camera)
+      if (!std::isfinite(x)) {
+        sink.error(f, "", "header attribute 'worldToCamera' holds " + fmt(x) + ", expected finite numbers");
+        break;
+      }
   if (info)
     for (auto& c : info->channels)
       if (c.name == "Z" && c.half)

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "classical_ao/params.h"
 #include "core/atomic_file.h"
 #include "core/blob.h"
 #include "data/exr_io.h"
@@ -177,6 +178,21 @@ int main(int argc, char** argv) {
   image("light.hdr", 2, {"R", "G", "B"}, data::PixelType::f32);
   image("names.exr", 3, {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, data::PixelType::f32);
   image("half.exr", 3, {"Z"}, data::PixelType::f16);
-  std::printf("make_seeds: wrote %s/{blob,checkpoint,exr,scene,metrics,image}\n", dir.c_str());
+  // classical_params: the file tune-classical-ao writes (classical_ao/params.h).
+  {
+    ao::ClassicalParams p;
+    p.hbao.angle_bias = 0.2f, p.gtao.falloff = 0.5f;
+    put(dir / "classical_params" / "tuned.txt", ao::format_classical_params(p, "seed") + "# a comment\n\n");
+  }
+  // blender_import: width 2, height 1, a capture note as tools/blender_capture.py writes
+  // it, then the planes Depth.Z, Normal.X, Normal.Y, Normal.Z, AO.R (fuzz_blender_import.cpp).
+  {
+    std::string b = std::string("\x01\x00", 2) +
+                    "nnshade-camera 1\nfovY=40\nworldToCamera=1,0,0,5,0,0,1,-2,0,-1,0,7,0,0,0,1\naoRadius=0.75\nscene=room";
+    b += '\0';
+    for (float f : {3.0f, 1e10f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.5f, 0.0f}) b.append(reinterpret_cast<const char*>(&f), 4);
+    put(dir / "blender_import" / "two-pixels", b);
+  }
+  std::printf("make_seeds: wrote %s/{blob,checkpoint,exr,scene,metrics,image,classical_params,blender_import}\n", dir.c_str());
   return 0;
 }

@@ -43,10 +43,15 @@ class Checkpoint {
   // registers its own counters (runs/training_run.h) may be made anew for the same
   // checkpoint, and the old registration must not point into the old object
   // (AddressSanitizer found exactly that: a stack-use-after-scope on restore).
-  Checkpoint& add_counter(const std::string& name, int64_t& c) {
-    for (auto& [n, p] : counters_)
-      if (n == name) return p = &c, *this;
-    counters_.emplace_back(name, &c);
+  //
+  // A counter read back must lie in [lo, hi] (a checkpoint is outside bytes: an
+  // epochs_done of 2^62 resumed "at epoch 4611686018427387904", -1 ran an extra epoch).
+  // The default ceiling, 2^53, is the largest count the metrics log writes exactly.
+  static constexpr int64_t kMaxCounter = int64_t(1) << 53;
+  Checkpoint& add_counter(const std::string& name, int64_t& c, int64_t lo = 0, int64_t hi = kMaxCounter) {
+    for (auto& counter : counters_)
+      if (counter.name == name) return counter = {name, &c, lo, hi}, *this;
+    counters_.push_back({name, &c, lo, hi});
     return *this;
   }
   // Any other state that writes and reads its own blob entries (a trainer's running sums).
@@ -64,7 +69,7 @@ class Checkpoint {
     for (auto& [name, m] : modules_) put_module(b, *m, "module." + name + ".");
     for (auto& [name, o] : optimizers_) o->save_state(b, "optim." + name + ".");
     for (auto& [name, r] : rngs_) b.put("rng." + name, Shape{4}, r->state().data());
-    for (auto& [name, c] : counters_) b.put_i64("counter." + name, *c);
+    for (auto& c : counters_) b.put_i64("counter." + c.name, *c.value);
     for (auto& st : states_) st.first(b);
   }
 
@@ -84,7 +89,13 @@ class Checkpoint {
       b.read("rng." + name, Shape{4}, s.data());
       r->set_state(s);
     }
-    for (auto& [name, c] : counters_) *c = b.get_i64("counter." + name);
+    for (auto& c : counters_) {
+      const int64_t v = b.get_i64("counter." + c.name);
+      if (v < c.lo || v > c.hi)
+        throw b.error("counter '" + c.name + "' is " + std::to_string(v) + ", out of range " + std::to_string(c.lo) +
+                      ".." + std::to_string(c.hi));
+      *c.value = v;
+    }
     for (auto& st : states_) st.second(b);
   }
 
@@ -92,7 +103,12 @@ class Checkpoint {
   std::vector<std::pair<std::string, Module<T>*>> modules_;
   std::vector<std::pair<std::string, Optimizer<T>*>> optimizers_;
   std::vector<std::pair<std::string, Rng*>> rngs_;
-  std::vector<std::pair<std::string, int64_t*>> counters_;
+  struct Counter {
+    std::string name;
+    int64_t* value;
+    int64_t lo, hi;
+  };
+  std::vector<Counter> counters_;
   std::vector<std::pair<std::function<void(Blob&)>, std::function<void(const Blob&)>>> states_;
 };
 

@@ -7,6 +7,7 @@
 // a checkpoint restores into an optimizer built over the same model the same way.
 #include <cstdint>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -46,11 +47,17 @@ class Optimizer {
   // The learning rate of a saved state: a checkpoint is outside bytes, so a value that is
   // no learning rate is an error naming the file (fuzz_checkpoint found a negative one
   // escaping as set_lr's invalid_argument, which names nothing).
+  // The ceiling is the trainers' --lr ceiling: a checkpoint holds no rate a flag could not
+  // have set (a GAN checkpoint's 1e300 resumed and trained on).
+  static constexpr double kMaxLearningRate = 1e9;
   void load_lr(const Blob& b, const std::string& key) {
     const double lr = b.get_f64(key);
-    if (!(std::isfinite(lr) && lr >= 0))
-      throw std::runtime_error("blob '" + b.source() + "': " + key + " is " + std::to_string(lr) +
-                               ", not a learning rate");
+    if (!(std::isfinite(lr) && lr >= 0 && lr <= kMaxLearningRate)) {
+      char v[32];
+      std::snprintf(v, sizeof v, "%g", lr);
+      throw std::runtime_error("blob '" + b.source() + "': " + key + " is " + v +
+                               ", not a learning rate (expected 0..1e9)");
+    }
     lr_ = lr;
   }
 

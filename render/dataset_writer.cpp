@@ -1,5 +1,7 @@
 #include "render/dataset_writer.h"
 
+#include "core/atomic_file.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,6 +11,7 @@
 #include <fstream>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <unistd.h>
 
@@ -131,9 +134,8 @@ std::vector<std::string> families_in(const std::vector<SceneTask>& tasks, const 
 void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) {
   const std::vector<std::string>& holdout = job.holdout_families;
   fs::path path = fs::path(job.out) / kMetadataFile;
-  fs::path tmp = path.string() + ".partial-" + std::to_string(::getpid());
   {
-    std::ofstream m(tmp);
+    std::ostringstream m;
     m << "# nnshade dataset metadata (docs/dataset-format.md, \"Dataset metadata\")\n"
       << "format: nnshade-dataset-metadata 1\n"
       << "preset: " << job.preset << "\n"
@@ -153,9 +155,8 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
                     v.pitch_widen);
       m << buf;
     }
-    if (!m) throw std::runtime_error(tmp.string() + ": cannot write");
+    write_file_atomic(path.string(), m.str());
   }
-  fs::rename(tmp, path);
 }
 
 // Splits `total` views over scenes of about `per_scene` views each (whole paths of
@@ -187,6 +188,37 @@ void add_tasks(std::vector<SceneTask>& tasks, const std::string& split, int tota
   }
 }
 }  // namespace
+
+int rendered_views_in(const std::string& out) {
+  int n = 0;
+  std::error_code ec;
+  auto count = [&](const fs::path& dir, bool frames) {
+    for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+      std::error_code type_ec;
+      if (it->is_regular_file(type_ec) && it->path().extension() == ".exr") ++n;
+      else if (frames && it->is_directory(type_ec)) ++n;  // a surround frame
+    }
+    ec.clear();
+  };
+  count(out, false);
+  for (const char* split : {"train", "test", "holdout"}) count(fs::path(out) / split, true);
+  return n;
+}
+
+void prepare_render_folder(const std::string& out, bool replace) {
+  const int n = rendered_views_in(out);
+  if (n == 0) return;
+  if (!replace)
+    throw std::runtime_error(out + ": holds " + std::to_string(n) +
+                             " views of another render; render into a new folder, or pass --replace to remove them first");
+  std::error_code ec;
+  std::vector<fs::path> top;
+  for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
+    if (it->path().extension() == ".exr") top.push_back(it->path());
+  for (auto& p : top) fs::remove(p);
+  for (const char* split : {"train", "test", "holdout"}) fs::remove_all(fs::path(out) / split);
+  fs::remove(fs::path(out) / kMetadataFile);
+}
 
 DatasetReport render_dataset(DatasetJob job) {
   auto t0 = std::chrono::steady_clock::now();

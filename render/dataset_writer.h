@@ -83,4 +83,13 @@ inline constexpr const char* kMetadataFile = "metadata.txt";
 
 DatasetReport render_dataset(DatasetJob job);
 
+// How many views (files *.exr, or surround frame folders) `out` holds from an earlier
+// render, in train/, test/, holdout/ or at its top.
+int rendered_views_in(const std::string& out);
+
+// Before a render into `out`: a folder that holds another render's views is refused
+// (render-dataset --views 6 and then --views 2 into one folder kept four stale views
+// beside the new ones), unless `replace`, which removes those views and metadata.txt.
+void prepare_render_folder(const std::string& out, bool replace);
+
 }  // namespace nns::data

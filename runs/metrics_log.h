@@ -13,8 +13,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -106,10 +108,17 @@ inline std::optional<MetricsRecord> parse_metrics_line(const std::string& line) 
   return r;
 }
 
-// Every well-formed line of a metrics file (none if it does not exist).
+// The largest metrics log read back: a line per logged step of about 100 bytes gives
+// millions of steps.
+inline constexpr uint64_t kMaxMetricsBytes = uint64_t(1) << 30;
+
+// Every well-formed line of a metrics file (none if it does not exist). Anything else at
+// that name (a FIFO, a device, a file above the limit) is an error naming it.
 inline std::vector<MetricsRecord> read_metrics(const std::string& path) {
   std::vector<MetricsRecord> out;
-  std::ifstream in(path);
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec)) && !ec) return out;
+  std::istringstream in(read_file(path, kMaxMetricsBytes));
   std::string line;
   while (std::getline(in, line))
     if (auto r = parse_metrics_line(line)) out.push_back(*r);

@@ -1,7 +1,8 @@
 #pragma once
 // What every training run shares, so that a trainer is only its loop body (the split of
 // dlib's dnn_trainer: the network code never touches files):
-//   - the output folder, with temporaries of a killed run's atomic writes removed;
+//   - the output folder, locked for the run (a second run into it is refused) and with
+//     temporaries of a killed run's atomic writes removed;
 //   - the metrics log (runs/metrics_log.h, one format, truncated correctly on resume);
 //   - the checkpoint (optim/checkpoint.h: modules, optimizer moments, RNGs, counters)
 //     holding the run's configuration, so that --resume with another learning rate,
@@ -33,6 +34,7 @@
 
 #include "core/atomic_file.h"
 #include "core/blob.h"
+#include "core/folder_lock.h"
 #include "optim/checkpoint.h"
 #include "runs/distributed/world.h"
 #include "runs/metrics_log.h"
@@ -83,13 +85,16 @@ inline std::string config_changes(const Blob& saved, const RunSpec& spec) {
 
 class TrainingRun {
  public:
+  static constexpr int64_t kMaxEpochs = 100000;
   // `step` is the trainer's step counter: the checkpoint keeps it, and a resumed log
   // keeps the lines up to it.
   TrainingRun(RunSpec spec, Checkpoint<float>& ck, int64_t& step) : spec_(std::move(spec)), ck_(ck), step_(step) {
     namespace fs = std::filesystem;
     fs::create_directories(spec_.out);
-    if (writes_files()) remove_stale_temporaries(spec_.out);
-    ck_.add_counter("epochs_done", epochs_done_).add_counter("step", step_);
+    // One run per folder (core/folder_lock.h); rank 0 holds it for the whole world.
+    if (writes_files()) lock_ = prepare_output_folder(spec_.out, spec_.app);
+    // At most the trainers' --epochs ceiling.
+    ck_.add_counter("epochs_done", epochs_done_, 0, kMaxEpochs).add_counter("step", step_);
     const std::string ck_path = path(spec_.checkpoint_name);
     if (spec_.resume) {
       if (!fs::exists(ck_path))
@@ -118,13 +123,31 @@ class TrainingRun {
   void log(const MetricsRecord& r) { log_.append(r); }
 
   // After each epoch: the outputs, then the checkpoint that says the epoch is done.
+  // Nothing is written unless every tensor the checkpoint holds is finite (weights,
+  // buffers such as BatchNorm's running_var, optimizer moments): the loss check alone let
+  // a run exit 0 with +inf in 20 running_var values of G.blob.
   void end_epoch(int64_t epochs_done, const std::function<void()>& write_outputs) {
+    check_state_finite();
     if (writes_files() && write_outputs) write_outputs();
     epochs_done_ = epochs_done;
     if (!writes_files()) return;
     Blob meta(spec_.checkpoint_kind);
     for (auto& [k, v] : spec_.config) meta.set_config(k, v);
     ck_.save(path(spec_.checkpoint_name), meta);
+  }
+
+  // Throws NonFiniteError naming the first tensor of the checkpoint that holds a NaN or
+  // an Inf. Every rank checks (they hold the same state), so all of them stop together.
+  void check_state_finite() const {
+    Blob state;
+    ck_.fill(state);
+    for (auto& [name, t] : state.tensors()) {
+      const int64_t n = t.numel();
+      if (t.dtype == DType::F32 && !all_finite(reinterpret_cast<const float*>(t.bytes.data()), n))
+        throw NonFiniteError(step_, name);
+      if (t.dtype == DType::F64 && !all_finite(reinterpret_cast<const double*>(t.bytes.data()), n))
+        throw NonFiniteError(step_, name);
+    }
   }
 
   // summary.json and the report: how the run ended, and the trainer's own figures;
@@ -153,6 +176,7 @@ class TrainingRun {
 
  private:
   RunSpec spec_;
+  FolderLock lock_;
   Checkpoint<float>& ck_;
   int64_t epochs_done_ = 0;
   int64_t& step_;

@@ -66,9 +66,15 @@ inline LoadedGenerator load_generator(const std::string& path) {
   LoadedGenerator g;
   g.inputs.mode = parse_mode(b.config_string("mode"));
   g.inputs.coordconv = b.config_string("coordconv") == "on";
-  g.inputs.size = int(b.config_int("size"));
-  g.inputs.norm.depth_max = float(b.config_double("depth_max"));
-  g.inputs.norm.hdr_scale = float(b.config_double("hdr_scale"));
+  // Integers checked as stored, then narrowed; the ranges are train-gan's flags'.
+  g.inputs.size = b.config_int("size", 0, 16384);
+  const auto positive = [&](const char* key) {
+    const double v = b.config_double(key);  // finite as a float
+    if (!(v > 0)) throw b.error("config key '" + std::string(key) + "' is " + b.config_string(key) + ", expected > 0");
+    return float(v);
+  };
+  g.inputs.norm.depth_max = positive("depth_max");
+  g.inputs.norm.hdr_scale = positive("hdr_scale");
   g.config.hdr_scale = g.inputs.norm.hdr_scale;
   if (b.has_config("light_max")) {
     const double light_max = b.config_double("light_max");
@@ -90,12 +96,13 @@ inline LoadedGenerator load_generator(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(path + ": " + e.what());
   }
-  u.in_channels = int(b.config_int("in_channels"));
-  u.out_channels = int(b.config_int("out_channels"));
-  u.ngf = int(b.config_int("ngf"));
-  u.levels = int(b.config_int("levels"));
+  u.in_channels = b.config_int("in_channels", 1, 64);
+  u.out_channels = b.config_int("out_channels", 1, 64);
+  u.ngf = b.config_int("ngf", 1, 1024);
+  u.levels = b.config_int("levels", 1, 12);
   u.dropout = float(b.config_double("dropout"));
-  u.dropout_blocks = int(b.config_int("dropout_blocks"));
+  if (!(u.dropout >= 0 && u.dropout < 1)) throw b.error("config key 'dropout' is " + b.config_string("dropout") + ", expected 0 <= p < 1");
+  u.dropout_blocks = b.config_int("dropout_blocks", 0, 12);
   u.batchnorm = !(b.has_config("batchnorm") && b.config_string("batchnorm") == "off");
   if (u.in_channels != g.inputs.channels())
     throw std::runtime_error(path + ": in_channels " + std::to_string(u.in_channels) +
@@ -126,7 +133,7 @@ inline std::unique_ptr<PatchGan<float>> load_discriminator(const std::string& pa
   Blob b = Blob::load(path);
   if (b.kind() != kDiscriminatorKind)
     throw b.error("holds a '" + b.kind() + "' model, expected '" + kDiscriminatorKind + "'");
-  const PatchGanConfig c{int(b.config_int("in_channels")), int(b.config_int("ndf")), int(b.config_int("layers"))};
+  const PatchGanConfig c{b.config_int("in_channels", 1, 64), b.config_int("ndf", 1, 1024), b.config_int("layers", 1, 10)};
   Rng rng(0);
   auto d = std::make_unique<PatchGan<float>>(c, rng);
   get_module(b, *d, "D.");

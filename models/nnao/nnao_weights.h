@@ -91,10 +91,11 @@ struct NnaoWeights {
     if (blob.kind() != "nnao")
       throw blob.error("holds a '" + blob.kind() + "' model, expected 'nnao'");
     NnaoWeights m;
-    m.input.window = int(blob.config_int("window"));
-    m.hidden = int(blob.config_int("hidden"));
+    // Checked as stored, then narrowed (a window of 4294967303 read as 7).
+    m.input.window = blob.config_int("window", 0, 63);  // horizon models store 0 (unused)
+    m.hidden = blob.config_int("hidden", 1, 64);
     m.radius = float(blob.config_double("radius"));
-    if (m.hidden < 1 || m.hidden > 64) throw blob.error("hidden " + std::to_string(m.hidden) + " out of range");
+    if (!(m.radius >= 0)) throw blob.error("radius " + blob.config_string("radius") + " out of range: expected >= 0 (0: each view's aoRadius)");
     if (blob.has_config("features")) {
       m.input.kind = blob.config_string("features");
       auto layout_int = [&](const char* key) {  // range-checked before it becomes an int
@@ -143,6 +144,12 @@ struct NnaoWeights {
     std::vector<float> ts = vec("target_stats", {2});
     m.target_mean = ts[0];
     m.target_std = ts[1];
+    // The trainer stores a constant's std as 1 (nnao_points.h): a zero or negative one
+    // is no trained model's, and dividing by it makes the weights infinite.
+    if (!(m.target_std > 0)) throw blob.error("tensor 'target_stats' holds a standard deviation of " + std::to_string(ts[1]) + ", expected > 0");
+    for (int64_t f = 0; f < F; ++f)
+      if (!(stdv[size_t(f)] > 0))
+        throw blob.error("tensor 'feature_std' holds " + std::to_string(stdv[size_t(f)]) + " at index " + std::to_string(f) + ", expected > 0");
     m.w0.resize(size_t(H * F));
     m.b0.resize(size_t(H));
     for (int64_t k = 0; k < H; ++k) {
@@ -154,6 +161,13 @@ struct NnaoWeights {
       }
       m.b0[size_t(k)] = float(bias);
     }
+    // A tiny std can still overflow the folded layer 0.
+    for (int64_t i = 0; i < H * F; ++i)
+      if (!std::isfinite(m.w0[size_t(i)]))
+        throw blob.error("tensor 'fc0.weight' divided by 'feature_std' overflows at index " + std::to_string(i));
+    for (int64_t k = 0; k < H; ++k)
+      if (!std::isfinite(m.b0[size_t(k)]))
+        throw blob.error("tensor 'fc0.bias' with the standardisation folded in overflows at index " + std::to_string(k));
     for (int l = 0; l < 3; ++l) {
       const int64_t out = l == 2 ? 1 : H;
       m.w[l] = vec("fc" + std::to_string(l + 1) + ".weight", {out, H});

@@ -39,7 +39,7 @@ INSTANTIATE_TEST_SUITE_P(
     Issue13, FlagRanges,
     ::testing::Values(
         Case{"train-nnao", "--epochs 4294967297", "--epochs: 4294967297 is out of range"},
-        Case{"train-nnao", "--gamma -1", "--gamma: -1 is out of range: expected a number in [0, inf)"},
+        Case{"train-nnao", "--gamma -1", "--gamma: -1 is out of range: expected a number in [0, 3.40282e+38]"},
         Case{"train-nnao", "--radius -1", "--radius: -1 is out of range"},
         Case{"train-nnao", "--test-points-per-view -1", "--test-points-per-view: -1 is out of range"},
         Case{"train-nnao", "--test-points-per-view 0", "--test-points-per-view: 0 is out of range"},
@@ -59,6 +59,37 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"sweep-gan", "--epochs 0", "--epochs: 0 is out of range"},
         Case{"sweep-gan", "--ssim-tolerance -1", "--ssim-tolerance: -1 is out of range"},
         Case{"sweep-gan", "--sizes 16,x", "--sizes: expected a comma-separated list of integers"}));
+
+// Issue 30: a real-valued flag was checked as a double and then narrowed to an infinite
+// float; tune-classical-ao's counts had no range; an empty list ran nothing and exited 0;
+// render-dataset --size 65536x65536 died in std::bad_alloc naming no flag.
+INSTANTIATE_TEST_SUITE_P(
+    Issue30, FlagRanges,
+    ::testing::Values(
+        Case{"train-nnao", "--radius 1e39", "--radius: 1e39 is out of range"},
+        Case{"nnao-infer", "--depth-scale 1e39", "--depth-scale: 1e39 is out of range"},
+        Case{"gi-infer", "--depth-scale 1e39", "--depth-scale: 1e39 is out of range"},
+        Case{"import-blender", "--ao-radius 1e39 x.exr", "--ao-radius: 1e39 is out of range"},
+        Case{"tune-classical-ao", "--threads 100000", "--threads: 100000 is out of range"},
+        Case{"tune-classical-ao", "--threads 0", "--threads: 0 is out of range"},
+        Case{"tune-classical-ao", "--rounds 0", "--rounds: 0 is out of range"},
+        Case{"tune-classical-ao", "--rounds 4294967297", "--rounds: 4294967297 is out of range"},
+        Case{"tune-classical-ao", "--max-views -5", "--max-views: -5 is out of range"},
+        Case{"tune-classical-ao", "--methods ''", "--methods: no name in ''"},
+        Case{"eval-ao", "--methods ''", "--methods: no name in ''"},
+        Case{"eval-ao", "--methods ,", "--methods: no name in ','"},
+        Case{"render-dataset", "--size 65536x65536", "--size: 65536x65536 is out of range: each side at most 16384"},
+        Case{"render-dataset", "--size 320x16385", "--size: 320x16385 is out of range"}));
+
+// "--out ''" wrote eval-ao's eleven outputs into the current folder.
+TEST(FlagRanges, AnEmptyOutputPathIsRefusedNamingTheFlag) {
+  for (const char* app : {"eval-ao", "tune-classical-ao", "train-nnao", "train-gan", "export-nnao", "eval-gi",
+                          "render-dataset", "nnao-infer", "gi-infer", "import-blender", "sweep-gan"}) {
+    auto r = run_app(app, "--out ''");
+    EXPECT_EQ(r.code, 2) << app << "\n" << r.output;
+    EXPECT_NE(r.output.find("--out: expected a path, got ''"), std::string::npos) << app << "\n" << r.output;
+  }
+}
 
 // The grid of a window-7 model has 49 cells: 100000000 samples used to be reported as
 // asked while 49 ran.

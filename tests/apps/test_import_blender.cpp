@@ -227,3 +227,36 @@ TEST(ImportBlender, RefusesAMalformedCaptureNoteNamingTheFile) {
   EXPECT_NE(junk.output.find("--world-to-camera: expected 16 comma-separated finite numbers"), std::string::npos)
       << junk.output;
 }
+
+// NaN, -inf and negative depth became sky, a NaN normal (0, 0, 0), and a world-to-camera
+// of 16 zeros made every normal zero; each exited 0 with views dataset-info rejects.
+TEST(ImportBlender, RefusesBrokenDepthAndNormalsNamingFilePassAndPixel) {
+  Dir d;
+  const std::string flags = "--fov-y 40 --ao-radius 0.5 --world-to-camera \"" + std::string(kWorldToCamera) + "\" ";
+  struct Broken {
+    const char* pass;
+    float value;
+    const char* expect;
+  };
+  for (const Broken& b : {Broken{"Depth.Z", NAN, "pass ViewLayer.Depth.Z, pixel (2, 1)"},
+                          Broken{"Depth.Z", -INFINITY, "pass ViewLayer.Depth.Z, pixel (2, 1)"},
+                          Broken{"Depth.Z", -1.5f, "pass ViewLayer.Depth.Z, pixel (2, 1)"},
+                          Broken{"Normal.Y", NAN, "pass ViewLayer.Normal.Y, pixel (2, 1)"}}) {
+    View v = blender_view("ViewLayer");
+    v.channels[std::string("ViewLayer.") + b.pass][6] = b.value;
+    const std::string in = d / "broken.exr", out = d / "out.exr";
+    write_view(in, v);
+    Outcome r = run("import-blender", flags + "--out " + out + " " + in);
+    EXPECT_EQ(r.code, 1) << b.pass << " " << b.value << "\n" << r.output;
+    EXPECT_NE(r.output.find(in), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(b.expect), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out)) << b.pass << " " << b.value;
+  }
+  write_view(d / "render.exr", blender_view("ViewLayer"));
+  Outcome r = run("import-blender", "--fov-y 40 --ao-radius 0.5 --world-to-camera \"0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\" --out " +
+                                        (d / "out.exr") + " " + (d / "render.exr"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find(d / "render.exr"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("world-to-camera"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "out.exr"));
+}

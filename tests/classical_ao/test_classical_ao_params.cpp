@@ -1,6 +1,13 @@
 // The classical methods' explicit parameters (params.h) and their tuning (tune.h).
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <future>
+
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -72,6 +79,41 @@ TEST(ClassicalAoParams, FileRoundTripsAndRejectsBadLines) {
     }
   }
   std::remove(path.c_str());
+}
+
+// eval-ao --classical-params /dev/zero grew to the memory limit and then silently used
+// the built-in parameters: a device, a FIFO or a file above the limit is an error naming
+// it, never a fallback.
+TEST(ClassicalAoParams, AFileThatIsNoRegularFileOrTooLargeIsAnErrorNotTheDefaults) {
+  const std::string big = ::testing::TempDir() + "classical_params_big.txt";
+  {
+    std::ofstream f(big);
+    f << ao::format_classical_params(ao::ClassicalParams{});
+    for (int i = 0; i < 40000; ++i) f << "# a comment line that makes the file larger than any parameter file\n";
+  }
+  const std::string fifo = ::testing::TempDir() + "classical_params_fifo.txt";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& path : {std::string("/dev/null"), big, fifo}) {
+    auto read = std::async(std::launch::async, [&]() -> std::string {
+      try {
+        ao::read_classical_params(path);
+      } catch (const std::runtime_error& e) {
+        return e.what();
+      }
+      return "";
+    });
+    if (read.wait_for(std::chrono::seconds(5)) != std::future_status::ready) {
+      ADD_FAILURE() << "reading " << path << " blocks";
+      int fd = ::open(path.c_str(), O_WRONLY);  // lets the blocked reader go on
+      if (fd >= 0) ::close(fd);
+    }
+    const std::string e = read.get();
+    EXPECT_NE(e.find(path), std::string::npos) << path << ": " << e;
+    EXPECT_NE(e.find("1 MiB"), std::string::npos) << "the limit is stated: " << e;
+  }
+  std::remove(big.c_str());
+  std::remove(fifo.c_str());
 }
 
 TEST(ClassicalAoParams, TuningLowersTheErrorItMinimises) {

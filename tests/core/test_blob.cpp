@@ -212,8 +212,67 @@ TEST_F(BlobTest, FloatTensorsConvertBetweenPrecisions) {
   Blob b = sample();
   auto w = b.tensor<double>("fc.weight", {2, 3});
   EXPECT_EQ(w[2], 3.5);
-  auto bias = b.tensor<float>("fc.bias", {3});
-  EXPECT_EQ(bias[0], 0.1f);
+  Blob small;
+  small.put("bias", Tensor<double>::from({2}, {0.1, -0.2}));
+  EXPECT_EQ(small.tensor<float>("bias", {2})[0], 0.1f);
+  // 1e300 does not fit a float: read as one it would be an infinite weight.
+  try {
+    b.tensor<float>("fc.bias", {3});
+    ADD_FAILURE() << "1e300 read as a float";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("tensor 'fc.bias' holds a non-finite value (Inf) at index 2"), std::string::npos)
+        << e.what();
+  }
+}
+
+// A CRC-valid blob with a NaN or inf weight was used: nnao-infer gave AO = 0 on every
+// pixel and exited 0. Every floating-point read refuses it, naming the file and tensor.
+TEST_F(BlobTest, ANonFiniteValueIsRefusedNamingTheFileTheTensorAndTheIndex) {
+  for (float bad : {std::nanf(""), HUGE_VALF, -HUGE_VALF}) {
+    Blob b("nnao");
+    b.put("fc1.weight", Tensor<float>::from({2, 2}, {1, 2, bad, 4}));
+    b.put("stats", Tensor<double>::from({2}, {0.5, double(bad)}));
+    b.save(path("nnao.blob"));
+    const Blob r = Blob::load(path("nnao.blob"));
+    for (auto [name, index] : {std::pair<const char*, int>{"fc1.weight", 2}, {"stats", 1}}) {
+      for (int as_double = 0; as_double < 2; ++as_double) {
+        try {
+          const Shape shape = std::string(name) == "stats" ? Shape{2} : Shape{2, 2};
+          if (as_double) r.tensor<double>(name, shape);
+          else r.tensor<float>(name, shape);
+          ADD_FAILURE() << name << " " << bad << " accepted";
+        } catch (const std::runtime_error& e) {
+          const std::string m = e.what();
+          EXPECT_NE(m.find(path("nnao.blob")), std::string::npos) << m;
+          EXPECT_NE(m.find(std::string("tensor '") + name + "' holds a non-finite value (" +
+                           (std::isnan(bad) ? "NaN" : "Inf") + ") at index " + std::to_string(index)),
+                    std::string::npos) << m;
+        }
+      }
+    }
+  }
+}
+
+// A radius of 1e39 passed as a double and became inf as a float; a window of 4294967303
+// was narrowed to 7 before any check.
+TEST_F(BlobTest, ConfigNumbersAreFiniteAsFloatsAndIntegersCheckedAsStored) {
+  Blob b("nnao");
+  for (const char* bad : {"1e39", "nan", "inf", "-inf", "1e309"}) {
+    b.set_config("radius", std::string(bad));
+    EXPECT_THROW(b.config_double("radius"), std::runtime_error) << bad;
+  }
+  b.set_config("radius", 1e38);
+  EXPECT_EQ(b.config_double("radius"), 1e38);
+  b.set_config("window", std::string("4294967303"));
+  try {
+    b.config_int("window", 1, 63);
+    ADD_FAILURE() << "4294967303 accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("config key 'window' is 4294967303, out of range 1..63"), std::string::npos)
+        << e.what();
+  }
+  b.set_config("window", 7);
+  EXPECT_EQ(b.config_int("window", 1, 63), 7);
 }
 
 TEST_F(BlobTest, DuplicateNamesAreRejected) {

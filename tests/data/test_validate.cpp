@@ -92,6 +92,19 @@ TEST(CheckView, AttributesAndRanges) {
   EXPECT_EQ(p, expected);
 }
 
+// import-blender --ao-radius 1e39 wrote aoRadius=inf, which dataset-info called clean.
+TEST(CheckView, NonFiniteHeaderValuesAreProblems) {
+  View v = plane_view("s");
+  v.add_channel("AO");
+  v.ao_radius = INFINITY;
+  v.world_to_camera = std::array<float, 16>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  (*v.world_to_camera)[7] = NAN;
+  const std::vector<std::string> expected = {
+      "mem.exr: channel 'AO': header attribute 'aoRadius' is inf, expected a finite number > 0",
+      "mem.exr: header attribute 'worldToCamera' holds nan, expected finite numbers"};
+  EXPECT_EQ(problems(v), expected);
+}
+
 namespace {
 struct TempDir {
   fs::path path;

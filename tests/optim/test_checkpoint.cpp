@@ -150,9 +150,11 @@ TEST(Checkpoint, MissingEntryIsNamed) {
 
 // fuzz_checkpoint found a checkpoint whose saved learning rate was negative: set_lr's
 // invalid_argument escaped naming no file. A saved lr that is no learning rate is now
-// an error naming the blob, for Adam and SGD alike.
+// an error naming the blob, for Adam and SGD alike. A GAN checkpoint's lr of 1e300 was
+// resumed and trained on: a rate above the --lr flags' ceiling (1e9) is none either; a
+// NaN or an infinity is refused as non-finite by the blob itself.
 TEST(Checkpoint, ASavedLearningRateThatIsNoneIsRefusedNamingTheFile) {
-  for (double bad : {-4046.848, std::nan(""), HUGE_VAL}) {
+  for (double bad : {-4046.848, std::nan(""), HUGE_VAL, 1e300, 1.5e9}) {
     Rng init(1);
     Linear<float> net(init, 3, 2);
     Adam<float> adam(net.parameters());
@@ -181,7 +183,8 @@ TEST(Checkpoint, ASavedLearningRateThatIsNoneIsRefusedNamingTheFile) {
         ADD_FAILURE() << "lr " << bad << " accepted";
       } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("run/checkpoint.blob"), std::string::npos) << e.what();
-        EXPECT_NE(std::string(e.what()).find("not a learning rate"), std::string::npos) << e.what();
+        const char* why = std::isfinite(bad) ? "not a learning rate" : "non-finite";
+        EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
       }
     }
   }

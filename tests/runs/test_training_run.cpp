@@ -2,7 +2,12 @@
 // truncation on resume), the checkpoint's configuration check, the order of the
 // end-of-epoch writes, and the clean-up of a killed writer's temporaries.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <chrono>
+#include <future>
 
 #include <cmath>
 #include <filesystem>
@@ -11,6 +16,7 @@
 
 #include "core/atomic_file.h"
 #include "nn/linear.h"
+#include "optim/adam.h"
 #include "runs/metrics_log.h"
 #include "runs/training_run.h"
 
@@ -153,6 +159,168 @@ TEST(TrainingRun, OutputsAreWrittenBeforeTheCheckpointThatCoversThem) {
   run.end_epoch(1, [&] { checkpoint_existed_when_outputs_were_written = fs::exists(d / "checkpoint.blob"); });
   EXPECT_FALSE(checkpoint_existed_when_outputs_were_written);
   EXPECT_TRUE(fs::exists(d / "checkpoint.blob"));
+  fs::remove_all(d);
+}
+
+// A module with a buffer, as BatchNorm's running_var.
+struct WithBuffer : Module<float> {
+  explicit WithBuffer(Rng& rng) {
+    fc = register_module("fc", std::make_shared<Linear<float>>(rng, 3, 2));
+    running_var = &register_buffer("running_var", Tensor<float>::ones({4}));
+  }
+  Var<float> forward(const Var<float>& x) override { return fc->forward(x); }
+  std::shared_ptr<Linear<float>> fc;
+  Tensor<float>* running_var;
+};
+
+// train-gan --lr 1e9 exited 0 with +inf in BatchNorm running_var values of G.blob: the
+// loss was checked, the buffers were not. Nothing is written, the first bad tensor named.
+TEST(TrainingRun, ANonFiniteBufferOrWeightStopsTheRunBeforeAnythingIsWritten) {
+  for (const char* bad : {"buffer", "weight", "optimizer"}) {
+    fs::path d = temp_dir(std::string("nonfinite_") + bad);
+    Rng rng(1);
+    WithBuffer net(rng);
+    Adam<float> opt(net.parameters());
+    Checkpoint<float> ck;
+    ck.add_module("G", net).add_optimizer("G", opt);
+    int64_t step = 0;
+    RunSpec spec;
+    spec.app = "test";
+    spec.out = d.string();
+    TrainingRun run(spec, ck, step);
+    run.end_epoch(1, [&] { write_file_atomic((d / "G.blob").string(), "epoch 1"); });
+    std::string expected;
+    if (std::string(bad) == "buffer") (*net.running_var)[2] = HUGE_VALF, expected = "module.G.running_var";
+    if (std::string(bad) == "weight") net.fc->weight.value()[1] = std::nanf(""), expected = "module.G.fc.weight";
+    if (std::string(bad) == "optimizer") {
+      // A gradient of 1e30 squares to +inf in Adam's second moment; the step it divides
+      // is 1e30 / inf = 0, so the weight itself stays finite.
+      for (auto& g : net.fc->weight.grad_buffer()) g = 1e30f;
+      opt.step();
+      expected = "optim.G.0.v";
+    }
+    step = 12;
+    bool written = false;
+    try {
+      run.end_epoch(2, [&] { written = true; });
+      ADD_FAILURE() << "a non-finite " << bad << " was written";
+    } catch (const NonFiniteError& e) {
+      EXPECT_EQ(e.tensor, expected);
+      EXPECT_EQ(e.step, 12);
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(written);
+    EXPECT_EQ(read_file((d / "G.blob").string()), "epoch 1");
+    EXPECT_EQ(Blob::load((d / "checkpoint.blob").string()).get_i64("counter.epochs_done"), 1);
+    fs::remove_all(d);
+  }
+}
+
+// `b` with the i64 tensor `name` replaced by `value`, CRC and all: what a hostile
+// checkpoint looks like.
+Blob with_i64(const Blob& b, const std::string& name, int64_t value) {
+  Blob out(b.kind());
+  for (auto& [k, v] : b.config()) out.set_config(k, v);
+  for (auto& [n, t] : b.tensors()) {
+    const Shape sh(t.dims.begin(), t.dims.end());
+    if (n == name) out.put_i64(n, value);
+    else if (t.dtype == DType::F32) out.put(n, sh, reinterpret_cast<const float*>(t.bytes.data()));
+    else if (t.dtype == DType::F64) out.put(n, sh, reinterpret_cast<const double*>(t.bytes.data()));
+    else if (t.dtype == DType::U64) out.put(n, sh, reinterpret_cast<const uint64_t*>(t.bytes.data()));
+    else out.put(n, sh, reinterpret_cast<const int64_t*>(t.bytes.data()));
+  }
+  return out;
+}
+
+// A checkpoint's epochs_done of 2^62 resumed "at epoch 4611686018427387904" with exit 0,
+// and -1 ran an extra epoch logged as epoch -1; a step past 2^53 cannot be logged exactly.
+TEST(TrainingRun, ResumeRefusesACounterOutOfRangeNamingIt) {
+  fs::path d = temp_dir("counters");
+  Checkpoint<float> ck;
+  int64_t step = 0;
+  RunSpec spec;
+  spec.app = "test";
+  spec.out = d.string();
+  {
+    TrainingRun run(spec, ck, step);
+    step = 5;
+    run.end_epoch(1, nullptr);
+  }
+  const std::string ck_path = (d / "checkpoint.blob").string();
+  const Blob good = Blob::load(ck_path);
+  spec.resume = true;
+  for (auto [counter, value] : std::initializer_list<std::pair<const char*, int64_t>>{
+           {"counter.epochs_done", int64_t(1) << 62}, {"counter.epochs_done", -1}, {"counter.epochs_done", 100001},
+           {"counter.step", -1}, {"counter.step", (int64_t(1) << 53) + 1}}) {
+    with_i64(good, counter, value).save(ck_path);
+    try {
+      TrainingRun run(spec, ck, step);
+      ADD_FAILURE() << counter << " " << value << " accepted (epochs_done " << run.epochs_done() << ")";
+    } catch (const std::runtime_error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(ck_path), std::string::npos) << m;
+      EXPECT_NE(m.find(std::string(counter).substr(8) + "' is " + std::to_string(value) + ", out of range"),
+                std::string::npos) << m;
+    }
+  }
+  good.save(ck_path);
+  TrainingRun run(spec, ck, step);
+  EXPECT_EQ(run.epochs_done(), 1);
+  fs::remove_all(d);
+}
+
+// train-nnao --resume blocked forever when OUT/metrics.jsonl was a FIFO.
+TEST(TrainingRun, ResumeRefusesAMetricsLogThatIsNoRegularFile) {
+  fs::path d = temp_dir("fifo");
+  Checkpoint<float> ck;
+  int64_t step = 0;
+  RunSpec spec;
+  spec.app = "test";
+  spec.out = d.string();
+  {
+    TrainingRun run(spec, ck, step);
+    run.end_epoch(1, nullptr);
+  }
+  const std::string log = (d / "metrics.jsonl").string();
+  fs::remove(log);
+  ASSERT_EQ(::mkfifo(log.c_str(), 0600), 0);
+  spec.resume = true;
+  auto resumed = std::async(std::launch::async, [&]() -> std::string {
+    try {
+      TrainingRun run(spec, ck, step);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "";
+  });
+  if (resumed.wait_for(std::chrono::seconds(5)) != std::future_status::ready) {
+    ADD_FAILURE() << "the resume blocks on the FIFO";
+    int fd = ::open(log.c_str(), O_WRONLY);  // lets the blocked reader go on
+    if (fd >= 0) ::close(fd);
+  }
+  const std::string m = resumed.get();
+  EXPECT_NE(m.find(log), std::string::npos) << m;
+  EXPECT_NE(m.find("regular file"), std::string::npos) << m;
+  fs::remove_all(d);
+}
+
+// Two train-nnao runs with one --out both exited 0, interleaving one metrics.jsonl.
+TEST(TrainingRun, ASecondRunIntoTheSameFolderIsRefusedNamingFolderAndHolder) {
+  fs::path d = temp_dir("locked");
+  Checkpoint<float> ck1, ck2;
+  int64_t step1 = 0, step2 = 0;
+  RunSpec spec;
+  spec.app = "train-nnao";
+  spec.out = d.string();
+  TrainingRun first(spec, ck1, step1);
+  try {
+    TrainingRun second(spec, ck2, step2);
+    ADD_FAILURE() << "two runs share " << d;
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(d.string()), std::string::npos) << m;
+    EXPECT_NE(m.find("pid " + std::to_string(::getpid())), std::string::npos) << m;
+  }
   fs::remove_all(d);
 }
 
