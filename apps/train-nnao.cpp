@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
     o.validation_families = args.get_names("--validation-families", "", "scene families of the training split held out as validation (val_mse), e.g. vaults,foliage,terrain");
     o.resume = args.get_flag("--resume", "continue from OUT/checkpoint.blob (refused if any other flag changed)");
     const bool ladder = args.get_flag("--ladder", "train the NNAO ladder instead of one model: every rung (cheapest first) into OUT/<rung>/, listed in OUT/ladder.csv, for eval-ao --ladder and export-nnao --ladder (runs/ao/nnao_ladder.h)");
-    const std::string rungs = args.get_string("--ladder-rungs", "", "--ladder's rungs as D:S:B:H:s:P (directions, steps, bands, hidden, downsample 1/2/4, blur passes), comma-separated (default: the ladder chosen on the validation families)");
+    const std::string rungs = args.get_string("--ladder-rungs", "", "--ladder's rungs as D:S:B:H:s:P[:N] (directions, steps, bands, hidden, downsample 1/2/4, blur passes, the blur's normal power), comma-separated (default: the ladder chosen on the validation families)");
     bool sweep = args.get_flag("--sweep", "train the size ladder (grid: w 7/15/23/31 x hidden 4/8/16; horizon: directions 8/16/32 x hidden 8/16/32) and chart error vs ms/frame");
     int sweep_epochs = args.get_int("--sweep-epochs", o.net.features == "horizon" ? 8 : 40,
                                     "epochs per model in --sweep (grid 40: converged on the default data; horizon 8, as the preset; the sweep trains with the preset's or --gamma's gamma)", 1, 100000);

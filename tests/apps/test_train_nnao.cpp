@@ -285,17 +285,18 @@ TEST_F(TrainNnao, ZeroEpochsReportNoTestMse) {
 // taken from the downsampled frames. A rung that is not D:S:B:H:s:P is refused (exit 2).
 TEST_F(TrainNnao, LadderTrainsEveryRungAndListsThem) {
   auto a = run("--data " + (root / "data").string() + " --points-per-view 32 --seed 5 --epochs 1 --ladder "
-               "--ladder-rungs 4:4:2:4:2:1,8:4:2:4:1:2 --out " + (root / "ladder").string());
+               "--ladder-rungs 4:4:2:4:2:1:0,8:4:2:4:1:2 --out " + (root / "ladder").string());
   ASSERT_EQ(a.code, 0) << a.output;
   std::ifstream csv(root / "ladder" / "ladder.csv");
   std::vector<std::string> lines;
   for (std::string l; std::getline(csv, l);) lines.push_back(l);
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0].rfind("rung,directions,steps,bands,hidden,downsample,blur_passes,samples_per_pixel,", 0), 0u);
-  EXPECT_EQ(lines[1].rfind("d4s4h4-half-b1,4,4,2,4,2,1,4,", 0), 0u) << lines[1];
+  EXPECT_EQ(lines[1].rfind("d4s4h4-half-b1-n0,4,4,2,4,2,1,4,", 0), 0u) << lines[1];
   EXPECT_EQ(lines[2].rfind("d8s4h4-full-b2,8,4,2,4,1,2,32,", 0), 0u) << lines[2];
-  const nns::Blob half = nns::Blob::load((root / "ladder" / "d4s4h4-half-b1" / "nnao.blob").string());
+  const nns::Blob half = nns::Blob::load((root / "ladder" / "d4s4h4-half-b1-n0" / "nnao.blob").string());
   EXPECT_EQ(half.config_int("downsample"), 2);
+  EXPECT_EQ(half.config_int("blur_normal_power"), 0);  // the rung's 7th field
   EXPECT_EQ(half.config_int("directions"), 4);
   const nns::Blob full = nns::Blob::load((root / "ladder" / "d8s4h4-full-b2" / "nnao.blob").string());
   EXPECT_FALSE(full.has_config("downsample"));  // full resolution: as blobs made before the key
@@ -314,7 +315,8 @@ TEST_F(TrainNnao, LadderTrainsEveryRungAndListsThem) {
   EXPECT_GT(low, 0);
   EXPECT_LE(low * 3.5, high);
   EXPECT_GE(low * 4.5, high);
-  for (const char* bad : {"4:4:2:4:3:1", "4:4:2", "a:b:c:d:e:f", "4:4:2:4:2:1x"}) {
+  for (const char* bad : {"4:4:2:4:3:1", "4:4:2", "a:b:c:d:e:f", "4:4:2:4:2:1x", "4:4:2:4:2:1:65", "4:4:3:4:2:1",
+                          "4:4:2:0:2:1", "4:4:2:4:2:17", ","}) {
     auto c = run("--data " + (root / "data").string() + " --ladder --ladder-rungs " + bad + " --out " + (root / "bad").string());
     EXPECT_EQ(c.code, 2) << bad << ": " << c.output;
     EXPECT_NE(c.output.find("--ladder-rungs"), std::string::npos) << c.output;
