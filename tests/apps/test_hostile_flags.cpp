@@ -53,15 +53,15 @@ struct Command {
   std::vector<std::string> all_flags;  // every flag, for the inputs
 };
 
-struct Run {
+struct Outcome {
   bool started = false, signalled = false, timed_out = false;
   int code = -1, signal = 0;
   std::string output;
 };
 
 // Runs argv with stdout and stderr captured, in `cwd`; kills it after `timeout`.
-Run run(const std::vector<std::string>& argv, const std::string& cwd, double timeout) {
-  Run r;
+Outcome run(const std::vector<std::string>& argv, const std::string& cwd, double timeout) {
+  Outcome r;
   const std::string log = cwd + "/.output";
   pid_t pid = ::fork();
   if (pid < 0) return r;
@@ -115,7 +115,7 @@ bool parse_bounds(const std::string& s, double& lo, double& hi) {
 Command read_help(const std::string& name, const std::string& path, const std::string& cwd) {
   Command c;
   c.name = name, c.path = path;
-  Run h = run({path, "--help"}, cwd, 20);
+  Outcome h = run({path, "--help"}, cwd, 20);
   EXPECT_EQ(h.code, 0) << name << " --help\n" << h.output;
   std::istringstream in(h.output);
   for (std::string line; std::getline(in, line);) {
@@ -252,7 +252,7 @@ TEST(HostileFlags, EveryFlagOfEveryCommandRefusesWhatItsHelpDoesNotAllow) {
         fs::remove_all(work / "cwd");
         fs::create_directories(work / "cwd");
         const bool ok = allowed(f, v);
-        const Run r = run(argv, (work / "cwd").string(), ok ? 5 : 20);
+        const Outcome r = run(argv, (work / "cwd").string(), ok ? 5 : 20);
         const std::string what = c.name + " " + f.name + " '" + v + "' (" + (ok ? "allowed" : "not allowed") +
                                  " by --help)";
         ASSERT_TRUE(r.started) << what;
@@ -340,7 +340,7 @@ TEST(HostileFlags, EveryModelReaderRefusesAPoisonedOrEndlessModelNamingIt) {
     for (const std::string& model : models) {
       ++cases;
       fs::remove_all(out);
-      const Run r = run({(bin / app).string(), "--model", model, "--in", (work / "missing.exr").string(), "--out",
+      const Outcome r = run({(bin / app).string(), "--model", model, "--in", (work / "missing.exr").string(), "--out",
                          (out / "o.exr").string()},
                         (work / "cwd").string(), 20);
       const std::string what = std::string(app) + " --model " + model;
