@@ -169,7 +169,9 @@ class TrainingRun {
 
   // The message for a non-finite stop: what happened and which checkpoint is good.
   std::string stop_message(const NonFiniteError& e) const {
-    return std::string(e.what()) + "; weights not updated; last good checkpoint: " +
+    // A loss stops the step before Adam moves the weights; a tensor found before the
+    // epoch's writes stops them, so nothing of that epoch reaches the disk either way.
+    return std::string(e.what()) + "; nothing of it written; last good checkpoint: " +
            (epochs_done_ > 0 ? path(spec_.checkpoint_name) + " (epoch " + std::to_string(epochs_done_) + ")"
                              : std::string("none (no epoch completed)"));
   }

@@ -41,7 +41,8 @@ def help_defaults(binary):
     found = {}
     for line in out.stdout.splitlines():
         m = re.match(r"^\s+(--[a-z0-9-]+)\b", line)
-        d = re.search(r"\(default ([^,)]+)(?:, range [^)]*)?\)\s*$", line)
+        # "(default V)" or "(default V, range [lo, hi])", a bound open as in "[0, inf)"
+        d = re.search(r"\(default ([^,()]+)(?:, range [\[(][^\])]*[\])])?\)\s*$", line)
         if m and d:
             found[m.group(1)] = d.group(1).strip()
     if not found:
