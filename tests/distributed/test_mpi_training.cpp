@@ -24,6 +24,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/folder_lock.h"
 #include "data/exr_io.h"
 #include "fixtures/synthetic_gbuffer.h"
 #include "tests/support/run_command.h"
@@ -163,11 +164,13 @@ TEST_F(MpiTraining, FewerMicroBatchesThanRanksIsRefused) {
   }
 }
 
-// Every file under `dir`, relative path -> bytes.
+// Every file under `dir`, relative path -> bytes; the folder lock aside (it names the
+// process that held it: core/folder_lock.h).
 std::map<std::string, std::string> tree(const fs::path& dir) {
   std::map<std::string, std::string> t;
   for (auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file()) t[fs::relative(e.path(), dir).string()] = bytes(e.path());
+    if (e.is_regular_file() && e.path().filename() != nns::FolderLock::kFileName)
+      t[fs::relative(e.path(), dir).string()] = bytes(e.path());
   return t;
 }
 
