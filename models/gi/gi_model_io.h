@@ -77,9 +77,13 @@ inline LoadedGenerator load_generator(const std::string& path) {
   g.inputs.norm.hdr_scale = positive("hdr_scale");
   g.config.hdr_scale = g.inputs.norm.hdr_scale;
   if (b.has_config("light_max")) {
-    const double light_max = b.config_double("light_max");
+    double light_max = NAN;  // what is no finite float gets this key's own message
+    try {
+      light_max = b.config_double("light_max");
+    } catch (const std::runtime_error&) {
+    }
     if (!(std::isfinite(light_max) && light_max > 0))
-      throw std::runtime_error(path + ": light_max " + std::to_string(light_max) +
+      throw std::runtime_error(path + ": light_max " + b.config_string("light_max") +
                                " is not a positive finite number");
     g.inputs.norm.light_max = float(light_max);
   }

@@ -113,7 +113,11 @@ struct NnaoWeights {
         }
         // A number in [lo, hi] (NaN is not), named with its range when it is not.
         auto ranged_double = [&](const char* key, double lo, double hi, const char* range) {
-          const double v = blob.config_double(key);
+          double v = NAN;  // what is no finite number is out of the range too, said with it
+          try {
+            v = blob.config_double(key);
+          } catch (const std::runtime_error&) {
+          }
           if (!(v >= lo && v <= hi)) throw blob.error(std::string(key) + " " + blob.config_string(key) + " out of range " + range);
           return float(v);
         };
