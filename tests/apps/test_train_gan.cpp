@@ -184,7 +184,7 @@ TEST_F(TrainGan, EvalGiRefusesABlobWithABadConfig) {
   const std::pair<std::pair<const char*, const char*>, const char*> cases[] = {
       {{"arch", "bogus"}, "unknown generator architecture 'bogus'"},
       {{"residual", "sideways"}, "unknown residual mode 'sideways'"},
-      {{"light_max", "nan"}, "config key 'light_max' is 'nan', not a finite number"},
+      {{"light_max", "nan"}, "is not a positive finite number"},
       {{"validation_fraction", "1.5"}, "validation_fraction 1.500000 is not in [0, 1)"},
   };
   for (auto [kv, message] : cases) {
