@@ -31,42 +31,42 @@ int main(int argc, char** argv) {
   return mpi.finish(cli::run_main("train-nnao", [&]() -> int {
     cli::Args args(argc, argv, "train-nnao", "Train NNAO (Holden et al. 2016) on EXR G-buffers.");
     nnao::TrainOptions o;
-    o.data_dir = args.get_string("--data", "", "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
-    o.out_dir = args.get_path("--out", "nnao-out", "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");
+    o.data_dir = args.get_string("--data", o.data_dir, "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
+    o.out_dir = args.get_path("--out", o.out_dir, "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");
     // The presets are what the project's measurements chose (runs/ao/train_nnao.h,
     // docs/nnao.md); every flag below overrides its part of the preset.
     const std::string preset = args.get_choice("--preset", "default", {"default", "grid", "paper"},
                                                "default: horizon features 16x8 in 4 bands, hidden 16 (chosen on validation families); "
                                                "grid: the paper's w 31 grid, hidden 4, gamma 1e-4; paper: Holden et al.'s w 31, hidden 4, gamma 0.01");
-    const nnao::Preset p = nnao::preset(preset);
-    o.net.features = args.get_choice("--features", p.features, {"grid", "horizon"},
+    const nnao::TrainOptions d = nnao::preset_options(preset);  // the flags' defaults
+    o.net.features = args.get_choice("--features", d.net.features, {"grid", "horizon"},
                                       "grid: the paper's w x w grid of normal/depth differences; horizon: horizon profiles (models/nnao/horizon_features.h)");
-    o.epochs = args.get_int("--epochs", p.epochs, "training epochs (the paper: 100)", 0, 100000);
-    o.batch = args.get_int("--batch", 16, "mini-batch size (the global batch under mpirun, whatever the rank count)", 1, 65536);
-    o.accumulate = args.get_int("--accumulate", 1, "micro-batches per step (of --batch / K points; their gradients averaged in a fixed order); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
-    o.bucket_mb = args.get_double("--bucket-mb", 25, "MiB per gradient bucket sent between MPI ranks (0: one bucket, sent after backward)", 0, 1e6);
-    o.lr = args.get_double("--lr", 1e-3, "Adam learning rate", 1e-12, 1e9);
-    o.net.window = args.get_int("--window", p.window, "grid features: grid size w (w x w samples)", 1, 63);
-    o.net.horizon.directions = args.get_int("--directions", p.horizon.directions, "horizon features: screen directions", 1, 64);
-    o.net.horizon.steps = args.get_int("--steps", p.horizon.steps, "horizon features: samples per direction", 1, 64);
-    o.net.horizon.bands = args.get_int("--bands", p.horizon.bands, "horizon features: distance bands (must divide --steps)", 1, 64);
-    o.blur_passes = args.get_int("--blur-passes", p.blur_passes, "horizon features: bilateral blur passes of the exact inference (recorded in the blob)", 1, 16);
-    o.blur_depth = args.get_double("--blur-depth", p.blur_depth, "horizon features: the blur's depth term, exp(-(dz / (D r))^2): larger blurs across bigger depth steps (recorded)", 0.01, 100);
-    o.blur_normal_power = args.get_int("--blur-normal-power", p.blur_normal_power, "horizon features: the blur's normal term, max(0, n.n')^P: smaller blurs across sharper creases (recorded)", 0, 64);
-    o.radius_term_max = args.get_double("--radius-term-max", p.radius_term_max, "horizon features: the inference holds the radius term log2(1 + R_px) / 8 at most at X (0: no ceiling; training sees it unclamped; recorded)", 0, 100);
-    o.downsample = std::stoi(args.get_choice("--downsample", "1", {"1", "2", "4"}, "horizon features: march, network and blur at 1/s of the resolution, then a depth- and normal-guided upsample; trained on points of frames downsampled alike, against the full-resolution truth (recorded)"));
-    o.net.hidden = args.get_int("--hidden", p.hidden, "hidden units per layer", 1, 64);
-    o.radius = float(args.get_double("--radius", 0, "AO radius (0 = each view's aoRadius)", 0, HUGE_VAL));
-    o.net.dropout = args.get_double("--dropout", p.dropout, "dropout on the input", 0, 0.99);
-    o.gamma = args.get_double("--gamma", p.gamma, "L1 weight penalty gamma", 0, HUGE_VAL);
-    o.points_per_view = args.get_int("--points-per-view", 1024, "training pixels per view", 1, 1 << 20);
-    o.test_points_per_view = args.get_int("--test-points-per-view", 1024, "test pixels per view (test loss)", 1, 1 << 20);
-    o.shuffle_chunk = args.get_int("--shuffle-chunk", 256, "points per chunk of the chunked shuffle (read from disk in one piece)", 1, 1 << 24);
-    o.shuffle_buffer_mb = args.get_double("--shuffle-buffer-mb", 512, "MiB per shuffle buffer (two are held); one that holds every training point gives the global shuffle", 1e-6, 1e7);
-    o.precision = parse_precision(args.get_choice("--precision", "fp32", {"fp32", "bf16"}, "inputs of the network's products: fp32, or bf16 with fp32 sums, weights and Adam (docs/nnao.md)"));
+    o.epochs = args.get_int("--epochs", d.epochs, "training epochs (the paper: 100)", 0, 100000);
+    o.batch = args.get_int("--batch", d.batch, "mini-batch size (the global batch under mpirun, whatever the rank count)", 1, 65536);
+    o.accumulate = args.get_int("--accumulate", d.accumulate, "micro-batches per step (of --batch / K points; their gradients averaged in a fixed order); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
+    o.bucket_mb = args.get_double("--bucket-mb", d.bucket_mb, "MiB per gradient bucket sent between MPI ranks (0: one bucket, sent after backward)", 0, 1e6);
+    o.lr = args.get_double("--lr", d.lr, "Adam learning rate", 1e-12, 1e9);
+    o.net.window = args.get_int("--window", d.net.window, "grid features: grid size w (w x w samples)", 1, 63);
+    o.net.horizon.directions = args.get_int("--directions", d.net.horizon.directions, "horizon features: screen directions", 1, 64);
+    o.net.horizon.steps = args.get_int("--steps", d.net.horizon.steps, "horizon features: samples per direction", 1, 64);
+    o.net.horizon.bands = args.get_int("--bands", d.net.horizon.bands, "horizon features: distance bands (must divide --steps)", 1, 64);
+    o.blur_passes = args.get_int("--blur-passes", d.blur_passes, "horizon features: bilateral blur passes of the exact inference (recorded in the blob)", 1, 16);
+    o.blur_depth = args.get_double("--blur-depth", d.blur_depth, "horizon features: the blur's depth term, exp(-(dz / (D r))^2): larger blurs across bigger depth steps (recorded)", 0.01, 100);
+    o.blur_normal_power = args.get_int("--blur-normal-power", d.blur_normal_power, "horizon features: the blur's normal term, max(0, n.n')^P: smaller blurs across sharper creases (recorded)", 0, 64);
+    o.radius_term_max = args.get_double("--radius-term-max", d.radius_term_max, "horizon features: the inference holds the radius term log2(1 + R_px) / 8 at most at X (0: no ceiling; training sees it unclamped; recorded)", 0, 100);
+    o.downsample = std::stoi(args.get_choice("--downsample", std::to_string(d.downsample), {"1", "2", "4"}, "horizon features: march, network and blur at 1/s of the resolution, then a depth- and normal-guided upsample; trained on points of frames downsampled alike, against the full-resolution truth (recorded)"));
+    o.net.hidden = args.get_int("--hidden", d.net.hidden, "hidden units per layer", 1, 64);
+    o.radius = float(args.get_double("--radius", d.radius, "AO radius (0 = each view's aoRadius)", 0, HUGE_VAL));
+    o.net.dropout = args.get_double("--dropout", d.net.dropout, "dropout on the input", 0, 0.99);
+    o.gamma = args.get_double("--gamma", d.gamma, "L1 weight penalty gamma", 0, HUGE_VAL);
+    o.points_per_view = args.get_int("--points-per-view", d.points_per_view, "training pixels per view", 1, 1 << 20);
+    o.test_points_per_view = args.get_int("--test-points-per-view", d.test_points_per_view, "test pixels per view (test loss)", 1, 1 << 20);
+    o.shuffle_chunk = args.get_int("--shuffle-chunk", d.shuffle_chunk, "points per chunk of the chunked shuffle (read from disk in one piece)", 1, 1 << 24);
+    o.shuffle_buffer_mb = args.get_double("--shuffle-buffer-mb", d.shuffle_buffer_mb, "MiB per shuffle buffer (two are held); one that holds every training point gives the global shuffle", 1e-6, 1e7);
+    o.precision = parse_precision(args.get_choice("--precision", precision_name(d.precision), {"fp32", "bf16"}, "inputs of the network's products: fp32, or bf16 with fp32 sums, weights and Adam (docs/nnao.md)"));
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
-    o.seed = uint64_t(args.get_int("--seed", 1, "random seed", 0, INT_MAX));
-    o.validation_fraction = args.get_double("--validation-fraction", 0, "share of the training split's scenes held out as validation (val_mse); --sweep uses 0.2 when 0", 0, 0.9);
+    o.seed = uint64_t(args.get_int("--seed", int(d.seed), "random seed", 0, INT_MAX));
+    o.validation_fraction = args.get_double("--validation-fraction", d.validation_fraction, "share of the training split's scenes held out as validation (val_mse); --sweep uses 0.2 when 0", 0, 0.9);
     o.validation_families = args.get_names("--validation-families", "", "scene families of the training split held out as validation (val_mse), e.g. vaults,foliage,terrain");
     o.resume = args.get_flag("--resume", "continue from OUT/checkpoint.blob (refused if any other flag changed)");
     const bool ladder = args.get_flag("--ladder", "train the NNAO ladder instead of one model: every rung (cheapest first) into OUT/<rung>/, listed in OUT/ladder.csv, for eval-ao --ladder and export-nnao --ladder (runs/ao/nnao_ladder.h)");

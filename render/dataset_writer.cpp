@@ -187,6 +187,166 @@ void add_tasks(std::vector<SceneTask>& tasks, const std::string& split, int tota
     if (t.views > 0) tasks.push_back(t);
   }
 }
+
+// The families a job renders: its own list, or the preset's generations interleaved
+// (scenes go to families round-robin, so a split with fewer scenes than families still
+// mixes old and new kinds). The older presets keep their eight families (and nnao-v2 /
+// surround-v2 their two generations), so their datasets do not change.
+std::vector<std::string> families_to_render(const DatasetJob& job) {
+  std::vector<std::string> families = job.families;
+  if (families.empty()) {
+    const int generations =
+        job.preset == "surround-v3" ? 3 : job.preset == "nnao-v2" || job.preset == "surround-v2" ? 2 : 1;
+    std::vector<std::vector<std::string>> gen;
+    size_t longest = 0;
+    for (int g = 1; g <= generations; ++g) gen.push_back(scene_family_names(g)), longest = std::max(longest, gen.back().size());
+    for (size_t i = 0; i < longest; ++i)
+      for (auto& names : gen)
+        if (i < names.size()) families.push_back(names[i]);
+  }
+  for (auto& f : families) scene_family(f);  // validates the names
+  return families;
+}
+
+// The scenes of every split and their view counts.
+struct SplitPlan {
+  std::vector<SceneTask> tasks;
+  int holdout_views = 0;
+};
+
+// Train and test from disjoint scenes: held-out instances of every family, or held-out
+// files (a single file cannot be split, so it all goes to train); holdout from the
+// held-out families. `P`: frames per camera path (a path is never split).
+SplitPlan plan_splits(const DatasetJob& job, std::vector<std::string> families, int P) {
+  const bool holdout = !job.holdout_families.empty();
+  if (holdout) {
+    if (!job.scene_files.empty())
+      throw std::invalid_argument("--holdout-families holds out procedural families; it cannot be used with --scene");
+    if (!(job.holdout_fraction > 0 && job.holdout_fraction < 1))
+      throw std::invalid_argument("--holdout-fraction must be in (0, 1)");
+    split_off_holdout(families, job.holdout_families, !job.families.empty());
+  }
+  std::vector<std::string> train_files, test_files;
+  check_unique_scene_names(job.scene_files);
+  if (!job.scene_files.empty()) {
+    size_t n_test = job.scene_files.size() >= 2 ? std::max<size_t>(1, size_t(job.scene_files.size() * job.test_fraction + 0.5)) : 0;
+    train_files.assign(job.scene_files.begin(), job.scene_files.end() - long(n_test));
+    test_files.assign(job.scene_files.end() - long(n_test), job.scene_files.end());
+    if (n_test == 0)
+      std::fprintf(stderr, "render-dataset: one scene file: every view goes to train/ (a scene is never in both splits)\n");
+  }
+  // Whole paths in each split, at least one in test (when there is a test scene).
+  int n_test_views = std::max(1, int(job.views * job.test_fraction / P + 0.5)) * P;
+  if ((!job.scene_files.empty() && test_files.empty()) || job.views < 2 * P) n_test_views = 0;
+  SplitPlan plan;
+  plan.holdout_views = holdout ? std::max(1, int(job.views * job.holdout_fraction / P + 0.5)) * P : 0;
+  int n_train_views = job.views - n_test_views - plan.holdout_views;
+  if (n_train_views < 1)
+    throw std::invalid_argument("--views " + std::to_string(job.views) + " leaves no train view after " +
+                                std::to_string(n_test_views) + " test and " + std::to_string(plan.holdout_views) +
+                                " holdout views");
+  const int per_scene = std::max(job.views_per_scene, P);
+  add_tasks(plan.tasks, "train", n_train_views, per_scene, P, families, train_files, 0);
+  add_tasks(plan.tasks, "test", n_test_views, per_scene, P, families, test_files, 100000);
+  // Instances of their own, so even a dataset that trains on these families (another
+  // job) never shares a scene with this holdout split.
+  add_tasks(plan.tasks, "holdout", plan.holdout_views, per_scene, P, job.holdout_families, {}, 200000);
+  return plan;
+}
+
+void warn_unrendered_holdout_families(const DatasetJob& job, const SplitPlan& plan) {
+  std::vector<std::string> rendered = families_in(plan.tasks, "holdout");
+  for (auto& f : job.holdout_families)
+    if (std::find(rendered.begin(), rendered.end(), f) == rendered.end())
+      std::fprintf(stderr, "render-dataset: held-out family '%s' gets no view (%d holdout views for %zu families)\n",
+                   f.c_str(), plan.holdout_views, job.holdout_families.size());
+}
+
+// A task's scene, with the job's lighting and view variation.
+Scene prepare_scene(const DatasetJob& job, const SceneTask& task) {
+  Scene scene = task.file.empty() ? make_family_scene(task.family, task.instance, job.settings.seed)
+                                  : load_mesh_scene(task.file);
+  if (job.vary_lighting) {
+    // A stream of its own, like the view shapes.
+    Rng light_rng = Rng(job.settings.seed ^ 0x11947ull).fork(hash_name(scene.name));
+    vary_materials_and_lights(scene, light_rng);
+  }
+  if (job.vary_views || job.vary_lighting) {
+    ViewVariation var;
+    scene.cameras.pitch_min_deg = std::max(-80.0f, scene.cameras.pitch_min_deg - var.pitch_widen);
+    scene.cameras.pitch_max_deg = std::min(70.0f, scene.cameras.pitch_max_deg + var.pitch_widen);
+  }
+  return scene;
+}
+
+// What the views rendered so far share: the dataset-wide view counter (noise ids, the
+// part a view belongs to), the progress and the report.
+struct RenderState {
+  DatasetReport report;
+  Progress bar;
+  int done = 0;
+  uint64_t view_counter = 0;
+  RenderStats stats;
+};
+
+// One view (or surround frame) of a scene, when it belongs to this part of the job.
+void render_one(const DatasetJob& job, const SceneTask& task, const Scene& scene, RayTracer& rt, const Camera& cam,
+                const fs::path& dir, const std::string& name, int w, const RenderSettings& settings,
+                RenderState& st) {
+  // View ids mix the dataset-wide counter with the scene, so no two views share noise.
+  const bool mine = st.view_counter % uint64_t(job.parts) == uint64_t(job.part);
+  uint64_t id = hash_name(scene.name) ^ (st.view_counter++ * 0x9E3779B97F4A7C15ull);
+  if (!mine) {
+    ++st.done;
+    return;
+  }
+  if (is_surround_preset(job.preset)) {
+    auto faces = render_surround(rt, cam, w, settings, id, false, &st.stats);
+    fs::create_directories(dir / name);
+    for (int i = 0; i < 6; ++i) write_view((dir / name / (cube_face_names()[size_t(i)] + ".exr")).string(), faces[size_t(i)]);
+  } else {
+    write_view((dir / (name + ".exr")).string(), render_view(rt, cam, settings, id, nullptr, &st.stats));
+  }
+  (task.split == "train" ? st.report.train_views : task.split == "test" ? st.report.test_views : st.report.holdout_views)++;
+  ++st.done;
+  if (job.progress) {
+    char status[64];
+    std::snprintf(status, sizeof status, "%.1f Mrays/s", st.stats.seconds > 0 ? st.stats.rays / st.stats.seconds * 1e-6 : 0.0);
+    st.bar.update(st.done, status);
+  }
+}
+
+// Every view of one scene: camera paths of P frames (or single cameras), each view's
+// shape drawn from a stream of the scene's own.
+void render_scene(const DatasetJob& job, const SceneTask& task, int P, RenderState& st) {
+  const bool surround = is_surround_preset(job.preset);
+  Scene scene = prepare_scene(job, task);
+  RayTracer rt(scene);
+  (task.split == "train" ? st.report.train_scenes : task.split == "test" ? st.report.test_scenes : st.report.holdout_scenes)
+      .push_back(scene.name);
+  fs::path dir = fs::path(job.out) / task.split;
+  fs::create_directories(dir);
+  Rng cam_rng = Rng(job.settings.seed).fork(hash_name(scene.name));
+  // A stream of its own: drawing view shapes must not move the cameras of the presets
+  // that do not vary them.
+  Rng shape_rng = Rng(job.settings.seed ^ 0x5eed5eed5eedull).fork(hash_name(scene.name));
+  for (int v0 = 0; v0 < task.views; v0 += P) {
+    ViewShape shape = draw_view_shape(job, shape_rng);
+    int w = shape.width, h = surround ? shape.width : shape.height;
+    float fov = surround ? 90.0f : shape.fov;
+    RenderSettings settings = job.settings;
+    if (job.noise_seed >= 0) settings.seed = uint64_t(job.noise_seed);
+    settings.ao_radius = shape.ao_radius;
+    std::vector<Camera> cams;
+    if (P == 1) cams.push_back(place_camera(rt, w, h, fov, cam_rng));
+    else cams = camera_path(rt, w, h, fov, std::min(P, task.views - v0), cam_rng);
+    for (size_t f = 0; f < cams.size(); ++f) {
+      std::string name = scene.name + (P == 1 ? "-v" + zero_padded(v0, 3)
+                                              : "-p" + zero_padded(v0 / P, 2) + "-f" + zero_padded(int(f), 3));
+      render_one(job, task, scene, rt, cams[f], dir, name, w, settings, st);
+    }
+  }
+}
 }  // namespace
 
 int rendered_views_in(const std::string& out) {
@@ -226,140 +386,20 @@ DatasetReport render_dataset(DatasetJob job) {
   apply_preset(job);
   if (job.views < 1) throw std::invalid_argument("render_dataset: --views must be >= 1");
   if (job.width < 8 || job.height < 8) throw std::invalid_argument("render_dataset: image size below 8x8");
-  const bool surround = is_surround_preset(job.preset);
-  // The generations a preset takes by default: the older presets keep their eight
-  // families (and nnao-v2 / surround-v2 their two generations), so their datasets do
-  // not change.
-  const int generations = job.preset == "surround-v3" ? 3 : job.preset == "nnao-v2" || job.preset == "surround-v2" ? 2 : 1;
   const int P = std::max(1, job.path_frames);
-  int per_scene = std::max(job.views_per_scene, P);
-
-  std::vector<std::string> families = job.families;
-  if (families.empty()) {
-    // Generations interleaved: scenes go to families round-robin, so a split with fewer
-    // scenes than families still mixes old and new kinds.
-    std::vector<std::vector<std::string>> gen;
-    size_t longest = 0;
-    for (int g = 1; g <= generations; ++g) gen.push_back(scene_family_names(g)), longest = std::max(longest, gen.back().size());
-    for (size_t i = 0; i < longest; ++i)
-      for (auto& names : gen)
-        if (i < names.size()) families.push_back(names[i]);
-  }
-  for (auto& f : families) scene_family(f);  // validates the names
-  const bool holdout = !job.holdout_families.empty();
-  if (holdout) {
-    if (!job.scene_files.empty())
-      throw std::invalid_argument("--holdout-families holds out procedural families; it cannot be used with --scene");
-    if (!(job.holdout_fraction > 0 && job.holdout_fraction < 1))
-      throw std::invalid_argument("--holdout-fraction must be in (0, 1)");
-    split_off_holdout(families, job.holdout_families, !job.families.empty());
-  }
-
-  // Train and test from disjoint scenes: held-out instances of every family, or
-  // held-out files (a single file cannot be split, so it all goes to train).
-  std::vector<std::string> train_files, test_files;
-  check_unique_scene_names(job.scene_files);
-  if (!job.scene_files.empty()) {
-    size_t n_test = job.scene_files.size() >= 2 ? std::max<size_t>(1, size_t(job.scene_files.size() * job.test_fraction + 0.5)) : 0;
-    train_files.assign(job.scene_files.begin(), job.scene_files.end() - long(n_test));
-    test_files.assign(job.scene_files.end() - long(n_test), job.scene_files.end());
-    if (n_test == 0)
-      std::fprintf(stderr, "render-dataset: one scene file: every view goes to train/ (a scene is never in both splits)\n");
-  }
-  // Whole paths in each split, at least one in test (when there is a test scene).
-  int n_test_views = std::max(1, int(job.views * job.test_fraction / P + 0.5)) * P;
-  if ((!job.scene_files.empty() && test_files.empty()) || job.views < 2 * P) n_test_views = 0;
-  int n_holdout_views = holdout ? std::max(1, int(job.views * job.holdout_fraction / P + 0.5)) * P : 0;
-  int n_train_views = job.views - n_test_views - n_holdout_views;
-  if (n_train_views < 1)
-    throw std::invalid_argument("--views " + std::to_string(job.views) + " leaves no train view after " +
-                                std::to_string(n_test_views) + " test and " + std::to_string(n_holdout_views) +
-                                " holdout views");
-  std::vector<SceneTask> tasks;
-  add_tasks(tasks, "train", n_train_views, per_scene, P, families, train_files, 0);
-  add_tasks(tasks, "test", n_test_views, per_scene, P, families, test_files, 100000);
-  // Instances of their own, so even a dataset that trains on these families (another
-  // job) never shares a scene with this holdout split.
-  add_tasks(tasks, "holdout", n_holdout_views, per_scene, P, job.holdout_families, {}, 200000);
-
+  const SplitPlan plan = plan_splits(job, families_to_render(job), P);
   fs::create_directories(job.out);
-  if (holdout) {
-    std::vector<std::string> rendered = families_in(tasks, "holdout");
-    for (auto& f : job.holdout_families)
-      if (std::find(rendered.begin(), rendered.end(), f) == rendered.end())
-        std::fprintf(stderr, "render-dataset: held-out family '%s' gets no view (%d holdout views for %zu families)\n",
-                     f.c_str(), n_holdout_views, job.holdout_families.size());
-  }
+  if (!job.holdout_families.empty()) warn_unrendered_holdout_families(job, plan);
   if (job.parts < 1 || job.part < 0 || job.part >= job.parts)
     throw std::invalid_argument("render_dataset: part " + std::to_string(job.part) + " of " + std::to_string(job.parts));
-  if (job.part == 0 && (holdout || job.vary_views || job.vary_lighting)) write_metadata(job, tasks);
-  DatasetReport report;
-  Progress bar("render " + job.preset, job.views);
-  int done = 0;
-  uint64_t view_counter = 0;
-  RenderStats stats;
-  for (const SceneTask& task : tasks) {
-    Scene scene = task.file.empty() ? make_family_scene(task.family, task.instance, job.settings.seed)
-                                    : load_mesh_scene(task.file);
-    if (job.vary_lighting) {
-      // A stream of its own, like the view shapes below.
-      Rng light_rng = Rng(job.settings.seed ^ 0x11947ull).fork(hash_name(scene.name));
-      vary_materials_and_lights(scene, light_rng);
-    }
-    if (job.vary_views || job.vary_lighting) {
-      ViewVariation var;
-      scene.cameras.pitch_min_deg = std::max(-80.0f, scene.cameras.pitch_min_deg - var.pitch_widen);
-      scene.cameras.pitch_max_deg = std::min(70.0f, scene.cameras.pitch_max_deg + var.pitch_widen);
-    }
-    RayTracer rt(scene);
-    (task.split == "train" ? report.train_scenes : task.split == "test" ? report.test_scenes : report.holdout_scenes)
-        .push_back(scene.name);
-    fs::path dir = fs::path(job.out) / task.split;
-    fs::create_directories(dir);
-    Rng cam_rng = Rng(job.settings.seed).fork(hash_name(scene.name));
-    // A stream of its own: drawing view shapes must not move the cameras of the presets
-    // that do not vary them.
-    Rng shape_rng = Rng(job.settings.seed ^ 0x5eed5eed5eedull).fork(hash_name(scene.name));
-    for (int v0 = 0; v0 < task.views; v0 += P) {
-      ViewShape shape = draw_view_shape(job, shape_rng);
-      int w = shape.width, h = surround ? shape.width : shape.height;
-      float fov = surround ? 90.0f : shape.fov;
-      RenderSettings settings = job.settings;
-      if (job.noise_seed >= 0) settings.seed = uint64_t(job.noise_seed);
-      settings.ao_radius = shape.ao_radius;
-      std::vector<Camera> cams;
-      if (P == 1) cams.push_back(place_camera(rt, w, h, fov, cam_rng));
-      else cams = camera_path(rt, w, h, fov, std::min(P, task.views - v0), cam_rng);
-      for (size_t f = 0; f < cams.size(); ++f) {
-        std::string name = scene.name + (P == 1 ? "-v" + zero_padded(v0, 3)
-                                                : "-p" + zero_padded(v0 / P, 2) + "-f" + zero_padded(int(f), 3));
-        // View ids mix the dataset-wide counter with the scene, so no two views share noise.
-        const bool mine = view_counter % uint64_t(job.parts) == uint64_t(job.part);
-        uint64_t id = hash_name(scene.name) ^ (view_counter++ * 0x9E3779B97F4A7C15ull);
-        if (!mine) {
-          ++done;
-          continue;
-        }
-        if (surround) {
-          auto faces = render_surround(rt, cams[f], w, settings, id, false, &stats);
-          fs::create_directories(dir / name);
-          for (int i = 0; i < 6; ++i) write_view((dir / name / (cube_face_names()[size_t(i)] + ".exr")).string(), faces[size_t(i)]);
-        } else {
-          write_view((dir / (name + ".exr")).string(), render_view(rt, cams[f], settings, id, nullptr, &stats));
-        }
-        (task.split == "train" ? report.train_views : task.split == "test" ? report.test_views : report.holdout_views)++;
-        ++done;
-        if (job.progress) {
-          char status[64];
-          std::snprintf(status, sizeof status, "%.1f Mrays/s", stats.seconds > 0 ? stats.rays / stats.seconds * 1e-6 : 0.0);
-          bar.update(done, status);
-        }
-      }
-    }
-  }
-  if (job.progress) bar.finish();
-  report.rays = stats.rays;
-  report.render_seconds = stats.seconds;
+  if (job.part == 0 && (!job.holdout_families.empty() || job.vary_views || job.vary_lighting))
+    write_metadata(job, plan.tasks);
+  RenderState st{{}, Progress("render " + job.preset, job.views)};
+  for (const SceneTask& task : plan.tasks) render_scene(job, task, P, st);
+  if (job.progress) st.bar.finish();
+  DatasetReport report = std::move(st.report);
+  report.rays = st.stats.rays;
+  report.render_seconds = st.stats.seconds;
   report.cpu_seconds = double(std::clock() - c0) / CLOCKS_PER_SEC;
   report.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;

@@ -48,9 +48,16 @@ struct Axis {
   std::vector<double> ticks() const {
     std::vector<double> t;
     if (log) {
-      for (double d = std::pow(10, std::floor(std::log10(lo))); d <= hi * 1.0001; d *= 10)
-        for (double m : {1.0, 2.0, 5.0})
-          if (d * m >= lo * 0.9999 && d * m <= hi * 1.0001) t.push_back(d * m);
+      // 1, 2, 5 per decade; an axis spanning less than a decade would show one tick or
+      // none, so it takes the finer steps.
+      for (const std::vector<double>& mantissas : {std::vector<double>{1, 2, 5},
+                                                   std::vector<double>{1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 9}}) {
+        t.clear();
+        for (double d = std::pow(10, std::floor(std::log10(lo))); d <= hi * 1.0001; d *= 10)
+          for (double m : mantissas)
+            if (d * m >= lo * 0.9999 && d * m <= hi * 1.0001) t.push_back(d * m);
+        if (t.size() >= 3) break;
+      }
       return t;
     }
     double span = hi - lo, step = std::pow(10, std::floor(std::log10(span / 5)));
@@ -78,6 +85,24 @@ Axis make_axis(std::vector<double> v, bool log) {
   return {lo, hi, log};
 }
 
+// A generous mean advance of the 12 px sans-serif text: the legend's column is sized by it,
+// so that no name runs off the image.
+constexpr double kCharWidth = 7.0;
+
+// A legend name wrapped at spaces into lines of at most `chars` characters (a word
+// longer than that keeps its own line).
+std::vector<std::string> wrapped(const std::string& name, size_t chars) {
+  std::vector<std::string> lines;
+  std::istringstream words(name);
+  std::string word, line;
+  while (words >> word) {
+    if (!line.empty() && line.size() + 1 + word.size() > chars) lines.push_back(line), line.clear();
+    line += (line.empty() ? "" : " ") + word;
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
+
 bool usable(double x, double y, const ChartOptions& o) {
   return std::isfinite(x) && std::isfinite(y) && (!o.log_x || x > 0) && (!o.log_y || y > 0);
 }
@@ -90,7 +115,14 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
     for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
       if (usable(s.x[i], s.y[i], o)) xs.push_back(s.x[i]), ys.push_back(s.y[i]);
   Axis ax = make_axis(xs, o.log_x), ay = make_axis(ys, o.log_y);
-  const double L = 80, R = o.width - 190.0, T = 50, B = o.height - 60.0;
+  // The legend's column: wide enough for the longest name, at most 45% of the chart
+  // (longer names wrap).
+  size_t longest = 0;
+  for (auto& se : series) longest = std::max(longest, se.name.size());
+  const double legend = std::clamp(46 + kCharWidth * double(longest) + 10, 190.0, 0.45 * o.width);
+  const size_t legend_chars = size_t((legend - 46 - 10) / kCharWidth);
+  const double L = 80, R = o.width - legend, T = 50, B = o.height - 60.0;
+  double ly = T + 10;  // the next legend entry's baseline
   std::ostringstream s;
   s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width << "\" height=\""
     << o.height << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
@@ -133,10 +165,14 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
     }
     s << "<polyline points=\"" << pts << "\" fill=\"none\" stroke=\"" << c << dash
       << "\" stroke-width=\"2\"/>\n";
-    double ly = T + 10 + 20.0 * double(k);
     s << "<line x1=\"" << num(R + 15) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(R + 40)
       << "\" y2=\"" << num(ly) << "\" stroke=\"" << c << dash << "\" stroke-width=\"2\"/>\n<text x=\""
-      << num(R + 46) << "\" y=\"" << num(ly + 4) << "\">" << html_escape(se.name) << "</text>\n";
+      << num(R + 46) << "\" y=\"" << num(ly + 4) << "\">";
+    const std::vector<std::string> lines = wrapped(se.name, legend_chars);
+    for (size_t i = 0; i < lines.size(); ++i)
+      s << "<tspan x=\"" << num(R + 46) << "\" dy=\"" << (i ? "14" : "0") << "\">" << html_escape(lines[i]) << "</tspan>";
+    s << "</text>\n";
+    ly += 20 + 14.0 * double(lines.size() - 1);
   }
   s << "</svg>\n";
   return s.str();

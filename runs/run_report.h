@@ -4,6 +4,8 @@
 // sample images), its figures, its metrics per epoch and its configuration — the rows
 // of summary.json, metrics.jsonl and the checkpoint's configuration, for people.
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -31,12 +33,34 @@ inline data::Table epoch_table(const std::vector<MetricsRecord>& records, size_t
     const MetricsRecord& r = *last[shown == 1 ? n - 1 : k * (n - 1) / (shown - 1)];
     t.rows.push_back({std::to_string(r.epoch), std::to_string(r.step)});
     for (size_t c = 2; c < t.header.size(); ++c) {
+      const double v = r.get(t.header[c]);
       char b[32];
-      std::snprintf(b, sizeof b, "%.5g", r.get(t.header[c]));
-      t.rows.back().push_back(b);
+      std::snprintf(b, sizeof b, "%.5g", v);
+      t.rows.back().push_back(std::isfinite(v) ? b : "–");  // a non-finite value (null in the log)
     }
   }
   return t;
+}
+
+// "1 epoch", "2 epochs".
+inline std::string count_of(int64_t n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+// A configuration value for people: a number recorded with 17 significant digits (so
+// that it reads back as the same double, 0.29999999999999999) in the fewest digits that
+// still do (0.3); any other text as it is.
+inline std::string readable_value(const std::string& v) {
+  if (v.size() < 17) return v;  // as written (100000 stays 100000, not 1e+05)
+  char* end = nullptr;
+  const double x = std::strtod(v.c_str(), &end);
+  if (end != v.c_str() + v.size() || !std::isfinite(x)) return v;
+  for (int digits = 1; digits <= 17; ++digits) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.*g", digits, x);
+    if (std::strtod(b, nullptr) == x) return std::string(b).size() < v.size() ? b : v;
+  }
+  return v;
 }
 
 struct RunOutcome {
@@ -49,7 +73,7 @@ struct RunOutcome {
 inline data::Report training_report(const RunOutcome& o, const std::vector<MetricsRecord>& records,
                                     const std::vector<std::pair<std::string, std::string>>& config, const std::function<void(data::Report&)>& add) {
   data::Report r(o.app + " run");
-  const std::string done = std::to_string(o.epochs_done) + " epochs, " + std::to_string(o.steps) + " steps";
+  const std::string done = count_of(o.epochs_done, "epoch") + ", " + count_of(o.steps, "step");
   r.text(o.stop_message.empty() ? "**Finished**: " + done + "."
                                 : "**Stopped** after " + done + ": " + o.stop_message + ".");
   if (add) add(r);
@@ -57,7 +81,7 @@ inline data::Report training_report(const RunOutcome& o, const std::vector<Metri
   for (auto& [k, v] : o.figures) {
     char b[32];
     std::snprintf(b, sizeof b, "%.6g", v);
-    figures.rows.push_back({k, b});
+    figures.rows.push_back({k, std::isfinite(v) ? b : "–"});
   }
   r.heading("Figures").text("As in summary.json.").table(figures);
   const data::Table epochs = epoch_table(records);
@@ -65,7 +89,7 @@ inline data::Report training_report(const RunOutcome& o, const std::vector<Metri
   if (epochs.rows.empty()) r.text("No epoch finished.");
   else r.table(epochs);
   data::Table c{{"setting", "value"}, {}};
-  for (auto& [k, v] : config) c.rows.push_back({k, v});
+  for (auto& [k, v] : config) c.rows.push_back({k, readable_value(v)});
   r.heading("Configuration").text("What the checkpoint records; a --resume must match it.").table(c);
   return r;
 }

@@ -84,9 +84,16 @@ struct Preset {
   double radius_term_max;  // horizon models: the inference's ceiling on the radius term (0: none)
 };
 inline Preset preset(const std::string& name) {
-  if (name == "paper") return {"grid", 31, {}, 4, 0.5, 0.01, 12, 1, 0.1, 8, 0};
-  if (name == "grid") return {"grid", 31, {}, 4, 0.5, 1e-4, 12, 1, 0.1, 8, 0};
-  if (name == "default") return {"horizon", 31, {16, 8, 4}, 16, 0.0, 1e-4, 8, 4, 0.3, 2, 0.6};
+  if (name == "paper")
+    return {.features = "grid", .window = 31, .horizon = {}, .hidden = 4, .dropout = 0.5, .gamma = 0.01, .epochs = 12,
+            .blur_passes = 1, .blur_depth = 0.1, .blur_normal_power = 8, .radius_term_max = 0};
+  if (name == "grid")
+    return {.features = "grid", .window = 31, .horizon = {}, .hidden = 4, .dropout = 0.5, .gamma = 1e-4, .epochs = 12,
+            .blur_passes = 1, .blur_depth = 0.1, .blur_normal_power = 8, .radius_term_max = 0};
+  if (name == "default")
+    return {.features = "horizon", .window = 31, .horizon = {.directions = 16, .steps = 8, .bands = 4}, .hidden = 16,
+            .dropout = 0.0, .gamma = 1e-4, .epochs = 8, .blur_passes = 4, .blur_depth = 0.3, .blur_normal_power = 2,
+            .radius_term_max = 0.6};
   throw std::invalid_argument("unknown NNAO preset '" + name + "' (known: default, grid, paper)");
 }
 
@@ -123,6 +130,24 @@ struct TrainOptions {
   // Or whole scene families of the training split (validation_split.h); wins over the fraction.
   std::vector<std::string> validation_families;
 };
+
+// The options a preset names; the rest keep TrainOptions' initialisers.
+inline TrainOptions preset_options(const std::string& name) {
+  const Preset p = preset(name);
+  TrainOptions o;
+  o.net.features = p.features;
+  o.net.window = p.window;
+  o.net.horizon = p.horizon;
+  o.net.hidden = p.hidden;
+  o.net.dropout = p.dropout;
+  o.gamma = p.gamma;
+  o.epochs = p.epochs;
+  o.blur_passes = p.blur_passes;
+  o.blur_depth = p.blur_depth;
+  o.blur_normal_power = p.blur_normal_power;
+  o.radius_term_max = p.radius_term_max;
+  return o;
+}
 
 struct TrainResult {
   int64_t train_points = 0, test_points = 0, steps = 0;
@@ -291,18 +316,24 @@ inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing&
   return spec;
 }
 
-// OUT/loss.svg and .png from the metrics log.
+// OUT/loss.svg (the training loss, on standardised targets, with the L1 penalty) and
+// OUT/mse.svg (test and validation MSE in AO units), .png beside each: two quantities in
+// two units, so each on an axis of its own.
 inline void write_loss_chart(runs::TrainingRun& run) {
   const auto& log = run.metrics();
   data::ChartOptions co;
-  co.title = "NNAO training";
+  co.title = "NNAO training loss";
   co.x_label = "epoch";
-  co.y_label = "loss";
+  co.y_label = "MSE + gamma |theta| (standardised)";
   co.log_y = true;
-  data::write_chart(run.path("loss.svg"),
-                    {{"train loss (MSE + gamma|theta|, standardised)", log.series("epoch"), log.series("train_loss"), {}},
-                     {"test MSE (AO units)", log.series("epoch"), log.series("test_mse"), {}}},
-                    co);
+  data::write_chart(run.path("loss.svg"), {{"train loss", log.series("epoch"), log.series("train_loss"), {}}}, co);
+  co.title = "NNAO held-out error";
+  co.y_label = "MSE (AO units)";
+  std::vector<data::ChartSeries> mse = {{"test MSE", log.series("epoch"), log.series("test_mse"), {}}};
+  const std::vector<double> val = log.series("val_mse");
+  if (std::any_of(val.begin(), val.end(), [](double v) { return std::isfinite(v); }))
+    mse.push_back({"validation MSE", log.series("epoch"), log.series("val_mse"), {}});
+  data::write_chart(run.path("mse.svg"), mse, co);
 }
 
 // The options train_nnao refuses before it reads anything.
@@ -512,7 +543,8 @@ inline TrainResult finish_run(runs::TrainingLoop& loop, const NnaoTask& task, co
                                                          {"epoch_seconds", res.epoch_seconds},
                                                          {"seconds", res.seconds}};
   res.exit_code = loop.finish(lr.stop_message, figures, [&](data::Report& r) {
-    if (fs::exists(run.path("loss.svg"))) r.chart("loss.svg", "train loss and test MSE per epoch");
+    if (fs::exists(run.path("loss.svg"))) r.chart("loss.svg", "train loss per epoch");
+    if (fs::exists(run.path("mse.svg"))) r.chart("mse.svg", "test (and validation) MSE per epoch");
   });
   return res;
 }

@@ -203,7 +203,8 @@ class GanTask : public runs::TrainingTask {
   }
   void flush_log() {
     const double k = 1.0 / acc_n_;
-    run_.log({t_.step(), epoch_, {{"lr", t_.lr()}, {"d", acc_.d * k}, {"d_real", acc_.d_real * k}, {"d_fake", acc_.d_fake * k},
+    // Epochs count from 1 in the log, as train-nnao's: the record's epoch is the one it belongs to.
+    run_.log({t_.step(), epoch_ + 1, {{"lr", t_.lr()}, {"d", acc_.d * k}, {"d_real", acc_.d_real * k}, {"d_fake", acc_.d_fake * k},
                                   {"g_adv", acc_.g_adv * k}, {"g_rec", acc_.g_rec * k}, {"g", acc_.g * k}}});
     acc_ = {};
     acc_n_ = 0;

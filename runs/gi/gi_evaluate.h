@@ -172,15 +172,19 @@ inline std::string results_csv(const std::vector<EvalRow>& rows, bool offscreen)
   return s;
 }
 
+// A table cell: the number, or a dash where there is none (no path pairs for the
+// flicker, no frame in a family).
+inline std::string cell(double v, const char* f) { return std::isfinite(v) ? detail::fmt(v, f) : "–"; }
+
 inline data::Table results_table(const std::vector<EvalRow>& rows, bool offscreen) {
   data::Table t{{"model", "mode", "ms/frame", "MSE", "PSNR", "SSIM", "MSE (linear)", "frames", "flicker (x truth)",
                  "temporal error"}, {}};
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
-    t.rows.push_back({r.model, r.mode, detail::fmt(r.ms_per_frame, "%.2f"), detail::fmt(m.mse, "%.5f"),
-                      detail::fmt(m.psnr, "%.2f"), detail::fmt(m.ssim, "%.4f"), detail::fmt(m.mse_linear, "%.4g"),
+    t.rows.push_back({r.model, r.mode, cell(r.ms_per_frame, "%.2f"), cell(m.mse, "%.5f"), cell(m.psnr, "%.2f"),
+                      cell(m.ssim, "%.4f"), cell(m.mse_linear, "%.4g"),
                       std::to_string(offscreen ? r.offscreen_frames : r.frames),
-                      detail::fmt(r.flicker / r.flicker_truth, "%.3f"), detail::fmt(r.temporal_error, "%.4f")});
+                      cell(r.flicker / r.flicker_truth, "%.3f"), cell(r.temporal_error, "%.4f")});
   }
   return t;
 }
@@ -207,7 +211,7 @@ inline data::Table family_table(const std::vector<EvalRow>& rows) {
     for (auto& r : rows) {
       auto it = r.by_family.find(family);
       const LightMetrics m = it == r.by_family.end() ? LightMetrics{} : it->second.mean();
-      t.rows.back().push_back(detail::fmt(m.ssim, "%.3f") + " / " + detail::fmt(m.mse_linear, "%.4f"));
+      t.rows.back().push_back(cell(m.ssim, "%.3f") + " / " + cell(m.mse_linear, "%.4f"));
     }
   }
   return t;
@@ -330,7 +334,11 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   add_eval_previews(report, previews);
   report.heading("All " + o.split + " frames").table(results_table(rows, false));
   report.heading("Off-screen-lit frames (front face holds < " + detail::fmt(100 * o.offscreen_share, "%.1f") +
-                 "% of the frame's direct light)").table(results_table(rows, true));
+                 "% of the frame's direct light)");
+  int64_t offscreen_frames = 0;
+  for (auto& r : rows) offscreen_frames += r.offscreen_frames;
+  if (offscreen_frames == 0) report.text("No frame of this split is lit mostly from off the screen.");
+  else report.table(results_table(rows, true));
   report.heading("Per scene family (SSIM mapped / MSE linear)").table(family_table(rows));
   report.heading("Speed against accuracy");
   write_speed_charts(rows, o, report);

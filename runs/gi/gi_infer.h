@@ -135,19 +135,11 @@ inline std::string default_out(const std::string& in) {
 // the dataset listing (non-EXR names) both ignore or clean them.
 inline std::string temp_name(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
 
-}  // namespace infer_detail
-
-inline InferResult infer_gi(const InferOptions& o) {
-  namespace fs = std::filesystem;
-  using namespace infer_detail;
-  InferResult r;
-  const bool from_images = !o.channels.empty();
-  if (from_images == !o.in.empty())
-    throw std::runtime_error("give the frame either as --in or as --channel images, not " +
-                             std::string(from_images ? "both" : "neither"));
+// OUT.exr and its two PNGs, named after the input (the depth image, when the frame
+// comes from images) unless --out names them.
+inline void name_outputs(const InferOptions& o, InferResult& r) {
   std::string in = o.in;
-  if (from_images) {
-    // Names the output after the depth image, as after the view otherwise.
+  if (!o.channels.empty()) {
     for (auto& m : o.channels)
       if (m.target == "depth" || m.target == "front.depth") in = m.file;
     if (in.empty()) in = o.channels[0].file;
@@ -158,128 +150,159 @@ inline InferResult infer_gi(const InferOptions& o) {
   const std::string stem = r.exr.substr(0, r.exr.size() - 4);
   r.shaded_png = stem + "_shaded.png";
   r.indirect_png = stem + "_indirect.png";
+}
 
-  LoadedGenerator g;
+inline LoadedGenerator load_named_generator(const std::string& model) {
   try {
-    g = load_generator(o.model);
+    return load_generator(model);
   } catch (const std::exception& e) {
     std::string what = e.what();
-    throw std::runtime_error(what.find(o.model) == std::string::npos
-                                 ? o.model + ": cannot load the generator: " + what
-                                 : what);
+    throw std::runtime_error(what.find(model) == std::string::npos ? model + ": cannot load the generator: " + what
+                                                                    : what);
   }
-  const GiInputConfig& cfg = g.inputs;
-  r.mode = mode_name(cfg.mode);
+}
 
-  std::error_code ec;
-  if (!from_images && !fs::exists(o.in, ec)) throw std::runtime_error(o.in + ": no such file or folder");
-  const bool folder = !from_images && fs::is_directory(o.in, ec);
-  std::vector<std::string> inputs;  // every file read, so the output cannot overwrite one
-  GiSample s;
+// The network's input and the front view the output is aligned with; `inputs`: every
+// file read, so the output cannot overwrite one.
+struct FrameInput {
+  GiSample sample;
   data::View front;
-  if (cfg.mode == GiMode::surround) {
-    std::array<data::View, 6> faces;
-    std::string frame_name = o.in;
-    if (from_images) {
-      try {
-        faces = data::frame_from_images(o.channels, o.images);  // sizes checked as read_frame's
-      } catch (const std::exception& e) {
-        throw std::runtime_error(o.model + " is a surround model: " + e.what());
-      }
-      for (auto& m : o.channels) inputs.push_back(m.file);
-      frame_name = r.front_file = faces[0].source;
-    } else {
-      if (!folder)
-        throw std::runtime_error(o.in + ": the model " + o.model + " is a surround model; it needs a folder "
-                                 "of six faces (front.exr, back.exr, left.exr, right.exr, up.exr, down.exr), "
-                                 "not a single view, or the faces as images: --channel FACE.TARGET=FILE");
-      data::FrameEntry e = data::frame_entry(o.in);
-      if (!e.complete()) {
-        std::string names;
-        for (auto& m : e.missing) names += (names.empty() ? "" : ", ") + m + ".exr";
-        throw std::runtime_error(o.in + ": a surround frame needs six faces; missing " + names);
-      }
-      faces = data::read_frame(e);  // same size, square, or an error naming the face
-      inputs.assign(e.faces.begin(), e.faces.end());
-      r.front_file = e.faces[0];
+  std::vector<std::string> inputs;
+};
+
+inline FrameInput read_surround_input(const InferOptions& o, const GiInputConfig& cfg, bool folder, InferResult& r) {
+  FrameInput in;
+  std::array<data::View, 6> faces;
+  std::string frame_name = o.in;
+  if (!o.channels.empty()) {
+    try {
+      faces = data::frame_from_images(o.channels, o.images);  // sizes checked as read_frame's
+    } catch (const std::exception& e) {
+      throw std::runtime_error(o.model + " is a surround model: " + e.what());
     }
-    for (auto& f : faces) check_input(f);
-    r.in_width = faces[0].width, r.in_height = faces[0].height;
-    r.reduction = reduction_to_model(faces[0], cfg.size, o.model);
-    for (auto& f : faces) f = downsample_view(f, r.reduction);
-    s = assemble_surround(faces, cfg, frame_name, /*targets=*/false);
-    front = faces[0];
+    for (auto& m : o.channels) in.inputs.push_back(m.file);
+    frame_name = r.front_file = faces[0].source;
   } else {
-    for (auto& m : o.channels)
-      if (data::face_prefixed(m))
-        throw std::runtime_error("--channel '" + m.text + "': the model " + o.model + " is a front-mode model "
-                                 "and reads one view; give its targets without a face (--channel depth=FILE, "
-                                 "normal=FILE, ...): FACE.TARGET is for surround models");
-    std::string path = o.in;
-    if (folder) {
-      path = (fs::path(o.in) / "front.exr").string();
-      if (!fs::is_regular_file(path, ec))
-        throw std::runtime_error(o.in + ": the model " + o.model + " is a front-mode model and reads one view; "
-                                 "the folder has no front.exr");
-      r.notes.push_back("front-mode model: using " + path + " (the other faces are not inputs of this model)");
+    if (!folder)
+      throw std::runtime_error(o.in + ": the model " + o.model + " is a surround model; it needs a folder "
+                               "of six faces (front.exr, back.exr, left.exr, right.exr, up.exr, down.exr), "
+                               "not a single view, or the faces as images: --channel FACE.TARGET=FILE");
+    data::FrameEntry e = data::frame_entry(o.in);
+    if (!e.complete()) {
+      std::string names;
+      for (auto& m : e.missing) names += (names.empty() ? "" : ", ") + m + ".exr";
+      throw std::runtime_error(o.in + ": a surround frame needs six faces; missing " + names);
     }
-    data::View v = from_images ? data::view_from_images(o.channels, o.images) : data::read_view(path);
-    if (from_images) path = v.source;
-    check_input(v);
-    r.in_width = v.width, r.in_height = v.height;
-    r.reduction = reduction_to_model(v, cfg.size, o.model);
-    front = downsample_view(v, r.reduction);
-    s = assemble_front(front, cfg, /*targets=*/false);
-    s.name = path;
-    if (from_images)
-      for (auto& m : o.channels) inputs.push_back(m.file);
-    else
-      inputs.push_back(path);
-    r.front_file = path;
+    faces = data::read_frame(e);  // same size, square, or an error naming the face
+    in.inputs.assign(e.faces.begin(), e.faces.end());
+    r.front_file = e.faces[0];
   }
+  for (auto& f : faces) check_input(f);
+  r.in_width = faces[0].width, r.in_height = faces[0].height;
+  r.reduction = reduction_to_model(faces[0], cfg.size, o.model);
+  for (auto& f : faces) f = downsample_view(f, r.reduction);
+  in.sample = assemble_surround(faces, cfg, frame_name, /*targets=*/false);
+  in.front = faces[0];
+  return in;
+}
+
+inline FrameInput read_front_input(const InferOptions& o, const GiInputConfig& cfg, bool folder, InferResult& r) {
+  namespace fs = std::filesystem;
+  const bool from_images = !o.channels.empty();
+  for (auto& m : o.channels)
+    if (data::face_prefixed(m))
+      throw std::runtime_error("--channel '" + m.text + "': the model " + o.model + " is a front-mode model "
+                               "and reads one view; give its targets without a face (--channel depth=FILE, "
+                               "normal=FILE, ...): FACE.TARGET is for surround models");
+  std::string path = o.in;
+  if (folder) {
+    std::error_code ec;
+    path = (fs::path(o.in) / "front.exr").string();
+    if (!fs::is_regular_file(path, ec))
+      throw std::runtime_error(o.in + ": the model " + o.model + " is a front-mode model and reads one view; "
+                               "the folder has no front.exr");
+    r.notes.push_back("front-mode model: using " + path + " (the other faces are not inputs of this model)");
+  }
+  data::View v = from_images ? data::view_from_images(o.channels, o.images) : data::read_view(path);
+  if (from_images) path = v.source;
+  check_input(v);
+  r.in_width = v.width, r.in_height = v.height;
+  r.reduction = reduction_to_model(v, cfg.size, o.model);
+  FrameInput in;
+  in.front = downsample_view(v, r.reduction);
+  in.sample = assemble_front(in.front, cfg, /*targets=*/false);
+  in.sample.name = path;
+  if (from_images)
+    for (auto& m : o.channels) in.inputs.push_back(m.file);
+  else
+    in.inputs.push_back(path);
+  r.front_file = path;
+  return in;
+}
+
+inline void refuse_overwriting_inputs(const std::vector<std::string>& inputs, const InferResult& r) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
   for (auto& in : inputs)
     for (auto* target : {&r.exr, &r.shaded_png, &r.indirect_png})
       if (fs::exists(*target, ec) && fs::equivalent(*target, in, ec))
         throw std::runtime_error(*target + ": is an input of this run; choose another --out");
+}
 
+// The network alone, timed.
+inline Tensor<float> predict_light(const InferOptions& o, LoadedGenerator& g, const GiSample& s,
+                                   InferResult& r) {
   auto t0 = std::chrono::steady_clock::now();
   Tensor<float> light;
   try {
     light = predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
   } catch (const std::exception& e) {
-    throw std::runtime_error((from_images ? r.front_file : o.in) + ": the model " + o.model + " cannot run on this " +
-                             std::to_string(s.input.size(3)) + "x" + std::to_string(s.input.size(2)) +
-                             " input (" + e.what() + ")");
+    throw std::runtime_error((!o.channels.empty() ? r.front_file : o.in) + ": the model " + o.model +
+                             " cannot run on this " + std::to_string(s.input.size(3)) + "x" +
+                             std::to_string(s.input.size(2)) + " input (" + e.what() + ")");
   }
   r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return light;
+}
 
+// The output view (light, signed indirect, shaded, Z) and the two previews' planes.
+struct LightOutputs {
+  data::View exr;
+  std::vector<float> shaded, indirect_png;  // (3, h, w), the PNGs' indirect clamped at 0
+};
+
+inline LightOutputs light_outputs(const InferOptions& o, const Tensor<float>& light, const FrameInput& in,
+                                  InferResult& r) {
+  const GiSample& s = in.sample;
+  const data::View& front = in.front;
   const int w = front.width, h = front.height;
   const int64_t n = int64_t(w) * h;
   r.width = w, r.height = h;
-  data::View out;
-  out.width = w, out.height = h;
-  out.fov_y_deg = front.fov_y_deg;
-  out.scene = front.scene;
-  out.world_to_camera = front.world_to_camera;
-  out.channels["Z"] = front.channel("Z");
-  std::vector<float> indirect_png(size_t(3 * n)), shaded(size_t(3 * n));
+  LightOutputs out;
+  data::View& v = out.exr;
+  v.width = w, v.height = h;
+  v.fov_y_deg = front.fov_y_deg;
+  v.scene = front.scene;
+  v.world_to_camera = front.world_to_camera;
+  v.channels["Z"] = front.channel("Z");
+  out.indirect_png.resize(size_t(3 * n));
+  out.shaded.resize(size_t(3 * n));
   r.min_indirect = INFINITY;
   std::vector<uint8_t> negative(size_t(n), 0);
   for (int c = 0; c < 3; ++c) {
     const std::string ch(1, "RGB"[c]);
-    auto &L = out.add_channel("light." + ch), &I = out.add_channel("indirect." + ch),
-         &S = out.add_channel("shaded." + ch);
+    auto &L = v.add_channel("light." + ch), &I = v.add_channel("indirect." + ch), &S = v.add_channel("shaded." + ch);
     for (int64_t i = 0; i < n; ++i) {
       const int64_t k = c * n + i;
       const float l = light[k];
       if (!std::isfinite(l))
-        throw std::runtime_error(o.model + ": predicted a non-finite light at pixel " + std::to_string(i % w) +
-                                 "," + std::to_string(i / w) + " of " + r.front_file);
+        throw std::runtime_error(o.model + ": predicted a non-finite light at pixel " + std::to_string(i % w) + "," +
+                                 std::to_string(i / w) + " of " + r.front_file);
       L[size_t(i)] = l;
       I[size_t(i)] = l - s.direct_env[k];
       S[size_t(i)] = s.albedo[k] * l + s.emission[k];
-      shaded[size_t(k)] = S[size_t(i)];
-      indirect_png[size_t(k)] = std::max(I[size_t(i)], 0.0f);
+      out.shaded[size_t(k)] = S[size_t(i)];
+      out.indirect_png[size_t(k)] = std::max(I[size_t(i)], 0.0f);
       if (s.geometry[size_t(i)]) {
         r.min_indirect = std::min(r.min_indirect, I[size_t(i)]);
         if (I[size_t(i)] < 0) negative[size_t(i)] = 1;
@@ -291,32 +314,57 @@ inline InferResult infer_gi(const InferOptions& o) {
     r.negative_indirect_pixels += negative[size_t(i)];
   }
   if (r.geometry_pixels == 0) r.min_indirect = 0;
+  return out;
+}
 
-  // Everything to temporaries first; only when all three exist are they renamed.
+// Everything to temporaries first; only when all three exist are they renamed.
+inline void write_outputs_together(const LightOutputs& out, float hdr_scale, const InferResult& r) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
   const std::vector<std::string> finals = {r.exr, r.shaded_png, r.indirect_png};
   std::vector<std::string> temps;
   for (auto& f : finals) temps.push_back(temp_name(f));
-  auto remove_all = [&](const std::vector<std::string>& files) {
-    for (auto& f : files) fs::remove(f, ec);
-  };
   try {
     const fs::path parent = fs::path(r.exr).parent_path();
     if (!parent.empty()) fs::create_directories(parent);
-    const HdrMapping hdr(cfg.norm.hdr_scale);
-    data::write_view(temps[0], out);
-    write_light_png(temps[1], shaded.data(), w, h, hdr);
-    write_light_png(temps[2], indirect_png.data(), w, h, hdr);
+    const HdrMapping hdr(hdr_scale);
+    data::write_view(temps[0], out.exr);
+    write_light_png(temps[1], out.shaded.data(), r.width, r.height, hdr);
+    write_light_png(temps[2], out.indirect_png.data(), r.width, r.height, hdr);
     for (size_t i = 0; i < finals.size(); ++i) {
       fs::rename(temps[i], finals[i]);
       temps[i].clear();
     }
   } catch (const std::exception& e) {
-    remove_all(temps);
+    for (auto& f : temps) fs::remove(f, ec);
     // A rename that failed half-way: the renamed files are this run's, not a complete set.
     for (size_t i = 0; i < finals.size(); ++i)
       if (temps[i].empty()) fs::remove(finals[i], ec);
     throw std::runtime_error(r.exr + ": cannot write the output (" + e.what() + "); nothing was written");
   }
+}
+
+}  // namespace infer_detail
+
+inline InferResult infer_gi(const InferOptions& o) {
+  namespace fs = std::filesystem;
+  using namespace infer_detail;
+  const bool from_images = !o.channels.empty();
+  if (from_images == !o.in.empty())
+    throw std::runtime_error("give the frame either as --in or as --channel images, not " +
+                             std::string(from_images ? "both" : "neither"));
+  InferResult r;
+  name_outputs(o, r);
+  LoadedGenerator g = load_named_generator(o.model);
+  r.mode = mode_name(g.inputs.mode);
+  std::error_code ec;
+  if (!from_images && !fs::exists(o.in, ec)) throw std::runtime_error(o.in + ": no such file or folder");
+  const bool folder = !from_images && fs::is_directory(o.in, ec);
+  const FrameInput in = g.inputs.mode == GiMode::surround ? read_surround_input(o, g.inputs, folder, r)
+                                                          : read_front_input(o, g.inputs, folder, r);
+  refuse_overwriting_inputs(in.inputs, r);
+  const Tensor<float> light = predict_light(o, g, in.sample, r);
+  write_outputs_together(light_outputs(o, light, in, r), g.inputs.norm.hdr_scale, r);
   return r;
 }
 

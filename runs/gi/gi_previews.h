@@ -212,7 +212,7 @@ inline void write_loss_chart(const runs::MetricsLog& log, const std::string& svg
   data::ChartOptions o;
   o.title = "train-gan losses";
   o.x_label = "step";
-  o.y_label = "loss (log scale)";
+  o.y_label = "loss";
   o.log_y = true;
   data::write_chart(svg_path, series, o);
 }

@@ -1,8 +1,9 @@
 // report.html of every kind of run — eval-ao, train-nnao, train-gan, eval-gi — opened in
-// headless Chromium as a person would open it: every image loads (even from a folder
-// whose name holds markup, '#', '%' and quotes), the page is not blank, each image
-// comparison flips with its radio buttons (CSS only), and nothing a file name carries
-// becomes markup. The page itself has no script: the image check runs in a copy of it
+// headless Chromium at 1280 px as a person would open it: every image loads (even from a
+// folder whose name holds markup, '#', '%' and quotes), the page is not blank, each image
+// comparison flips with its radio buttons (CSS only), nothing a file name carries
+// becomes markup, no table cell reads "nan", and no text of a chart (legend, axis label,
+// tick) runs off its image. The page itself has no script: the image check runs in a copy of it
 // with one script appended.
 //
 // Chromium is Debian's `chromium` (scripts/install-deps); without it these tests fail,
@@ -58,10 +59,32 @@ addEventListener('load', () => {
       });
     });
   }
+  const nan = [...document.querySelectorAll('td, th')].filter(c => /^\s*[-+]?nan\s*$/i.test(c.textContent)).length;
   const p = document.createElement('pre');
   p.id = 'nns-check';
   p.textContent = 'images=' + document.images.length + ' comparisons=' + document.querySelectorAll('.cmp').length +
-      ' injected=' + document.querySelectorAll('i').length + ' flip=' + flip + ' failed=' + JSON.stringify(failed);
+      ' injected=' + document.querySelectorAll('i').length + ' flip=' + flip + ' nan_cells=' + nan +
+      ' failed=' + JSON.stringify(failed);
+  document.body.appendChild(p);
+});
+</script>)";
+
+// Run in a page that holds a run's charts inline (the report shows them as images, whose
+// insides a script cannot measure): every text of every chart must lie inside its chart.
+const char* kChartScript = R"(<script>
+addEventListener('load', () => {
+  const cut = [];
+  for (const svg of document.querySelectorAll('svg')) {
+    const box = svg.getBoundingClientRect();
+    for (const t of svg.querySelectorAll('text')) {
+      const r = t.getBoundingClientRect();
+      if (r.left < box.left - 0.5 || r.right > box.right + 0.5 || r.top < box.top - 0.5 || r.bottom > box.bottom + 0.5)
+        cut.push(t.textContent);
+    }
+  }
+  const p = document.createElement('pre');
+  p.id = 'nns-charts';
+  p.textContent = 'charts=' + document.querySelectorAll('svg').length + ' cut=' + JSON.stringify(cut);
   document.body.appendChild(p);
 });
 </script>)";
@@ -107,7 +130,7 @@ class ReportHtml : public ::testing::Test {
     std::string checked = html;
     checked.insert(checked.rfind("</body>"), kCheckScript);
     nns::write_file_atomic(copy.string(), checked);
-    const std::string dom = headless("--dump-dom", copy);
+    const std::string dom = headless("--dump-dom --window-size=1280,1600", copy);
     fs::remove(copy);
     const size_t at = dom.find("<pre id=\"nns-check\">");
     if (at == std::string::npos) return ADD_FAILURE() << "the check script did not run:\n" << dom.substr(0, 2000), -1;
@@ -118,6 +141,7 @@ class ReportHtml : public ::testing::Test {
     EXPECT_GE(images, min_images) << result;
     EXPECT_EQ(injected, 0) << result;
     EXPECT_NE(result.find("flip=ok "), std::string::npos) << result;
+    EXPECT_NE(result.find(" nan_cells=0 "), std::string::npos) << "a table cell reads nan: " << result;
     EXPECT_NE(result.find("failed=[]"), std::string::npos) << "images that did not load: " << result;
 
     // The page as a person sees it (no script in it): not blank.
@@ -134,6 +158,24 @@ class ReportHtml : public ::testing::Test {
     EXPECT_GT(colours.size(), 50u) << shot << ": a blank page";
     EXPECT_GT(pixels - most, pixels / 50) << shot << ": under 2% of the screenshot differs from its background";
     return comparisons;
+  }
+
+  // Every chart (*.svg) of DIR, inlined in one page opened at 1280 px: none has a text
+  // (legend, axis label, tick) that runs off its image.
+  static void check_charts(const fs::path& dir, int charts) {
+    std::string html = "<!DOCTYPE html><html><head><meta charset=\"utf-8\"></head><body style=\"margin:0\">\n";
+    for (auto& e : fs::directory_iterator(dir))
+      if (e.path().extension() == ".svg") html += "<div>" + nns::read_file(e.path().string()) + "</div>\n";
+    html += std::string(kChartScript) + "</body></html>\n";
+    const fs::path page = dir / "charts_check.html";
+    nns::write_file_atomic(page.string(), html);
+    const std::string dom = headless("--dump-dom --window-size=1280,1600", page);
+    fs::remove(page);
+    const size_t at = dom.find("<pre id=\"nns-charts\">");
+    if (at == std::string::npos) return (void)(ADD_FAILURE() << "the chart script did not run:\n" << dom.substr(0, 2000));
+    const std::string result = dom.substr(at + 21, dom.find("</pre>", at) - at - 21);
+    EXPECT_NE(result.find("charts=" + std::to_string(charts) + " "), std::string::npos) << dir << ": " << result;
+    EXPECT_NE(result.find("cut=[]"), std::string::npos) << dir << ": chart text cut off: " << result;
   }
 
   static inline fs::path root_;
@@ -166,11 +208,16 @@ TEST_F(ReportHtml, TrainNnaoPageShowsTheLossChart) {
     nns::data::write_view((data / (v % 2 ? "test" : "train") / ("v" + std::to_string(v) + ".exr")).string(), view);
   }
   const CommandResult r = run_app("train-nnao", "--data " + shell_arg(data) + " --out " + shell_arg(out) +
-                                                    " --preset grid --window 7 --points-per-view 96 --epochs 2 --seed 5");
+                                                    " --preset grid --window 7 --points-per-view 96 --epochs 2 --seed 5 --dropout 0.3");
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_EQ(check_page(out, 1), 0);
-  EXPECT_NE(nns::read_file((out / "report.md").string()).find("| epoch | step | train_loss | test_mse |"),
-            std::string::npos);
+  // The train loss and the held-out MSE, each on a chart of its own.
+  EXPECT_EQ(check_page(out, 2), 0);
+  check_charts(out, 2);
+  const std::string md = nns::read_file((out / "report.md").string());
+  EXPECT_NE(md.find("| epoch | step | train_loss | test_mse |"), std::string::npos);
+  // The checkpoint records 0.29999999999999999 (it reads back as the same double); people read 0.3.
+  EXPECT_NE(md.find("| dropout | 0.3 |"), std::string::npos) << md;
+  EXPECT_EQ(md.find("99999"), std::string::npos) << "a configuration value in 17 digits: " << md;
 }
 
 TEST_F(ReportHtml, TrainGanAndEvalGiPagesShowEveryImage) {
@@ -182,9 +229,16 @@ TEST_F(ReportHtml, TrainGanAndEvalGiPagesShowEveryImage) {
   ASSERT_EQ(r.code, 0) << r.output;
   // The loss chart; the first and last samples, 5 images each on the stage and as thumbnails.
   EXPECT_EQ(check_page(run, 1 + 2 * 5 * 2), 2);
+  check_charts(run, 1);
+  // Epochs count from 1, as train-nnao's.
+  const std::string log = nns::read_file((run / "metrics.jsonl").string());
+  EXPECT_NE(log.find("\"epoch\":1,"), std::string::npos) << log;
+  EXPECT_EQ(log.find("\"epoch\":0,"), std::string::npos) << log;
+  EXPECT_EQ(nns::read_file((run / "loss.svg").string()).find("(log scale) (log scale)"), std::string::npos);
   r = run_app("eval-gi", "--data " + shell_arg(data) + " --model " + shell_arg(run / "G.blob") + " --out " + shell_arg(out) +
                              " --previews 2");
   ASSERT_EQ(r.code, 0) << r.output;
   // 2 charts; 2 frames x (truth + 3 rows x 2 images), on the stage and as thumbnails.
   EXPECT_EQ(check_page(out, 2 + 2 * 7 * 2), 2);
+  check_charts(out, 2);
 }

@@ -77,3 +77,25 @@ TEST(Chart, DashedVariantTakesTheGivenColour) {
   EXPECT_EQ(stroke(first), stroke(third));
   EXPECT_NE(svg.find("stroke-dasharray=\"6,4\"", third), std::string::npos);
 }
+
+// A log axis that spans less than a decade (a loss between 0.3 and 0.9) used to get one
+// tick or none: it takes finer steps, so the chart can be read.
+TEST(Chart, ALogAxisWithinADecadeHasTicksToReadItBy) {
+  ChartOptions o;
+  o.log_y = true;
+  const std::string svg = line_chart_svg({{"loss", {1, 2, 3}, {0.9, 0.5, 0.3}, {}}}, o);
+  size_t ticks = 0;
+  for (size_t at = svg.find("text-anchor=\"end\">"); at != std::string::npos; at = svg.find("text-anchor=\"end\">", at + 1))
+    ++ticks;
+  EXPECT_GE(ticks, 3u) << svg;
+}
+
+// A long legend name gets the room it needs (wrapped beyond 45% of the chart), never
+// running past the image's right edge.
+TEST(Chart, ALongLegendNameWrapsInsideTheImage) {
+  ChartOptions o;
+  const std::string name = "train loss (MSE + gamma|theta|, standardised) of the horizon model, every epoch";
+  const std::string svg = line_chart_svg({{name, {1, 2}, {1, 2}, {}}}, o);
+  EXPECT_EQ(svg.find(name), std::string::npos) << "one line of " << name.size() << " characters: " << svg;
+  EXPECT_NE(svg.find("<tspan"), std::string::npos);
+}
