@@ -23,6 +23,7 @@
 #include "report/chart.h"
 #include "data/dataset.h"
 #include "data/exr_io.h"
+#include "data/validation_split.h"
 #include "models/nnao/nnao_inference.h"
 #include "runs/ao/train_nnao.h"
 
@@ -44,8 +45,7 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<i
   const std::string size_name = horizon ? "directions" : "w", tag = horizon ? "d" : "w";
   const fs::path dir = fs::path(base.out_dir) / "sweep";
   fs::create_directories(dir);
-  data::DatasetListing d = data::list_dataset(base.data_dir);
-  if (d.flat) d = data::split_flat_by_scene(d, 0.2);
+  const data::DatasetListing d = data::list_splits(base.data_dir);
   const std::string probe = d.test.views.empty() ? d.train.views.at(0) : d.test.views[0];
   data::View view = data::read_view(probe);
   ao::GBuffer g = ao::gbuffer_from_view(view, base.radius);
