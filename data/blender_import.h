@@ -141,15 +141,18 @@ inline View convert(const View& in, const ImportSettings& s) {
     for (size_t i = 0; i < n; ++i) {
       if (is_sky(z[i])) continue;  // zero on sky, as the spec allows
       // Directions take the upper-left 3x3 (no translation); renormalise against scale.
-      float c[3];
-      for (int r = 0; r < 3; ++r) c[r] = m[size_t(4 * r)] * wx[i] + m[size_t(4 * r + 1)] * wy[i] + m[size_t(4 * r + 2)] * wz[i];
-      float len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+      // In double: a tiny normal's squares are subnormal in float, and its length then
+      // lost the digits that make the result unit (a fuzzer found 1e-20-sized normals).
+      double c[3];
+      for (int r = 0; r < 3; ++r)
+        c[r] = double(m[size_t(4 * r)]) * wx[i] + double(m[size_t(4 * r + 1)]) * wy[i] + double(m[size_t(4 * r + 2)]) * wz[i];
+      const double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
       if (!(len > 0 && std::isfinite(len))) {
         const char* axis = !std::isfinite(wx[i]) ? "Normal.X" : !std::isfinite(wy[i]) ? "Normal.Y" : !std::isfinite(wz[i]) ? "Normal.Z" : "Normal.X";
         throw at(pass(axis), i, "the normal (" + std::to_string(wx[i]) + ", " + std::to_string(wy[i]) + ", " +
                                     std::to_string(wz[i]) + ") has no direction (NaN, infinite or zero)");
       }
-      nx[i] = c[0] / len, ny[i] = c[1] / len, nz[i] = c[2] / len;
+      nx[i] = float(c[0] / len), ny[i] = float(c[1] / len), nz[i] = float(c[2] / len);
     }
   }
 
