@@ -112,10 +112,14 @@ inline ClassicalParams read_classical_params(const std::string& path) {
     for (auto& c : ts)
       if (c.method + "." + c.name == key) t = &c;
     if (!t) throw std::runtime_error(where + "unknown parameter '" + key + "'");
-    if (!(v >= t->lo && v <= t->hi))
+    // Checked as stored (a float): a bound written back with 9 digits ("0.600000024" for
+    // 0.6f) reads above the double bound, and a file this function wrote was refused
+    // (found by fuzz_classical_params).
+    const float f = float(v);
+    if (!(f >= float(t->lo) && f <= float(t->hi)))
       throw std::runtime_error(where + key + " = " + std::to_string(v) + " is outside [" + std::to_string(t->lo) + ", " +
                                std::to_string(t->hi) + "]");
-    *t->value = float(v);
+    *t->value = f;
   }
   return p;
 }
