@@ -32,7 +32,9 @@ int main(int argc, char** argv) {
     o.data_dir = a.get_string("--data", o.data_dir, "dataset folder (default: the built-in surround data, rendered once and cached)");
     o.out = a.get_path("--out", o.out, "output folder");
     o.mode = a.get_choice("--mode", o.mode, {"front", "surround"}, "front view only, or the six-face global view");
-    o.size = a.get_int("--size", o.size, "face size the views are box-filtered to (0: as stored)", 4, 4096);
+    o.size = a.get_int("--size", o.size, "face size the views are box-filtered to (0: as stored; sides divisible by "
+                       "2^levels)", 0, 4096);
+    if (o.size > 0 && o.size < 4) a.error("--size must be 0 (as stored) or in [4, 4096]");
     o.ngf = a.get_int("--ngf", o.ngf, "generator base width", 1, 1024);
     o.ndf = a.get_int("--ndf", o.ndf, "discriminator base width", 1, 1024);
     o.levels = a.get_int("--levels", o.levels, "U-Net levels (input size divisible by 2^levels)", 1, 12);
@@ -51,7 +53,7 @@ int main(int argc, char** argv) {
     o.residual = a.get_choice("--residual", o.residual, {"off", "mapped", "linear"}, "predict a correction to the input light: none (pix2pix), in Tanh range, or the indirect light in linear light (docs/gan.md)");
     o.precision = parse_precision(a.get_choice("--precision", precision_name(o.precision), {"fp32", "bf16"}, "GEMM/convolution inputs: fp32, or bf16 with fp32 sums, master weights, Adam and BatchNorm (docs/gan.md)"));
     const int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
-    o.accumulate = a.get_int("--accumulate", o.accumulate, "samples per optimizer step, their gradients averaged in a fixed order "
+    o.accumulate = a.get_int("--accumulate", dist::default_accumulate(o.accumulate), "samples per optimizer step, their gradients averaged in a fixed order "
                              "(BatchNorm per image); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
     o.bucket_mb = a.get_double("--bucket-mb", o.bucket_mb, "MiB per gradient bucket sent between MPI ranks during backward "
                                "(0: one bucket, sent after backward)", 0, 1e6);
@@ -82,6 +84,7 @@ int main(int argc, char** argv) {
     if (o.accumulate < dist::size())
       a.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(dist::size()) + ")");
     a.done();
+    dist::announce_accumulate("train-gan", o.accumulate);
     set_num_threads(threads);
     if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return data::ensure_default_dataset("surround", threads); });
     return train_gan(o).exit_code;

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
                                       "grid: the paper's w x w grid of normal/depth differences; horizon: horizon profiles (models/nnao/horizon_features.h)");
     o.epochs = args.get_int("--epochs", d.epochs, "training epochs (the paper: 100)", 0, 100000);
     o.batch = args.get_int("--batch", d.batch, "mini-batch size (the global batch under mpirun, whatever the rank count)", 1, 65536);
-    o.accumulate = args.get_int("--accumulate", d.accumulate, "micro-batches per step (of --batch / K points; their gradients averaged in a fixed order); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
+    o.accumulate = args.get_int("--accumulate", dist::default_accumulate(d.accumulate), "micro-batches per step (of --batch / K points; their gradients averaged in a fixed order); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
     o.bucket_mb = args.get_double("--bucket-mb", d.bucket_mb, "MiB per gradient bucket sent between MPI ranks (0: one bucket, sent after backward)", 0, 1e6);
     o.lr = args.get_double("--lr", d.lr, "Adam learning rate", 1e-12, 1e9);
     o.net.window = args.get_int("--window", d.net.window, "grid features: grid size w (w x w samples)", 1, 63);
@@ -74,7 +74,10 @@ int main(int argc, char** argv) {
     bool sweep = args.get_flag("--sweep", "train the size ladder (grid: w 7/15/23/31 x hidden 4/8/16; horizon: directions 8/16/32 x hidden 8/16/32) and chart error vs ms/frame");
     int sweep_epochs = args.get_int("--sweep-epochs", o.net.features == "horizon" ? 8 : 40,
                                     "epochs per model in --sweep (grid 40: converged on the default data; horizon 8, as the preset; the sweep trains with the preset's or --gamma's gamma)", 1, 100000);
-    if (o.batch % o.accumulate != 0) args.error("--accumulate must divide --batch");
+    if (o.batch % o.accumulate != 0)
+      args.error("--accumulate must divide --batch" +
+                 (dist::size() > 1 ? " (under mpirun its default is the rank count, " + std::to_string(dist::size()) + ")"
+                                   : std::string()));
     if (sweep && dist::size() > 1) args.error("--sweep runs in one process (not under mpirun)");
     if (ladder && (sweep || dist::size() > 1)) args.error("--ladder runs in one process, without --sweep");
     std::vector<nnao::Rung> ladder_rungs = nnao::default_ladder();
@@ -85,6 +88,7 @@ int main(int argc, char** argv) {
       }
     if (o.accumulate < dist::size()) args.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(dist::size()) + ")");
     args.done();
+    dist::announce_accumulate("train-nnao", o.accumulate);
     o.quiet = !dist::writer();
     set_num_threads(threads);
     if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return data::ensure_default_dataset("nnao", threads); });

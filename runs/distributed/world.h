@@ -36,6 +36,15 @@ inline int size() { return world().size; }
 // Rank 0 alone writes outputs, metrics and checkpoints; every rank reads them on resume.
 inline bool writer() { return world().rank == 0; }
 
+// --accumulate's default: at least one micro-batch per rank, so `mpirun -np N` with the
+// default flags runs, and trains the weights of one process with --accumulate N.
+inline int default_accumulate(int one_process_default) { return std::max(one_process_default, size()); }
+inline void announce_accumulate(const char* app, int accumulate) {
+  if (size() > 1 && writer())
+    std::fprintf(stderr, "%s: %d MPI ranks, --accumulate %d: the same weights as one process with --accumulate %d\n",
+                 app, size(), accumulate, accumulate);
+}
+
 // The number of processes an MPI launcher says it started, or 0 when none did: Open MPI's
 // mpirun sets OMPI_COMM_WORLD_SIZE, MPICH's Hydra PMI_SIZE, Slurm's srun (PMIx) PMIX_RANK.
 inline int launcher_size() {

@@ -18,6 +18,7 @@
 #include "runs/gi/gan_run.h"
 #include "runs/gi/gi_data.h"
 #include "runs/gi/gi_evaluate.h"
+#include "runs/run_report.h"
 
 namespace nns::gi {
 
@@ -144,13 +145,39 @@ inline GanRunOptions run_options(const TrainGanOptions& o, const GanSplits& s) {
   return r;
 }
 
+// The generator halves its input `levels` times (Deep Shading's U-Net one time fewer), so
+// both sides must be divisible by that power of two. A non-square view (the gi preset's
+// 256x144) fits only fewer levels: the error says how many, and which sizes would do.
+inline void require_unet_divisible(const TrainGanOptions& o, int height, int width) {
+  const int halvings = o.arch == "deepshading" ? o.levels - 1 : o.levels;
+  const int m = 1 << halvings;
+  if (height % m == 0 && width % m == 0) return;
+  int fits = 0;
+  while (fits < 30 && height % (2 << fits) == 0 && width % (2 << fits) == 0) ++fits;
+  const int levels_that_fit = o.arch == "deepshading" ? fits + 1 : fits;
+  std::string msg = o.data_dir + ": the generator's input is " + std::to_string(width) + "x" +
+                    std::to_string(height) + " (--size " + std::to_string(o.size) +
+                    (o.size == 0 ? ": as stored" : "") + "), whose sides are not both divisible by 2^" +
+                    std::to_string(halvings) + " = " + std::to_string(m) + " (--levels " + std::to_string(o.levels) +
+                    "): ";
+  msg += levels_that_fit >= 1 ? "--levels " + std::to_string(levels_that_fit) + " or fewer fits"
+                              : "no --levels fits";
+  msg += width != height && o.mode == "front"
+             ? " (--size N box-filters square views only; a non-square view trains at its stored size)"
+             : ", or a --size N that divides the stored face size and is a multiple of " + std::to_string(m);
+  throw std::runtime_error(msg);
+}
+
 // The training frames, normalised with statistics of the training scenes alone; held in
 // memory, or streamed from disk when asked or when they would take more than the budget.
 inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplits& s, GiInputConfig& inputs) {
   GiItemReader rd{inputs.mode, o.size};
-  inputs.norm = fit_normalisation(s.train, rd, max_items(o));
   const size_t n_train = std::min(max_items(o), split_items(s.train, rd.mode));
   if (n_train == 0) throw std::runtime_error(o.data_dir + ": no training samples for --mode " + o.mode);
+  // The first item's shape, before the normalisation pass reads the whole split.
+  const Tensor<float>& shape_probe = load_sample(s.train, rd, inputs, 0).input;
+  require_unet_divisible(o, int(shape_probe.size(2)), int(shape_probe.size(3)));
+  inputs.norm = fit_normalisation(s.train, rd, max_items(o));
   const GiSample first = load_sample(s.train, rd, inputs, 0);
   if (o.augment.mirror) (void)mirrored(first);  // refuses an odd face size before the first step
   const double gib = double(sample_bytes(first)) * double(n_train) / double(1 << 30);
@@ -203,7 +230,8 @@ inline TrainGanResult train_gan(const TrainGanOptions& o) {
                  (long long)r.d_wins_windows, DiscriminatorWatch::kWindow, (long long)r.first_d_wins_step);
   if (!r.finished) return res.exit_code = 3, res;  // the run layer's non-finite stop
   if (!dist::writer()) return res;                 // rank 0 reports and evaluates
-  std::printf("train-gan: %d epochs, %lld steps in %s; generator %s\n", r.epochs_done, (long long)r.steps,
+  std::printf("train-gan: %s, %s in %s; generator %s\n", runs::count_of(r.epochs_done, "epoch").c_str(),
+              runs::count_of(r.steps, "step").c_str(),
               Progress::format_seconds(r.seconds).c_str(), GanRunFiles{o.out}.generator().c_str());
   if (o.eval && splits.splits.listing.test.size() > 0) evaluate_trained(o, splits);
   return res;

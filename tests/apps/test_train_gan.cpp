@@ -430,3 +430,28 @@ TEST_F(TrainGan, AugmentationIsDeterministicResumableAndRecorded) {
   EXPECT_EQ(rc, 1) << read_all(plain + ".log2");
   EXPECT_NE(read_all(plain + ".log2").find("aug_mirror: was off, now on"), std::string::npos) << read_all(plain + ".log2");
 }
+
+// --size 0 trains on the views as stored, as --help says; a non-square view whose sides
+// the U-Net cannot halve --levels times is refused before any step, naming the levels
+// that fit. 40x24 views: 8 divides both sides, 16 does not, so 3 levels fit.
+TEST_F(TrainGan, SizeZeroTrainsNonSquareViewsAsStoredAndNamesTheLevelsThatFit) {
+  const fs::path data = root_ / "flat";
+  ASSERT_EQ(run(kBin + "render-dataset --out " + data.string() +
+                    " --preset gi --views 6 --size 40x24 --spp 4 --gi-spp 4 --bounces 2 --threads 1",
+                (root_ / "flat.log").string()),
+            0)
+      << read_all((root_ / "flat.log").string());
+  const std::string base = kBin + "train-gan --data " + data.string() +
+                           " --mode front --size 0 --ngf 4 --ndf 4 --d-layers 2 --epochs 1 --sample-every 0 --no-eval "
+                           "--validation-fraction 0 --out ";
+  const std::string refused = (root_ / "flat-l4").string();
+  EXPECT_EQ(run(base + refused + " --levels 4", refused + ".log"), 1);
+  EXPECT_NE(read_all(refused + ".log").find("input is 40x24"), std::string::npos) << read_all(refused + ".log");
+  EXPECT_NE(read_all(refused + ".log").find("--levels 3 or fewer fits"), std::string::npos);
+  EXPECT_FALSE(fs::exists(fs::path(refused) / "G.blob"));
+  const std::string ok = (root_ / "flat-l3").string();
+  EXPECT_EQ(run(base + ok + " --levels 3", ok + ".log"), 0) << read_all(ok + ".log");
+  EXPECT_TRUE(fs::exists(fs::path(ok) / "G.blob"));
+  EXPECT_NE(run(base + ok + "-bad --levels 3 --size 2", ok + "-bad.log"), 0);
+  EXPECT_NE(read_all(ok + "-bad.log").find("--size must be 0"), std::string::npos) << read_all(ok + "-bad.log");
+}

@@ -190,3 +190,21 @@ TEST_F(MpiTraining, RenderDatasetOverThreeRanksIsTheOneProcessDataset) {
 }
 
 }  // namespace
+
+// With no --accumulate, mpirun -np 3 takes the rank count as its default and says so: the
+// run is the one-process run with --accumulate 3 (which the bitwise tests above pin).
+TEST_F(MpiTraining, DefaultAccumulateIsTheRankCount) {
+  auto without_accumulate = [](std::string cmd) {
+    const std::string flag = "--accumulate 3 ";
+    cmd.erase(cmd.find(flag), flag.size());
+    return cmd;
+  };
+  must_run(nnao("acc-one"));
+  auto r = must_run(mpirun(3) + without_accumulate(nnao("acc-default")));
+  EXPECT_NE(r.output.find("3 MPI ranks, --accumulate 3"), std::string::npos) << r.output;
+  expect_same("acc-one", "acc-default", {"nnao.blob", "checkpoint.blob"});
+  must_run(gan("acc-gan-one"));
+  r = must_run(mpirun(3) + without_accumulate(gan("acc-gan-default")));
+  EXPECT_NE(r.output.find("3 MPI ranks, --accumulate 3"), std::string::npos) << r.output;
+  expect_same("acc-gan-one", "acc-gan-default", {"G.blob", "checkpoint.blob"});
+}
