@@ -104,6 +104,31 @@ void write_path_atomic(const std::string& path, WriteToPath&& write) {
   detail::rename_into_place(tmp, path);
 }
 
+// Files that belong together (an image and its previews): each written by
+// `write(i, tmp)` at its temporary name and fsynced, then all renamed. A failed write
+// renames nothing and removes every temporary; a rename that fails half-way removes
+// the files already renamed (they are not a complete set) and the rest. Either the
+// whole new set is in place or none of it is.
+template <class WriteToPath>
+void write_paths_atomic(const std::vector<std::string>& paths, WriteToPath&& write) {
+  std::vector<std::string> temps;
+  for (const auto& p : paths) temps.push_back(detail::temp_name(p));
+  size_t renamed = 0;
+  try {
+    for (size_t i = 0; i < paths.size(); ++i) {
+      write(i, temps[i]);
+      int fd = ::open(temps[i].c_str(), O_RDONLY | O_CLOEXEC);
+      const bool synced = fd >= 0 && ::fsync(fd) == 0;
+      if (fd >= 0) ::close(fd);
+      if (!synced) throw detail::io_error(paths[i], "fsync " + temps[i]);
+    }
+    for (; renamed < paths.size(); ++renamed) detail::rename_into_place(temps[renamed], paths[renamed]);
+  } catch (...) {
+    for (size_t i = 0; i < paths.size(); ++i) ::unlink((i < renamed ? paths[i] : temps[i]).c_str());
+    throw;
+  }
+}
+
 // The pid of a temporary's name "<name>.tmp.<pid>", or -1 for any other name.
 inline int temporary_pid(const std::string& name) {
   const auto at = name.rfind(".tmp.");

@@ -131,10 +131,6 @@ inline std::string default_out(const std::string& in) {
   return (name.empty() || name == "." || name == ".." ? std::string("frame") : name) + "_gi.exr";
 }
 
-// Temporaries end in ".tmp.<pid>": core/atomic_file.h's remove_stale_temporaries and
-// the dataset listing (non-EXR names) both ignore or clean them.
-inline std::string temp_name(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
-
 // OUT.exr and its two PNGs, named after the input (the depth image, when the frame
 // comes from images) unless --out names them.
 inline void name_outputs(const InferOptions& o, InferResult& r) {
@@ -317,29 +313,18 @@ inline LightOutputs light_outputs(const InferOptions& o, const Tensor<float>& li
   return out;
 }
 
-// Everything to temporaries first; only when all three exist are they renamed.
+// The EXR and its two PNGs together (core/atomic_file.h): all three or none.
 inline void write_outputs_together(const LightOutputs& out, float hdr_scale, const InferResult& r) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const std::vector<std::string> finals = {r.exr, r.shaded_png, r.indirect_png};
-  std::vector<std::string> temps;
-  for (auto& f : finals) temps.push_back(temp_name(f));
+  const std::filesystem::path parent = std::filesystem::path(r.exr).parent_path();
   try {
-    const fs::path parent = fs::path(r.exr).parent_path();
-    if (!parent.empty()) fs::create_directories(parent);
+    if (!parent.empty()) std::filesystem::create_directories(parent);
     const HdrMapping hdr(hdr_scale);
-    data::write_view(temps[0], out.exr);
-    write_light_png(temps[1], out.shaded.data(), r.width, r.height, hdr);
-    write_light_png(temps[2], out.indirect_png.data(), r.width, r.height, hdr);
-    for (size_t i = 0; i < finals.size(); ++i) {
-      fs::rename(temps[i], finals[i]);
-      temps[i].clear();
-    }
+    write_paths_atomic({r.exr, r.shaded_png, r.indirect_png}, [&](size_t i, const std::string& tmp) {
+      if (i == 0) data::write_view(tmp, out.exr);
+      if (i == 1) write_light_png(tmp, out.shaded.data(), r.width, r.height, hdr);
+      if (i == 2) write_light_png(tmp, out.indirect_png.data(), r.width, r.height, hdr);
+    });
   } catch (const std::exception& e) {
-    for (auto& f : temps) fs::remove(f, ec);
-    // A rename that failed half-way: the renamed files are this run's, not a complete set.
-    for (size_t i = 0; i < finals.size(); ++i)
-      if (temps[i].empty()) fs::remove(finals[i], ec);
     throw std::runtime_error(r.exr + ": cannot write the output (" + e.what() + "); nothing was written");
   }
 }
@@ -355,6 +340,9 @@ inline InferResult infer_gi(const InferOptions& o) {
                              std::string(from_images ? "both" : "neither"));
   InferResult r;
   name_outputs(o, r);
+  // What a killed earlier run into these names left (the folder is the user's: only
+  // our three names' temporaries).
+  for (const std::string& f : {r.exr, r.shaded_png, r.indirect_png}) remove_stale_temporaries_of(f);
   LoadedGenerator g = load_named_generator(o.model);
   r.mode = mode_name(g.inputs.mode);
   std::error_code ec;

@@ -475,3 +475,23 @@ TEST_F(GiInfer, SurroundImagesRefusalsNameTheProblemAndWriteNothing) {
   expect_refused("surround", without(all, "back.normal") + " --channel back.normal=" + dir + "/back_gbuf.exr",
                  {dir + "/back_gbuf.exr", "has 4 channels", "--channel back.normal=" + dir + "/back_gbuf.exr:"});
 }
+
+// What a gi-infer killed mid-write leaves ("<name>.tmp.<pid>" of a process that is gone)
+// is removed by the next run into the same names, and nothing else in the user's folder
+// is touched.
+TEST_F(GiInfer, TheNextRunRemovesAKilledRunsTemporaries) {
+  const std::string frame = path("stale_frame1");
+  copy_without_truth(data() + "/test/frame1", frame);
+  fs::create_directories(path("out_stale"));
+  const std::string exr = path("out_stale") + "/f1.exr";
+  // A pid that is no process: beyond the kernel's pid_max (at most 2^22).
+  const std::string dead = ".tmp.99999999";
+  for (const std::string& f : {exr, path("out_stale") + "/f1_shaded.png", path("out_stale") + "/f1_indirect.png",
+                               path("out_stale") + "/other.exr"})
+    std::ofstream(f + dead) << "torn";
+  auto r = run_app("gi-infer", "--model " + model("surround") + " --in " + frame + " --out " + exr);
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto files = files_in(path("out_stale"));
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"f1.exr", "f1_indirect.png", "f1_shaded.png", "other.exr" + dead}));
+}

@@ -353,3 +353,27 @@ TEST(AtomicFile, StaleTemporariesOfADeadWriterAreRemovedLiveOnesKept) {
   EXPECT_TRUE(fs::exists(d / "keep.blob"));
   fs::remove_all(d);
 }
+
+// A set of files written together: a failure while writing any of them leaves the old
+// set untouched and no temporary; success replaces all of them.
+TEST(AtomicFile, FilesWrittenTogetherAreReplacedAllOrNone) {
+  fs::path d = temp_dir("together");
+  const std::vector<std::string> paths = {(d / "a.exr").string(), (d / "a_shaded.png").string(),
+                                          (d / "a_indirect.png").string()};
+  for (auto& p : paths) write_file_atomic(p, "old");
+  auto write = [&](size_t fail_at) {
+    write_paths_atomic(paths, [&](size_t i, const std::string& tmp) {
+      if (i == fail_at) throw std::runtime_error("disk full");
+      std::ofstream(tmp) << "new";
+    });
+  };
+  for (size_t fail_at : {size_t(0), size_t(1), size_t(2)}) {
+    EXPECT_THROW(write(fail_at), std::runtime_error);
+    for (auto& p : paths) EXPECT_EQ(read_file(p), "old") << p << " after a failure at file " << fail_at;
+    EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator()), 3);
+  }
+  write(99);
+  for (auto& p : paths) EXPECT_EQ(read_file(p), "new") << p;
+  EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator()), 3);
+  fs::remove_all(d);
+}
