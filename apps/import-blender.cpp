@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/args.h"
+#include "core/folder_lock.h"
 #include "data/blender_import.h"
 #include "data/exr_io.h"
 
@@ -101,6 +102,10 @@ int main(int argc, char** argv) {
       for (auto& o : overrides) std::fprintf(stderr, "import-blender: %s: %s\n", job.in.c_str(), o.c_str());
       require_fov(settings.back(), job.in);
     }
+    // A folder output is locked, as every folder a command writes (core/folder_lock.h):
+    // two imports into one folder would otherwise mix their views unnoticed.
+    nns::FolderLock lock;
+    if (!(jobs.size() == 1 && jobs[0].out == out)) lock = nns::prepare_output_folder(out, "import-blender");
     for (size_t i = 0; i < jobs.size(); ++i) {
       nns::data::ReadOptions ro;
       ro.require_attributes = false;

@@ -13,6 +13,7 @@
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
 
+#include "core/folder_lock.h"
 #include "data/exr_io.h"
 #include "tests/support/run_command.h"
 
@@ -259,4 +260,19 @@ TEST(ImportBlender, RefusesBrokenDepthAndNormalsNamingFilePassAndPixel) {
   EXPECT_NE(r.output.find(d / "render.exr"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("world-to-camera"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "out.exr"));
+}
+
+// A folder output is locked while the import runs: a second command writing the same
+// folder is refused, naming it, and writes nothing.
+TEST(ImportBlender, AFolderAnotherProcessWritesIsRefused) {
+  Dir d;
+  write_view(d / "a.exr", blender_view("ViewLayer"));
+  fs::create_directories(d / "ds");
+  nns::FolderLock held(d / "ds", "render-dataset");
+  std::string common = "--fov-y 50 --ao-radius 1 --world-to-camera \"" + std::string(kWorldToCamera) + "\" ";
+  Outcome r = run("import-blender", common + "--scene one --out " + (d / "ds") + " " + (d / "a.exr"));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("ds"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("in use by another run (pid " + std::to_string(::getpid())), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(fs::path(d / "ds") / "a.exr"));
 }
