@@ -96,13 +96,60 @@ inline void upsample_reference(const GBuffer& full, const LowResGBuffer& lr, con
     for (int x = 0; x < full.width; ++x) out[int64_t(y) * full.width + x] = upsample_pixel(full, lr, low, x, y, e);
 }
 
+// The low-resolution planes the upsample reads, laid out by full-resolution column: for
+// low row ty and tap c (0: left, 1: right), row(ty, c)[X] = plane[ty * w + tx], tx the
+// clamped left or right neighbour of column X. Every value is read by 2s full-resolution
+// rows (s below the row and s above it), so copying it out once per frame turns the
+// upsample's four gathers per plane into contiguous loads of the same values (a 1/4
+// rung's upsample spent most of its time in those gathers).
+struct ExpandedTaps {
+  int width = 0;  // full-resolution columns
+  std::vector<float> z, low, nx, ny, nz;  // [(ty * 2 + c) * width + X]
+  const float* row(const std::vector<float>& plane, int ty, int c) const {
+    return plane.data() + (int64_t(ty) * 2 + c) * width;
+  }
+};
+
+// The left neighbour of full-resolution column X: floor((X - s/2) / s), computed as the
+// vector loop computes u (a multiplication by 1/s, exact for s = 2 and 4).
+inline int left_tap(int X, int s) {
+  const float u = (float(X) - float(s / 2)) * (1.0f / float(s));
+  return int(std::floor(u));
+}
+
+inline ExpandedTaps expand_taps(const GBuffer& full, const LowResGBuffer& lr, const float* low, bool normals) {
+  const int W = full.width, w = lr.g.width, h = lr.g.height, s = lr.scale;
+  ExpandedTaps t;
+  t.width = W;
+  const size_t n = size_t(h) * 2 * size_t(W);
+  t.z.resize(n), t.low.resize(n);
+  if (normals) t.nx.resize(n), t.ny.resize(n), t.nz.resize(n);
+  std::vector<int> column(size_t(2) * size_t(W));  // the tap's low-resolution column
+  for (int X = 0; X < W; ++X)
+    for (int c = 0; c < 2; ++c) column[size_t(c) * size_t(W) + size_t(X)] = std::clamp(left_tap(X, s) + c, 0, w - 1);
+  parallel_for(h, [&](int64_t y0, int64_t y1) {
+    for (int64_t ty = y0; ty < y1; ++ty)
+      for (int c = 0; c < 2; ++c) {
+        const size_t out = (size_t(ty) * 2 + size_t(c)) * size_t(W);
+        const int* col = column.data() + size_t(c) * size_t(W);
+        for (int X = 0; X < W; ++X) {
+          const size_t j = size_t(ty) * size_t(w) + size_t(col[X]);
+          t.z[out + size_t(X)] = lr.z[j], t.low[out + size_t(X)] = low[j];
+          if (normals) t.nx[out + size_t(X)] = lr.nx[j], t.ny[out + size_t(X)] = lr.ny[j], t.nz[out + size_t(X)] = lr.nz[j];
+        }
+      }
+  });
+  return t;
+}
+
 // upsample_pixel for 16 pixels of a row at once (the same expressions; exp through
 // exp_nonpositive, which the tests hold against std::exp).
 inline void upsample(const GBuffer& full, const LowResGBuffer& lr, const float* low, float* out,
                      const UpsampleEdges& e = {}) {
   using namespace simd;
-  const int s = lr.scale, w = lr.g.width, h = lr.g.height;
+  const int s = lr.scale, h = lr.g.height;
   const float inv_dz = 1.0f / (e.depth * full.radius), half = float(s / 2), inv_s = 1.0f / float(s);
+  const ExpandedTaps taps = expand_taps(full, lr, low, e.normal_power > 0);
   for_each_block(full, [&](int x0, int y, Mask valid) {
     const int64_t i0 = int64_t(y) * full.width + x0;
     const VF z = load(full.z + i0, valid, INFINITY);
@@ -115,24 +162,22 @@ inline void upsample(const GBuffer& full, const LowResGBuffer& lr, const float* 
     const VF u = (to_float(lane_index() + splat_i(x0)) - splat(half)) * splat(inv_s);
     const float v = (float(y) - half) * inv_s, fv = std::floor(v), ay = v - fv;
     const VF fu = floor(u), ax = u - fu;
-    const VI xa = floor_to_int(u);
     VF s_sum = splat(0.0f), w_sum = splat(0.0f), nearest = splat(1.0f), nearest_dz = splat(INFINITY);
     for (int t = 0; t < 4; ++t) {
-      const VI tx = clamp(xa + splat_i(t & 1), 0, w - 1);
-      const int ty = std::clamp(int(fv) + (t >> 1), 0, h - 1);
-      const VI j = tx + splat_i(ty * w);
-      const VF zj = gather(lr.z.data(), j, live, INFINITY);
+      const int ty = std::clamp(int(fv) + (t >> 1), 0, h - 1), c = t & 1;
+      const VF zj = load(taps.row(taps.z, ty, c) + x0, live, INFINITY);
       const Mask m = live & ~sky(zj);
       if (!m) continue;
-      const VF bw = ((t & 1) ? ax : splat(1.0f) - ax) * splat((t >> 1) ? ay : 1 - ay);
+      const VF bw = (c ? ax : splat(1.0f) - ax) * splat((t >> 1) ? ay : 1 - ay);
       const VF dz = select(m, (zj - z) * splat(inv_dz), splat(0.0f));
       VF p = splat(1.0f);
-      if (e.normal_power > 0) {  // power 0: every weight 1, and three gathers a tap saved
-        const VF nd = max(splat(0.0f), nxc * gather(lr.nx.data(), j, m, 0.0f) + nyc * gather(lr.ny.data(), j, m, 0.0f) +
-                                           nzc * gather(lr.nz.data(), j, m, 0.0f));
+      if (e.normal_power > 0) {  // power 0: every weight 1, and three planes a tap not read
+        const VF nd = max(splat(0.0f), nxc * load(taps.row(taps.nx, ty, c) + x0, m, 0.0f) +
+                                           nyc * load(taps.row(taps.ny, ty, c) + x0, m, 0.0f) +
+                                           nzc * load(taps.row(taps.nz, ty, c) + x0, m, 0.0f));
         p = pow_by_squaring(nd, e.normal_power, splat(1.0f));
       }
-      const VF lo = gather(low, j, m, 0.0f);
+      const VF lo = load(taps.row(taps.low, ty, c) + x0, m, 0.0f);
       const VF wt = select(m, bw * exp_nonpositive(-(dz * dz)) * p, splat(0.0f));
       s_sum = s_sum + wt * lo, w_sum = w_sum + wt;
       const Mask closer = m & lt(abs(dz), nearest_dz);
