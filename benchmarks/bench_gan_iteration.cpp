@@ -11,8 +11,7 @@
 // input gradient, ignored), D forward 3 times (real, fake, fake for G), D backward for
 // weights on the 2 passes of the D step (2 F_D) and for the input on all 3 (3 F_D: the
 // D step needs its inner layers' input gradients to reach the earlier weights; the
-// first layer's is again ignored): 3 F_G + 8 F_D, 90.8 GFLOP at the thesis size (the
-// count of issue 3).
+// first layer's is again ignored): 3 F_G + 8 F_D, 90.8 GFLOP at the thesis size.
 // Peak: the measured FP32 FMA peak of the same number of threads (benchmarks/fma_peak.h).
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>

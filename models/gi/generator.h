@@ -1,7 +1,7 @@
 #pragma once
 // Which GI generator to build (--arch) and how its output becomes the predicted light.
 //
-//  * pix2pix      the pix2pix U-Net of the issue (unet.h), ngf and levels as given;
+//  * pix2pix      the pix2pix U-Net (unet.h), ngf and levels as given;
 //  * deepshading  Deep Shading's U-Net (deep_shading_unet.h): u0 = ngf, the same number of
 //                 resolutions as the pix2pix net has (levels + 1: its input and every
 //                 down conv's output), so a sweep point compares like with like.

@@ -7,8 +7,8 @@
 //                             └─ Tanh              (outermost)
 //
 // Level i = 0 (outermost) .. L-1 (innermost) has ngf * min(2^i, 8) channels inside.
-// Choices, following the issue text (which follows the pix2pix *paper* and the thesis's
-// Table 4.1/4.2) where they differ from pix2pix's code:
+// Choices, following the pix2pix *paper* and the thesis's
+// Table 4.1/4.2 where they differ from pix2pix's code:
 //  * no BatchNorm on the outermost down conv (the first layer) nor on the innermost down
 //    conv (its output is 1x1 at 256x256 and batch 1: BN would zero it);
 //  * a conv has a bias only where no BatchNorm follows it: the outermost and innermost

@@ -1,5 +1,5 @@
 #pragma once
-// NNAO's input features (Holden et al. 2016, section 3), exactly as issue 5 states them.
+// NNAO's input features (Holden et al. 2016, section 3), exactly as the paper states them.
 //
 // For a non-sky centre pixel with view-space position P, normal N and depth z: a w x w
 // grid of view-space points P + (gx, gy, 0), gx and gy spanning [-r, r] (row 0 of the

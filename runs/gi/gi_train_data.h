@@ -1,6 +1,6 @@
 #pragma once
 // The training frames of a GAN run: held in memory, or streamed from disk when they
-// would not fit — the "data larger than memory". Streaming reads item i from its
+// would not fit (data larger than memory). Streaming reads item i from its
 // EXR files exactly as load_samples does, so sample i is the same bytes either way and a
 // streamed run is bitwise equal to an in-memory one (tested). While step j trains, the
 // next item of the epoch's order is read on a thread of its own (std::async): the order

@@ -1,6 +1,6 @@
 // Every numeric flag has a range, checked where it is read (apps/args.h): a value out of
 // range, a wrapped integer or a malformed list is refused with exit 2 and a message
-// naming the flag, before any work. Each case below was accepted before (issue 13):
+// naming the flag, before any work. Each case below was once accepted:
 // --epochs 4294967297 ran one epoch, --test-points-per-view -1 died in vector::reserve,
 // --nnao-samples abc died in stoi, render-dataset --fov 180 wrote a dataset that
 // dataset-info rejects, sweep-gan --ssim-tolerance -1 crashed after its sweep.
@@ -36,7 +36,7 @@ TEST_P(FlagRanges, RefusedNamingTheFlag) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Issue13, FlagRanges,
+    OnceAccepted, FlagRanges,
     ::testing::Values(
         Case{"train-nnao", "--epochs 4294967297", "--epochs: 4294967297 is out of range"},
         Case{"train-nnao", "--gamma -1", "--gamma: -1 is out of range: expected a number in [0, 3.40282e+38]"},
@@ -60,11 +60,11 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"sweep-gan", "--ssim-tolerance -1", "--ssim-tolerance: -1 is out of range"},
         Case{"sweep-gan", "--sizes 16,x", "--sizes: expected a comma-separated list of integers"}));
 
-// Issue 30: a real-valued flag was checked as a double and then narrowed to an infinite
+// A real-valued flag was checked as a double and then narrowed to an infinite
 // float; tune-classical-ao's counts had no range; an empty list ran nothing and exited 0;
 // render-dataset --size 65536x65536 died in std::bad_alloc naming no flag.
 INSTANTIATE_TEST_SUITE_P(
-    Issue30, FlagRanges,
+    RealFlagsNarrowedToFloat, FlagRanges,
     ::testing::Values(
         Case{"train-nnao", "--radius 1e39", "--radius: 1e39 is out of range"},
         Case{"nnao-infer", "--depth-scale 1e39", "--depth-scale: 1e39 is out of range"},

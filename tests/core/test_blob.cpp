@@ -125,7 +125,7 @@ TEST_F(BlobTest, UnwritableFolderNamesThePath) {
 
 TEST_F(BlobTest, MissingFileNamesThePath) { expect_load_error(path("absent.blob"), "cannot open"); }
 
-// Issue 13: a folder given as --model failed with "basic_filebuf::underflow ... Is a
+// A folder given as --model failed with "basic_filebuf::underflow ... Is a
 // directory", naming no path.
 TEST_F(BlobTest, AFolderNamesThePath) {
   fs::create_directories(path("model.blob"));

@@ -273,7 +273,7 @@ long peak_rss_kb() {
 }
 }  // namespace
 
-// Issue 13: a ~10 KB file declaring 1,048,577 x 32 pixels made the reader allocate the
+// A ~10 KB file declaring 1,048,577 x 32 pixels made the reader allocate the
 // planes (hundreds of MB) before finding out the data is not there.
 TEST(ExrIo, HeaderSizeIsCheckedAgainstTheFileBeforeAllocating) {
   TempDir dir;

@@ -185,7 +185,7 @@ TEST(Dataset, NotAFolderNamesThePath) {
   }
 }
 
-// Issue 13: a NaN in AO or a normal must fail validation, with the file, the channel
+// A NaN in AO or a normal must fail validation, with the file, the channel
 // and the split named, also on sky pixels and also when stored as HALF.
 TEST(Dataset, NonFiniteAoAndNormalsAreRefusedNamingFileChannelAndSplit) {
   TempDir d;

@@ -148,7 +148,7 @@ TEST(GiInputs, DownsampleAveragesAndKeepsSkyOnlyWhereAllSky) {
   EXPECT_THROW(downsample_view(v, 3), std::runtime_error);
 }
 
-// Issue 13: the GI tools took a NaN, zero or negative depth for sky. The contract
+// The GI tools took a NaN, zero or negative depth for sky. The contract
 // (docs/dataset-format.md) has sky as +inf or >= 1e30 and everything else invalid.
 TEST(GiInputs, InvalidDepthIsRefusedNotTakenForSky) {
   GiInputConfig cfg;
