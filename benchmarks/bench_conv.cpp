@@ -1,5 +1,5 @@
 // Conv2d and ConvTranspose2d kernels, forward and forward+backward, on the shapes of
-// issue 3 (the pix2pix U-Net and PatchGAN layers at 256x256, k3 s1 layers with 16..512
+// the thesis's GAN (the pix2pix U-Net and PatchGAN layers at 256x256, k3 s1 layers with 16..512
 // channels), with 1 and 2 threads. Names: BM_<Op><Pass>/Cin/Cout/k/stride/pad/HW/threads:T
 // for an input of 1 x Cin x HW x HW, so benchmarks/compare can match PyTorch runs.
 //
@@ -218,7 +218,7 @@ void BM_ConvTranspose2dFwdBwdBf16(benchmark::State& s) {
 
 // {Cin, Cout, k, stride, pad, HW}
 const std::vector<std::vector<int64_t>> kConvShapes = {
-    {64, 128, 4, 2, 1, 128},  // issue 3's headline shape; U-Net down 2
+    {64, 128, 4, 2, 1, 128},  // the headline shape; U-Net down 2
     // k3 s1 p1, 16..512 channels, 64 MFLOP-ish each
     {16, 16, 3, 1, 1, 256}, {32, 32, 3, 1, 1, 128}, {64, 64, 3, 1, 1, 128},
     {128, 128, 3, 1, 1, 64}, {256, 256, 3, 1, 1, 32}, {512, 512, 3, 1, 1, 16},
@@ -229,7 +229,7 @@ const std::vector<std::vector<int64_t>> kConvShapes = {
     {15, 64, 4, 2, 1, 256}, {256, 512, 4, 1, 1, 32}, {512, 1, 4, 1, 1, 31},
 };
 const std::vector<std::vector<int64_t>> kConvTransposeShapes = {
-    {128, 64, 4, 2, 1, 64},  // issue 3's headline shape
+    {128, 64, 4, 2, 1, 64},  // the headline shape
     // pix2pix U-Net up path: innermost, 1024-channel skips, outermost
     {512, 512, 4, 2, 1, 1}, {1024, 512, 4, 2, 1, 4}, {1024, 512, 4, 2, 1, 8},
     {1024, 256, 4, 2, 1, 16}, {512, 128, 4, 2, 1, 32}, {256, 64, 4, 2, 1, 64},

@@ -164,7 +164,7 @@ BENCHMARK(BM_ClassicalAoFrame)->ArgNames({"method", "samples", "vec"})
 // turn in every iteration so that other jobs on the machine slow them alike; one
 // thread. The iteration time is NNAO's; the counters are each method's median ms and
 // NNAO's cost per depth sample over HBAO-64's (median of the per-iteration ratios).
-// Target (issue 11, section 5: per-sample cost close to HBAO's): at most
+// Target (a horizon network's per-sample cost close to HBAO's): at most
 // kHorizonPerSampleTarget x HBAO-64's; above it the benchmark reports an error.
 constexpr double kHorizonPerSampleTarget = 1.4;
 static void BM_HorizonVsHbaoPerSample(benchmark::State& state) {

@@ -1,6 +1,6 @@
 #pragma once
 // Training points on disk instead of in memory, read back in a shuffled order through a
-// bounded buffer, so a trainer's memory does not grow with its data (issue 11: ten
+// bounded buffer, so a trainer's memory does not grow with its data (ten
 // times the default NNAO data would need ~13 GB as one in-memory matrix).
 //
 // RowFile: fixed-size rows in a file with no name. It is created in the output folder as

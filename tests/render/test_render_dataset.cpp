@@ -348,7 +348,7 @@ TEST(RenderDataset, NnaoV2VariesViewsDeterministically) {
   }
 }
 
-// Issue 13: scene.obj and scene.gltf both became scene "scene"; the dataset then had the
+// scene.obj and scene.gltf both became scene "scene"; the dataset then had the
 // same scene in train/ and test/ and dataset-info rejected what render-dataset wrote.
 TEST(RenderDataset, MeshFilesWithTheSameStemAreRefusedBeforeRendering) {
   std::string in = temp_dir("stems"), out = temp_dir("stems-out");

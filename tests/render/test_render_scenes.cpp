@@ -273,7 +273,7 @@ TEST(MeshLoader, ErrorsNameTheFile) {
   EXPECT_THROW(load_mesh_scene(empty), std::runtime_error);
 }
 
-// Issue 13: an OBJ with a NaN vertex rendered all-zero depth and exited 0.
+// An OBJ with a NaN vertex rendered all-zero depth and exited 0.
 TEST(MeshLoader, NonFiniteVerticesAreRefusedNamingTheFile) {
   for (const char* bad : {"nan", "inf", "-inf", "1e40"}) {
     std::string obj = temp_path(std::string("bad-") + bad + ".obj");
