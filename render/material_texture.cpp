@@ -62,7 +62,8 @@ Texel bricks(const MaterialTexture& t, float u, float v, int axis) {
 }
 
 // A grid of tiles (side `scale`, rows `scale * aspect`) with grout; each tile its own
-// faint tone, and with `checker` every other tile at 45-75% of the base.
+// faint tone, every other tile times (1 - checker), and a faint 5 cm cloud over the
+// glaze (wear: no real tile is one flat colour).
 Texel tiles(const MaterialTexture& t, float u, float v, int axis) {
   const float A = t.scale, B = t.scale * t.aspect;
   const float i = std::floor(u / A), j = std::floor(v / B);
@@ -71,7 +72,8 @@ Texel tiles(const MaterialTexture& t, float u, float v, int axis) {
   x.joint = joint_cover(std::min({fu, A - fu, fv, B - fv}), t.joint);
   const int64_t a = int64_t(i), b = int64_t(j);
   float tone = 1 + 0.4f * t.contrast * (2 * hash_unit(t.seed ^ kToneSalt, a, b, axis) - 1);
-  if (t.checker && ((a + b) & 1)) tone *= 0.75f - 0.3f * t.contrast;
+  if ((a + b) & 1) tone *= 1 - t.checker;
+  tone *= 1 + 0.15f * t.contrast * value_noise(t.seed ^ kGrainSalt, u * 20, v * 20, float(axis) * 7.31f);
   x.mul = Vec3(tone);
   return x;
 }
@@ -144,10 +146,10 @@ Vec3 wood(const MaterialTexture& t, Vec3 p) {
   return Vec3(1, 1 - 0.1f * late, 1 - 0.2f * late) * (tone * (1 - 0.65f * joint));
 }
 
-// Dirt: patches of low-frequency fbm (0.6-2 m) and vertical streaks (noise stretched
-// 12x along y), darkening towards a brown-grey; `amount` 0..1.
+// Dirt: patches of low-frequency fbm (t.dirt_scale) and vertical streaks (noise
+// stretched 12x along y), darkening towards a brown-grey; `amount` 0..1.
 Vec3 dirt(const MaterialTexture& t, Vec3 p, float amount) {
-  const float size = 0.6f + 1.4f * hash_unit(t.seed ^ kDirtSalt, 0, 0);
+  const float size = t.dirt_scale;
   const float patches = smoothstep(0.05f, 0.35f, fbm(t.seed ^ kDirtSalt, p / size, 3));
   const Vec3 q(p.x * 3, p.y * 0.25f, p.z * 3);
   const float streaks = smoothstep(0.1f, 0.4f, fbm((t.seed ^ kDirtSalt) + 1, q / size, 2));

@@ -24,6 +24,7 @@ struct Material {
   Material(Vec3 a = {0.7f, 0.7f, 0.7f}, Vec3 e = {0, 0, 0}, MaterialTexture t = {})
       : albedo(a), emission(e), texture(t) {}
 };
+static_assert(sizeof(Material) == 24 + sizeof(MaterialTexture), "Material must have no padding bytes");
 
 // The albedo of material m at world point p, normal n: every reader of a surface's
 // reflectance (the G-buffer, each bounce of the integrator) goes through this.

@@ -49,7 +49,7 @@ MaterialTexture draw_texture(TextureKind k, Rng& rng, const TextureVariation& v)
       t.scale = log_uniform(rng, 0.05f, 0.6f);
       t.aspect = rng.below(3) == 0 ? 0.5f : 1.0f;
       t.joint = t.scale * float(rng.uniform(0.02, 0.06));
-      t.checker = rng.below(4) == 0;
+      t.checker = rng.below(4) == 0 ? float(rng.uniform(0.25, 0.55)) : 0.0f;
       t.angle = rng.below(3) == 0 ? kPi / 4 : 0.0f;  // floors laid square, or on the diagonal
       break;
     case TextureKind::wood:  // planks 8-30 cm, rings 3-20% of a plank apart
@@ -60,6 +60,7 @@ MaterialTexture draw_texture(TextureKind k, Rng& rng, const TextureVariation& v)
     case TextureKind::none:
       break;
   }
+  t.dirt_scale = float(rng.uniform(0.6, 2.0));
   if (rng.uniform() < v.dirt_share) t.dirt = float(rng.uniform(0.2, 0.7));
   return t;
 }
