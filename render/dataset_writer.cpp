@@ -151,7 +151,9 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
       << "families.test: " << joined(families_in(tasks, "test")) << "\n";
     if (!holdout.empty()) m << "families.holdout: " << joined(holdout) << "\n";
     if (job.vary_lighting) m << "lighting-variation: albedo, light colour and exposure, sun direction and size, extra lamps per scene (render/scenes/scene_variation.h)\n";
-    if (job.vary_textures) m << "texture-variation: procedural albedo textures (noise, bricks, tiles, wood, stains, dirt) on most materials per scene (render/scenes/texture_variation.h)\n";
+    if (job.vary_textures)
+      m << "texture-variation: procedural albedo textures (noise, bricks, tiles, wood, stains, dirt) on most "
+           "materials per scene (render/scenes/texture_variation.h)\n";
     if (job.vary_views) {
       ViewVariation v;
       char buf[512];

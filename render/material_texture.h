@@ -4,8 +4,10 @@
 // (noise, wood, stains) are solid textures, the 2D ones (bricks, tiles) are projected
 // along the axes of the surface normal and blended where it is oblique (triplanar).
 // The pattern multiplies or blends into the material's base albedo, so the scene
-// variation's colours stay what they were on average; the result is clamped to
-// [0, kMaxTexturedAlbedo]. Deterministic: a pure function of (texture, base, p, n).
+// variation's colours stay the surface's colour (dirt, stains, latewood and mortar
+// darken: a surround-v4 frame's mean albedo is ~4% below surround-v3's); the result is
+// clamped to [0, kMaxTexturedAlbedo]. Deterministic: a pure function of (texture,
+// base, p, n).
 //
 // The G-buffer's albedo and every bounce of the integrator read the albedo through
 // surface_albedo() (render/scene.h), so the ground truth and the G-buffer agree.

@@ -71,7 +71,8 @@ Scene make_cloister(uint64_t seed) {
       add_column(s, w.at(0, parapet, -span + b * float(i)), r, hc, stone, st);
     for (int i = 0; i < bays; ++i) {
       const float vc = -span + b * (float(i) + 0.5f);
-      if (parapet > 0 && i != bays / 2) w.box(s, -t / 2 + 0.05f, 0, vc - b / 2, t / 2 - 0.05f, parapet, vc + b / 2, stone);
+      if (parapet > 0 && i != bays / 2)
+        w.box(s, -t / 2 + 0.05f, 0, vc - b / 2, t / 2 - 0.05f, parapet, vc + b / 2, stone);
       add_arch_piece(s, w.at(-t / 2, spring, vc), wing_v(w), {0, 1, 0}, wing_u(w) * t, b, rise, arch_r,
                      st.segments(16), stone, st);
     }
@@ -116,7 +117,8 @@ Scene make_cloister(uint64_t seed) {
     const uint32_t bed = s.add_material(random_material(rng, 0.1f, 0.3f));
     for (float sx : {-1.0f, 1.0f})
       for (float sz : {-1.0f, 1.0f}) {
-        const Vec3 a(sx * (pw / 2 + 0.3f), 0, sz * (pw / 2 + 0.3f)), c(sx * (X - t / 2 - 0.6f), 0.35f, sz * (Z - t / 2 - 0.6f));
+        const Vec3 a(sx * (pw / 2 + 0.3f), 0, sz * (pw / 2 + 0.3f));
+        const Vec3 c(sx * (X - t / 2 - 0.6f), 0.35f, sz * (Z - t / 2 - 0.6f));
         if ((c.x - a.x) * sx < 0.6f || (c.z - a.z) * sz < 0.6f) continue;
         add_box(s, vmin(a, c), vmax(a, c), bed);
       }
@@ -130,7 +132,8 @@ Scene make_cloister(uint64_t seed) {
   const int k = int(rng.below(4));
   const Wing w{k, k % 2 ? Z : X};
   const float span = k % 2 ? X : Z;
-  const Vec3 a = w.at(t / 2 + 0.4f, 1.0f, -span + 0.4f), c = w.at(b - 0.45f, std::min(2.2f, ceiling - 0.6f), span - 0.4f);
+  const Vec3 a = w.at(t / 2 + 0.4f, 1.0f, -span + 0.4f);
+  const Vec3 c = w.at(b - 0.45f, std::min(2.2f, ceiling - 0.6f), span - 0.4f);
   s.cameras = {vmin(a, c), vmax(a, c), -25, 35};
   return s;
 }
@@ -199,7 +202,8 @@ Scene make_basilica(uint64_t seed) {
       else add_bevelled_box(s, base + Vec3(0, (hc - 0.1f) / 2, 0), {1.4f * r, (hc - 0.1f) / 2, 1.4f * r}, 0.05f, 0,
                             stone, st.smooth, 2);
     }
-    for (float sv : {-1.0f, 1.0f}) w.box(s, -t / 2, 0, sv * L - 1.4f * r, t / 2, H, sv * L + 1.4f * r, stone);  // responds
+    for (float sv : {-1.0f, 1.0f})  // responds: half-piers against the end walls
+      w.box(s, -t / 2, 0, sv * L - 1.4f * r, t / 2, H, sv * L + 1.4f * r, stone);
     for (int i = 0; i < bays; ++i) {
       const float vc = -L + b * (float(i) + 0.5f);
       add_arch_piece(s, w.at(-t / 2, hc, vc), wing_v(w), {0, 1, 0}, wing_u(w) * t, b, rise, arch_r, st.segments(16),

@@ -167,7 +167,8 @@ TEST(RenderDatasetV4, SurroundV4IsSurroundV3WithTexturesAndTheFourthGeneration) 
     EXPECT_TRUE(rendered) << f << " not rendered by surround-v4";
   }
 
-  DatasetJob v3 = small_job("surround-v3", (root / "v3").string()), v4 = small_job("surround-v4", (root / "v4").string());
+  DatasetJob v3 = small_job("surround-v3", (root / "v3").string());
+  DatasetJob v4 = small_job("surround-v4", (root / "v4").string());
   v3.families = v4.families = {"room", "corridor", "cloister"};
   render_dataset(v3);
   render_dataset(v4);
@@ -205,7 +206,8 @@ TEST(RenderDatasetV4, OlderPresetsKeepTheirAlbedo) {
   v3.settings.light_spp = 4;
   render_dataset(v3);
   const uint64_t fn = albedo_fingerprint(nnao.out), f3 = albedo_fingerprint(v3.out);
-  std::printf("albedo fingerprints: nnao %016llx surround-v3 %016llx\n", (unsigned long long)fn, (unsigned long long)f3);
+  std::printf("albedo fingerprints: nnao %016llx surround-v3 %016llx\n", (unsigned long long)fn,
+              (unsigned long long)f3);
   EXPECT_EQ(fn, 0xe295bcb7a9ed76e1ull) << "nnao's albedo changed";
   EXPECT_EQ(f3, 0x8a5b7e5648a0b12dull) << "surround-v3's albedo changed";
   fs::remove_all(root);

@@ -69,7 +69,8 @@ TEST(MaterialTexture, VariesWithinATriangleAndStaysInRange) {
       // Points inside the triangle, over a 4 m patch (the scale of a wall in view).
       Vec3 p(float(rng.uniform(-2, 2)), 0, float(rng.uniform(-2, 2)));
       Vec3 a = surface_albedo(m, p, {0, 1, 0});
-      for (float c : {a.x, a.y, a.z}) ASSERT_TRUE(c >= 0 && c <= kMaxTexturedAlbedo) << texture_kind_name(k) << " " << c;
+      for (float c : {a.x, a.y, a.z})
+        ASSERT_TRUE(c >= 0 && c <= kMaxTexturedAlbedo) << texture_kind_name(k) << " " << c;
       distinct.insert({a.x, a.y, a.z});
       double l = (a.x + a.y + a.z) / 3;
       sum += l, sum2 += l * l;
@@ -126,7 +127,8 @@ TEST(MaterialTexture, EveryDrawStaysPhysical) {
       Vec3 p(float(rng.uniform(-100, 100)), float(rng.uniform(-10, 40)), float(rng.uniform(-100, 100)));
       Vec3 n = normalize(Vec3(float(rng.normal()), float(rng.normal()), float(rng.normal())));
       Vec3 a = textured_albedo(t, base, p, n);
-      for (float c : {a.x, a.y, a.z}) ASSERT_TRUE(c >= 0 && c <= kMaxTexturedAlbedo) << texture_kind_name(t.kind) << " " << c;
+      for (float c : {a.x, a.y, a.z})
+        ASSERT_TRUE(c >= 0 && c <= kMaxTexturedAlbedo) << texture_kind_name(t.kind) << " " << c;
     }
   }
 }
