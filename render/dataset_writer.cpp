@@ -23,6 +23,7 @@
 #include "render/scenes/families.h"
 #include "render/scenes/mesh_loader.h"
 #include "render/scenes/scene_variation.h"
+#include "render/scenes/texture_variation.h"
 
 namespace nns::data {
 
@@ -40,8 +41,13 @@ void apply_preset(DatasetJob& job) {
   } else if (job.preset == "surround-v2" || job.preset == "surround-v3") {
     s.ao = true, s.lighting = true, s.indirect = true;
     job.vary_lighting = true;
+  } else if (job.preset == "surround-v4") {
+    s.ao = true, s.lighting = true, s.indirect = true;
+    job.vary_lighting = true;
+    job.vary_textures = true;
   } else {
-    throw std::invalid_argument("unknown preset '" + job.preset + "' (nnao, nnao-v2, gi, surround, surround-v2, surround-v3)");
+    throw std::invalid_argument("unknown preset '" + job.preset +
+                                "' (nnao, nnao-v2, gi, surround, surround-v2, surround-v3, surround-v4)");
   }
 }
 
@@ -145,6 +151,9 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
       << "families.test: " << joined(families_in(tasks, "test")) << "\n";
     if (!holdout.empty()) m << "families.holdout: " << joined(holdout) << "\n";
     if (job.vary_lighting) m << "lighting-variation: albedo, light colour and exposure, sun direction and size, extra lamps per scene (render/scenes/scene_variation.h)\n";
+    if (job.vary_textures)
+      m << "texture-variation: procedural albedo textures (noise, bricks, tiles, wood, stains, dirt) on most "
+           "materials per scene (render/scenes/texture_variation.h)\n";
     if (job.vary_views) {
       ViewVariation v;
       char buf[512];
@@ -195,8 +204,10 @@ void add_tasks(std::vector<SceneTask>& tasks, const std::string& split, int tota
 std::vector<std::string> families_to_render(const DatasetJob& job) {
   std::vector<std::string> families = job.families;
   if (families.empty()) {
-    const int generations =
-        job.preset == "surround-v3" ? 3 : job.preset == "nnao-v2" || job.preset == "surround-v2" ? 2 : 1;
+    const int generations = job.preset == "surround-v4"   ? 4
+                            : job.preset == "surround-v3" ? 3
+                            : job.preset == "nnao-v2" || job.preset == "surround-v2" ? 2
+                                                                                     : 1;
     std::vector<std::vector<std::string>> gen;
     size_t longest = 0;
     for (int g = 1; g <= generations; ++g) gen.push_back(scene_family_names(g)), longest = std::max(longest, gen.back().size());
@@ -270,6 +281,11 @@ Scene prepare_scene(const DatasetJob& job, const SceneTask& task) {
     // A stream of its own, like the view shapes.
     Rng light_rng = Rng(job.settings.seed ^ 0x11947ull).fork(hash_name(scene.name));
     vary_materials_and_lights(scene, light_rng);
+  }
+  if (job.vary_textures) {
+    // A stream of its own again: the albedos, lights and cameras are surround-v3's.
+    Rng texture_rng = Rng(job.settings.seed ^ 0x7E57A7E5ull).fork(hash_name(scene.name));
+    vary_textures(scene, texture_rng);
   }
   if (job.vary_views || job.vary_lighting) {
     ViewVariation var;
@@ -392,7 +408,7 @@ DatasetReport render_dataset(DatasetJob job) {
   if (!job.holdout_families.empty()) warn_unrendered_holdout_families(job, plan);
   if (job.parts < 1 || job.part < 0 || job.part >= job.parts)
     throw std::invalid_argument("render_dataset: part " + std::to_string(job.part) + " of " + std::to_string(job.parts));
-  if (job.part == 0 && (!job.holdout_families.empty() || job.vary_views || job.vary_lighting))
+  if (job.part == 0 && (!job.holdout_families.empty() || job.vary_views || job.vary_lighting || job.vary_textures))
     write_metadata(job, plan.tasks);
   RenderState st{{}, Progress("render " + job.preset, job.views)};
   for (const SceneTask& task : plan.tasks) render_scene(job, task, P, st);

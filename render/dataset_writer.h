@@ -18,7 +18,9 @@ struct DatasetJob {
                                        // and all families; gi: + lighting; surround: cube frames;
                                        // surround-v2: surround over all families, materials and
                                        // lights varied per scene (render/scenes/scene_variation.h);
-                                       // surround-v3: surround-v2 over generations 1-3
+                                       // surround-v3: surround-v2 over generations 1-3;
+                                       // surround-v4: surround-v3 plus generation 4 and
+                                       // textured materials (render/scenes/texture_variation.h)
   int views = 80;                      // views (frames for surround) over train + test
   double test_fraction = 0.2;          // share of views rendered from held-out scenes
   int views_per_scene = 4;             // views taken in one scene before the next
@@ -28,7 +30,7 @@ struct DatasetJob {
   std::vector<std::string> scene_files;  // OBJ / glTF; none = procedural families
   std::vector<std::string> families;     // procedural families to use; empty = the preset's
                                          // (generation 1 for nnao/gi/surround, 1-2 for nnao-v2
-                                         // and surround-v2, 1-3 for surround-v3)
+                                         // and surround-v2, 1-3 for surround-v3, 1-4 for surround-v4)
   // Leave-families-out: these families render only into holdout/, never into train/
   // or test/; they must be among `families` (or the preset's), and leave at least one.
   std::vector<std::string> holdout_families;
@@ -38,6 +40,8 @@ struct DatasetJob {
   bool vary_views = false;
   // Per-scene albedos, light colours, exposure, sun and extra lamps (set by surround-v2/v3).
   bool vary_lighting = false;
+  // Procedural albedo textures on most materials, per scene (set by surround-v4).
+  bool vary_textures = false;
   RenderSettings settings;             // spp, bounces, seed; ao/lighting set by preset
   // >= 0: the Monte-Carlo noise comes from this seed instead of settings.seed, while
   // scenes, cameras and lighting keep settings.seed: the same views with independent
@@ -71,9 +75,9 @@ struct DatasetReport {
 // Applies a preset's channel choice to job.settings (called by render_dataset).
 void apply_preset(DatasetJob& job);
 
-// Whether a preset writes cube frames (surround, surround-v2, surround-v3) rather than single views.
+// Whether a preset writes cube frames (surround, surround-v2 .. v4) rather than single views.
 inline bool is_surround_preset(const std::string& preset) {
-  return preset == "surround" || preset == "surround-v2" || preset == "surround-v3";
+  return preset == "surround" || preset == "surround-v2" || preset == "surround-v3" || preset == "surround-v4";
 }
 
 // The metadata file of a dataset (DIR/metadata.txt, docs/dataset-format.md): written

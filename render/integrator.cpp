@@ -261,8 +261,9 @@ Vec3 incoming(const RayTracer& rt, const LightTable& lights, LightVisibility& vi
     Hit h = rt.intersect(origin, dir);
     if (!h.valid()) return result + throughput * rt.scene().sky.radiance(dir);
     const Material& m = *h.material;
-    result += throughput * (m.emission + m.albedo * light_sample(rt, lights, h.position, h.normal, rng, &vis));
-    throughput = throughput * m.albedo;
+    const Vec3 albedo = surface_albedo(m, h.position, h.normal);
+    result += throughput * (m.emission + albedo * light_sample(rt, lights, h.position, h.normal, rng, &vis));
+    throughput = throughput * albedo;
     if (max_abs(throughput) <= 0) return result;
     p = h.position;
     n = h.normal;
@@ -322,8 +323,9 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
     Vec3 next = Frame(h.normal).to_world(cosine_hemisphere(v1, v2));
     float u = std::min((float(pick[size_t(i)]) + c3) / float(spp), 0x1.fffffep-1f);
     Vec3 direct = light_sample(rt, lights, h.position, h.normal, rng, &vis, u);
-    Vec3 later = incoming(rt, lights, vis, h.position, h.normal, next, 1, bounces, m.albedo, roulette, rng);
-    ind.add(m.emission + m.albedo * (direct + later));
+    const Vec3 albedo = surface_albedo(m, h.position, h.normal);
+    Vec3 later = incoming(rt, lights, vis, h.position, h.normal, next, 1, bounces, albedo, roulette, rng);
+    ind.add(m.emission + albedo * (direct + later));
   }
   env = e.mean(spp);
   indirect = ind.mean(spp);

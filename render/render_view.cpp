@@ -81,7 +81,7 @@ View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s
         p.z[i] = h.t * depth_per_t;
         Vec3 n = nframe.to_camera(h.normal);
         p.nx[i] = n.x, p.ny[i] = n.y, p.nz[i] = n.z;
-        put(p.alb, i, h.material->albedo);
+        put(p.alb, i, surface_albedo(*h.material, h.position, h.normal));
         if (p.ao) p.ao[i] = ambient_occlusion(rt, h, ao_radius, s.ao_spp, rng);
         if (s.lighting) {
           put(p.dir, i, direct_light(rt, h.position, h.normal, s.light_spp, rng));

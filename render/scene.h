@@ -10,14 +10,27 @@
 #include <string>
 #include <vector>
 
+#include "render/material_texture.h"
 #include "render/vec3.h"
 
 namespace nns::data {
 
 struct Material {
-  Vec3 albedo{0.7f, 0.7f, 0.7f};  // diffuse reflectance in [0, 1)
+  Vec3 albedo{0.7f, 0.7f, 0.7f};  // diffuse reflectance in [0, 1): the base under any texture
   Vec3 emission{0, 0, 0};         // emitted radiance, both sides of the surface
+  MaterialTexture texture;        // kind none: albedo everywhere
+  // A constructor rather than an aggregate, so the families' {albedo, emission} stays
+  // warning-free with the texture left out.
+  Material(Vec3 a = {0.7f, 0.7f, 0.7f}, Vec3 e = {0, 0, 0}, MaterialTexture t = {})
+      : albedo(a), emission(e), texture(t) {}
 };
+static_assert(sizeof(Material) == 24 + sizeof(MaterialTexture), "Material must have no padding bytes");
+
+// The albedo of material m at world point p, normal n: every reader of a surface's
+// reflectance (the G-buffer, each bounce of the integrator) goes through this.
+inline Vec3 surface_albedo(const Material& m, Vec3 p, Vec3 n) {
+  return m.texture.kind == TextureKind::none ? m.albedo : textured_albedo(m.texture, m.albedo, p, n);
+}
 
 struct Triangle {
   std::array<uint32_t, 3> v;

@@ -28,6 +28,8 @@ const std::vector<SceneFamily>& scene_families() {
       {"corridor", "long corridors: side rooms through doors, niches, beams, a turn or T-junction lit from outside round the corner", make_corridor, 3},
       {"courtyard", "an open-sky court enclosed by wings with arcades, eaves and balconies: buildings occlude sky and sun", make_courtyard, 3},
       {"multiroom", "3-6 rooms joined by doorways, furnished, lamps in some rooms only: light arrives through doors", make_multiroom, 3},
+      {"cloister", "covered walks round a sunlit garth: arcades on columns, groin vaults, light entering sideways from out of view", make_cloister, 4},
+      {"basilica", "a nave between arcades, galleries over the aisles, clerestory windows: light from high openings out of view", make_basilica, 4},
   };
   return all;
 }

@@ -19,11 +19,13 @@ struct SceneFamily {
   // must not change); 2: the families built on mesh_builder.h (curved surfaces,
   // generated meshes), added for the nnao-v2 preset; 3: buildings of several spaces
   // (corridors, courtyards, multi-room floors) for light from out of view, added for
-  // the surround-v3 preset (nnao-v2 and surround-v2 keep generations 1 and 2).
+  // the surround-v3 preset (nnao-v2 and surround-v2 keep generations 1 and 2); 4:
+  // monumental halls lit through openings out of view (cloister, basilica), added for
+  // the surround-v4 preset.
   int generation = 1;
 };
 
-// All families, in a fixed order: generation 1, then 2, then 3.
+// All families, in a fixed order: generation 1, then 2, then 3, then 4.
 const std::vector<SceneFamily>& scene_families();
 // The names of the families of one generation, in that order.
 std::vector<std::string> scene_family_names(int generation);
@@ -57,5 +59,8 @@ Scene make_pipes(uint64_t seed);
 Scene make_corridor(uint64_t seed);
 Scene make_courtyard(uint64_t seed);
 Scene make_multiroom(uint64_t seed);
+// Generation 4 (families_halls.cpp).
+Scene make_cloister(uint64_t seed);
+Scene make_basilica(uint64_t seed);
 
 }  // namespace nns::data

@@ -1,11 +1,13 @@
 // Architectural families of the second generation: arcades of round columns and
 // arches under barrel vaults, and halls of groin-vaulted bays on piers.
 #include "render/scenes/families.h"
+#include "render/scenes/arches.h"
 #include "render/scenes/family_kit.h"
 
 namespace nns::data {
 
-namespace {
+// Columns, arches and barrel vaults (declared in arches.h: the generation-4 halls use
+// them too).
 // A round column: a square plinth, a torus-like base moulding, a shaft with entasis
 // (slightly swollen a third of the way up), a capital flaring to a square abacus.
 void add_column(Scene& s, Vec3 base, float r, float h, uint32_t m, const SceneStyle& st) {
@@ -63,7 +65,6 @@ void add_barrel_vault(Scene& s, Vec3 start, Vec3 axis, float len, float r, float
   Vec3 across = normalize(cross({0, 1, 0}, axis));
   add_band_extrusion(s, outer, inner, start, across, {0, 1, 0}, axis * len, m, st.smooth, st.smooth);
 }
-}  // namespace
 
 // An arcade: a row of round columns carrying arches (one storey or two), a walkway
 // behind under a barrel vault, a flat ceiling or the open sky, and a back wall with

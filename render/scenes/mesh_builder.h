@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "render/noise.h"  // value_noise, fbm: displacement
 #include "render/scene.h"
 
 namespace nns::data {
@@ -73,11 +74,6 @@ void add_band_extrusion(Scene& s, const std::vector<ProfilePoint>& outer, const 
 // the union of two barrel vaults of radius R crossing at right angles, seen from
 // below — four cylindrical webs meeting in diagonal groins (hard creases).
 void add_groin_vault(Scene& s, Vec3 centre, float R, int steps, uint32_t m, bool smooth);
-
-// Smooth-noise helpers for displacement: value noise on an integer lattice with a
-// hash of (seed, cell), trilinear with smoothstep weights; fbm sums `octaves`.
-float value_noise(uint64_t seed, float x, float y, float z);
-float fbm(uint64_t seed, Vec3 p, int octaves, float lacunarity = 2.0f, float gain = 0.5f);
 
 // Area-weighted average of the face normals of triangles [first_triangle, end) into
 // the normals of their vertices (which must all be >= first_vertex). Used by the

@@ -229,6 +229,7 @@ TEST(SceneFamiliesV2, FirstTwoGenerationsAreFixed) {
                                      "terrain", "cave", "round", "pipes", "street"};
   EXPECT_EQ(scene_family_names(1), first);
   EXPECT_EQ(scene_family_names(2), second);
-  for (auto& f : scene_families()) EXPECT_TRUE(f.generation >= 1 && f.generation <= 3) << f.name;
-  EXPECT_EQ(scene_families().size(), first.size() + second.size() + scene_family_names(3).size());
+  for (auto& f : scene_families()) EXPECT_TRUE(f.generation >= 1 && f.generation <= 4) << f.name;
+  EXPECT_EQ(scene_families().size(),
+            first.size() + second.size() + scene_family_names(3).size() + scene_family_names(4).size());
 }
