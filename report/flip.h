@@ -189,26 +189,29 @@ inline int clamp_index(int i, int n) { return i < 0 ? 0 : (i >= n ? n - 1 : i); 
 
 // out = correlation of `in` (h x w) with taps_x along rows then taps_y along columns,
 // borders replicated.
-inline std::vector<float> filter_separable(const std::vector<float>& in, int w, int h, const std::vector<double>& taps_x,
-                                           const std::vector<double>& taps_y) {
+inline std::vector<float> filter_separable(const std::vector<float>& in, int w, int h,
+                                           const std::vector<double>& taps_x, const std::vector<double>& taps_y) {
   const int rx = int(taps_x.size() / 2), ry = int(taps_y.size() / 2);
   std::vector<float> tmp(in.size()), out(in.size());
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       double s = 0;
-      for (int k = -rx; k <= rx; ++k) s += taps_x[size_t(k + rx)] * in[size_t(y) * size_t(w) + size_t(clamp_index(x + k, w))];
+      for (int k = -rx; k <= rx; ++k)
+        s += taps_x[size_t(k + rx)] * in[size_t(y) * size_t(w) + size_t(clamp_index(x + k, w))];
       tmp[size_t(y) * size_t(w) + size_t(x)] = float(s);
     }
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       double s = 0;
-      for (int k = -ry; k <= ry; ++k) s += taps_y[size_t(k + ry)] * tmp[size_t(clamp_index(y + k, h)) * size_t(w) + size_t(x)];
+      for (int k = -ry; k <= ry; ++k)
+        s += taps_y[size_t(k + ry)] * tmp[size_t(clamp_index(y + k, h)) * size_t(w) + size_t(x)];
       out[size_t(y) * size_t(w) + size_t(x)] = float(s);
     }
   return out;
 }
 
-inline std::vector<float> filter_csf(const std::vector<float>& in, int w, int h, const std::vector<SeparableTerm>& csf) {
+inline std::vector<float> filter_csf(const std::vector<float>& in, int w, int h,
+                                     const std::vector<SeparableTerm>& csf) {
   std::vector<float> out(in.size(), 0.0f);
   for (const SeparableTerm& t : csf) {
     const std::vector<float> f = filter_separable(in, w, h, t.taps, t.taps);

@@ -113,7 +113,8 @@ TEST_F(TrainGan, EvalGiWritesResultsAndRefusesAFrameWithAMissingFace) {
   // The detail measures come last, so scripts that cut the earlier columns still read them;
   // every row's FLIP is a number in [0, 1] and its gradient error a number >= 0.
   const std::string header = csv.substr(0, csv.find('\n'));
-  EXPECT_EQ(header.substr(header.size() - std::string(",path_pairs,flip,grad_error").size()), ",path_pairs,flip,grad_error");
+  const std::string tail = ",path_pairs,flip,grad_error";
+  EXPECT_EQ(header.substr(header.size() - tail.size()), tail);
   std::istringstream rows(csv.substr(csv.find('\n') + 1));
   int scored = 0;
   for (std::string line; std::getline(rows, line); ++scored) {

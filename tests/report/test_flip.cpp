@@ -210,8 +210,8 @@ TEST(Flip, AMovedEdgeScoresFarAboveInvisibleNoiseOfEqualMse) {
 // uniform brightness change over the whole image scores higher than a moved edge. The
 // colour term is concave in the difference (HyAB^0.7 of L*, itself a cube root), so error
 // spread thin over every pixel weighs more than the same squared error on one column
-// (0.229 against 0.057; the NumPy transcription gives 0.2288 and 0.0566). The gradient error (image_metrics.h) is the measure that
-// ranks the moved edge above the offset.
+// (0.229 against 0.057; the NumPy transcription gives 0.2288 and 0.0566). The gradient
+// error (image_metrics.h) is the measure that ranks the moved edge above the offset.
 TEST(Flip, AUniformChangeOfEqualMseScoresAboveAMovedEdge) {
   const auto truth = edge(0.2f, 0.8f, kW / 2), moved = edge(0.2f, 0.8f, kW / 2 + 1);
   const float d = float(std::sqrt(mse(truth, moved)));
