@@ -2,8 +2,10 @@
 // that plus a constant ambient fitted on the training split) on a dataset's test split.
 //
 //   eval-gi --data DIR --model runs/surround/G.blob --model runs/front/G.blob --out eval
-// writes eval/results.csv (model,mode,ms_per_frame,mse,psnr,ssim,...), results_offscreen.csv,
-// frames.csv, report.md, report.html and previews/. See docs/gan.md.
+// writes eval/results.csv (model,mode,ms_per_frame,mse,psnr,ssim,...,flip,grad_error),
+// results_offscreen.csv, results_by_family.csv, results_by_distance.csv (error by distance to
+// the nearest depth jump or crease), frames.csv, report.md, report.html and previews/.
+// See docs/gan.md.
 #include <cstdio>
 
 #include "apps/args.h"

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "screen_space/discontinuities.h"
 #include "screen_space/gbuffer.h"
 
 namespace nns::ao {
@@ -28,16 +29,8 @@ inline FailureBands failure_bands(const GBuffer& g) {
     return data::is_sky(a) != data::is_sky(b) ||
            (!data::is_sky(a) && std::abs(a - b) > g.radius);
   };
-  std::vector<uint8_t> edge(size_t(n), 0);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      float z = depth(x, y);
-      if ((x + 1 < W && jump(z, depth(x + 1, y))) || (y + 1 < H && jump(z, depth(x, y + 1)))) {
-        edge[size_t(int64_t(y) * W + x)] = 1;
-        if (x + 1 < W) edge[size_t(int64_t(y) * W + x + 1)] = 1;
-        if (y + 1 < H) edge[size_t(int64_t(y + 1) * W + x)] = 1;
-      }
-    }
+  const std::vector<int> to_edge = chebyshev_distance(
+      discontinuity_pixels(W, H, [&](int64_t i, int64_t j) { return jump(g.z[i], g.z[j]); }), W, H);
   FailureBands b;
   b.masks.assign(3, std::vector<uint8_t>(size_t(n), 0));
   const int halo = 3, border = std::max(1, int(0.08 * W)), thin = 6;
@@ -45,16 +38,7 @@ inline FailureBands failure_bands(const GBuffer& g) {
     for (int x = 0; x < W; ++x) {
       const int64_t i = int64_t(y) * W + x;
       if (g.sky(i)) continue;
-      bool near_edge = false;
-      for (int dy = -halo; dy <= halo && !near_edge; ++dy)
-        for (int dx = -halo; dx <= halo; ++dx) {
-          int sx = x + dx, sy = y + dy;
-          if (sx >= 0 && sy >= 0 && sx < W && sy < H && edge[size_t(int64_t(sy) * W + sx)]) {
-            near_edge = true;
-            break;
-          }
-        }
-      b.masks[0][size_t(i)] = near_edge;
+      b.masks[0][size_t(i)] = to_edge[size_t(i)] <= halo;
       b.masks[1][size_t(i)] = x < border || y < border || x >= W - border || y >= H - border;
       // Farther (or sky) within `thin` pixels on both sides, along x or along y.
       const float z = g.z[i];

@@ -48,4 +48,28 @@ inline double masked_ssim(const float* a, const float* b, const uint8_t* mask, i
   return masked_mean(map.data(), mask, int64_t(w) * h);
 }
 
+// Gradient-domain error: the mean over forward differences, horizontal and vertical, whose
+// two pixels are both selected, of |(a[j] - a[i]) - (b[j] - b[i])|. A uniform offset
+// scores 0 and a moved, lost or invented edge scores its step: it sees the detail
+// (contact shadows, creases) that MSE, dominated by broad offsets, averages away. The
+// absolute value rather than the square keeps many small missing steps (a soft contact
+// shadow) from being swamped by the few large ones at silhouettes, and keeps the unit
+// that of the image per pixel. NaN when no pair is selected.
+inline double masked_gradient_error(const float* a, const float* b, const uint8_t* mask, int w, int h) {
+  double s = 0;
+  int64_t count = 0;
+  auto add = [&](int64_t i, int64_t j) {
+    if (mask && (!mask[i] || !mask[j])) return;
+    s += std::abs((double(a[j]) - a[i]) - (double(b[j]) - b[i]));
+    ++count;
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int64_t i = int64_t(y) * w + x;
+      if (x + 1 < w) add(i, i + 1);
+      if (y + 1 < h) add(i, i + w);
+    }
+  return count ? s / double(count) : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace nns::data

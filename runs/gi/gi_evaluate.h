@@ -7,8 +7,10 @@
 //                       light of the scenes trained on (least squares in linear HDR)
 // Files in OUT: results.csv (all test frames), results_offscreen.csv (the frames whose
 // directly lit surfaces are off the front view), frames.csv (every frame of every
-// model), results_by_family.csv, report.md and report.html, speed_vs_ssim.svg/.png and
-// speed_vs_mse_linear.svg/.png, previews/<model>_<frame>_{prediction,truth,error}.png.
+// model), results_by_family.csv, results_by_distance.csv (error by distance to the nearest
+// depth jump or crease, gi_eval.h), report.md and report.html, speed_vs_ssim.svg/.png,
+// speed_vs_mse_linear.svg/.png and speed_vs_flip.svg/.png,
+// previews/<model>_<frame>_{prediction,truth,error}.png.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -51,6 +53,7 @@ struct EvalRow {
   LightMetrics all, offscreen;
   int64_t frames = 0, offscreen_frames = 0;
   std::map<std::string, MetricsMean> by_family;  // scene family -> its frames' metrics
+  DistanceBands bands;                           // all frames, by distance to a surface break
   // Reprojected along camera paths (gi_eval.h): the row's flicker, the ground truth's on
   // the same pairs, and the temporal error; NaN without camera paths.
   double flicker = NAN, flicker_truth = NAN, temporal_error = NAN;
@@ -99,11 +102,14 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<GiS
     Tensor<float> p = predict(s);
     ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     LightMetrics m = light_metrics(p, s.target_linear, s.geometry, hdr);
+    std::vector<float> pred = mapped(p, hdr), truth = mapped(s.target_linear, hdr);
+    const int h = int(s.target_linear.size(1)), w = int(s.target_linear.size(2));
+    const std::vector<float> flip_map = frame_detail(pred, truth, s.geometry, w, h, m);
+    add_to_bands(row.bands, distance_bands_of(s), pred, truth, flip_map, s.geometry);
     all.add(m);
     row.by_family[data::scene_family_of(s.scene)].add(m);
     const bool is_off = s.front_direct_share < o.offscreen_share;  // NaN: unknown, not off
     if (is_off) off.add(m);
-    std::vector<float> pred = mapped(p, hdr), truth = mapped(s.target_linear, hdr);
     if (prev && next_on_path(*prev, s)) {
       const std::vector<int64_t> map = reproject_front(s, *prev);
       add_flicker_pair(temporal, map, pred, prev_pred, truth, prev_truth);
@@ -114,7 +120,7 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<GiS
                   detail::fmt(s.front_direct_share) + "," + (is_off ? "1" : "0") + "," +
                   detail::fmt(m.mse) + "," + detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," +
                   detail::fmt(m.mse_linear) + "," + detail::fmt(m.psnr_linear) + "," +
-                  detail::fmt(m.ssim_linear) + "\n";
+                  detail::fmt(m.ssim_linear) + "," + detail::fmt(m.flip) + "," + detail::fmt(m.grad_error) + "\n";
     if (previews < o.previews) {
       const std::string prefix =
           "previews/" + detail::safe_name(model) + "_" + detail::safe_name(detail::label_of(s.name));
@@ -159,7 +165,7 @@ inline std::array<float, 3> fit_ambient(const std::vector<GiSample>& train) {
 
 inline std::string results_csv(const std::vector<EvalRow>& rows, bool offscreen) {
   std::string s = "model,mode,ms_per_frame,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear,frames,flicker,"
-                  "flicker_truth,flicker_ratio,temporal_error,path_pairs\n";
+                  "flicker_truth,flicker_ratio,temporal_error,path_pairs,flip,grad_error\n";
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
     s += r.model + "," + r.mode + "," + detail::fmt(r.ms_per_frame, "%.3f") + "," + detail::fmt(m.mse) + "," +
@@ -167,7 +173,8 @@ inline std::string results_csv(const std::vector<EvalRow>& rows, bool offscreen)
          detail::fmt(m.psnr_linear) + "," + detail::fmt(m.ssim_linear) + "," +
          std::to_string(offscreen ? r.offscreen_frames : r.frames) + "," + detail::fmt(r.flicker) + "," +
          detail::fmt(r.flicker_truth) + "," + detail::fmt(r.flicker / r.flicker_truth) + "," +
-         detail::fmt(r.temporal_error) + "," + std::to_string(r.flicker_pairs) + "\n";
+         detail::fmt(r.temporal_error) + "," + std::to_string(r.flicker_pairs) + "," + detail::fmt(m.flip) + "," +
+         detail::fmt(m.grad_error) + "\n";
   }
   return s;
 }
@@ -178,13 +185,14 @@ inline std::string cell(double v, const char* f) { return std::isfinite(v) ? det
 
 inline data::Table results_table(const std::vector<EvalRow>& rows, bool offscreen) {
   data::Table t{{"model", "mode", "ms/frame", "MSE", "PSNR", "SSIM", "MSE (linear)", "frames", "flicker (x truth)",
-                 "temporal error"}, {}};
+                 "temporal error", "FLIP", "gradient error"}, {}};
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
     t.rows.push_back({r.model, r.mode, cell(r.ms_per_frame, "%.2f"), cell(m.mse, "%.5f"), cell(m.psnr, "%.2f"),
                       cell(m.ssim, "%.4f"), cell(m.mse_linear, "%.4g"),
                       std::to_string(offscreen ? r.offscreen_frames : r.frames),
-                      cell(r.flicker / r.flicker_truth, "%.3f"), cell(r.temporal_error, "%.4f")});
+                      cell(r.flicker / r.flicker_truth, "%.3f"), cell(r.temporal_error, "%.4f"), cell(m.flip, "%.4f"),
+                      cell(m.grad_error, "%.5f")});
   }
   return t;
 }
@@ -192,12 +200,13 @@ inline data::Table results_table(const std::vector<EvalRow>& rows, bool offscree
 // Per scene family, each row's SSIM and linear MSE: where a model wins and where the
 // constant ambient term already explains the light.
 inline std::string family_csv(const std::vector<EvalRow>& rows) {
-  std::string s = "model,family,frames,mse,psnr,ssim,mse_linear\n";
+  std::string s = "model,family,frames,mse,psnr,ssim,mse_linear,flip,grad_error\n";
   for (auto& r : rows)
     for (auto& [family, mm] : r.by_family) {
       const LightMetrics m = mm.mean();
       s += r.model + "," + family + "," + std::to_string(mm.frames) + "," + detail::fmt(m.mse) + "," +
-           detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," + detail::fmt(m.mse_linear) + "\n";
+           detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," + detail::fmt(m.mse_linear) + "," +
+           detail::fmt(m.flip) + "," + detail::fmt(m.grad_error) + "\n";
     }
   return s;
 }
@@ -217,25 +226,59 @@ inline data::Table family_table(const std::vector<EvalRow>& rows) {
   return t;
 }
 
+// Per row and distance band (gi_eval.h's DistanceBands): the band's share of the
+// geometry pixels, its mapped MSE and its mean FLIP.
+inline std::string distance_csv(const std::vector<EvalRow>& rows) {
+  std::string s = "model,mode,band,pixels,share,mse,flip\n";
+  for (auto& r : rows)
+    for (int b = 0; b < DistanceBands::kCount; ++b)
+      s += r.model + "," + r.mode + "," + DistanceBands::name(b) + "," + std::to_string(r.bands.pixels[size_t(b)]) +
+           "," + detail::fmt(r.bands.share(b)) + "," + detail::fmt(r.bands.mse(b)) + "," +
+           detail::fmt(r.bands.mean_flip(b)) + "\n";
+  return s;
+}
+
+inline data::Table distance_table(const std::vector<EvalRow>& rows) {
+  data::Table t{{"model"}, {}};
+  if (rows.empty()) return t;
+  for (int b = 0; b < DistanceBands::kCount; ++b)
+    t.header.push_back(DistanceBands::name(b) + " px (" + cell(100 * rows.front().bands.share(b), "%.0f") + "%)");
+  for (auto& r : rows) {
+    t.rows.push_back({r.model});
+    for (int b = 0; b < DistanceBands::kCount; ++b)
+      t.rows.back().push_back(cell(r.bands.mse(b), "%.5f") + " / " + cell(r.bands.mean_flip(b), "%.3f"));
+  }
+  return t;
+}
+
 // Speed against accuracy, one point per row: ms per frame (log axis) against mapped SSIM
 // and against linear MSE, added to the report.
 inline void write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptions& o, data::Report& report) {
-  for (int k = 0; k < 2; ++k) {
+  struct Axis {
+    const char* name;  // the file
+    const char* title;
+    const char* label;
+    double LightMetrics::*value;
+  };
+  const Axis axes[] = {
+      {"speed_vs_ssim", "SSIM (mapped)", "SSIM, mapped (higher is better)", &LightMetrics::ssim},
+      {"speed_vs_mse_linear", "MSE (linear)", "MSE, linear HDR (lower is better)", &LightMetrics::mse_linear},
+      {"speed_vs_flip", "FLIP (mapped)", "mean FLIP, mapped, 67 ppd (lower is better)", &LightMetrics::flip}};
+  for (const Axis& axis : axes) {
     std::vector<data::ChartSeries> series;
     for (auto& r : rows) {
       data::ChartSeries c;
       c.name = r.model;
       c.x = {std::max(r.ms_per_frame, 1e-3)};
-      c.y = {k == 0 ? r.all.ssim : r.all.mse_linear};
+      c.y = {r.all.*axis.value};
       series.push_back(c);
     }
     data::ChartOptions co;
-    co.title = std::string("GI, ") + o.split + " split: " + (k == 0 ? "SSIM (mapped)" : "MSE (linear)") +
-               " against time";
+    co.title = std::string("GI, ") + o.split + " split: " + axis.title + " against time";
     co.x_label = "ms per frame (generator forward; references ~0)";
-    co.y_label = k == 0 ? "SSIM, mapped (higher is better)" : "MSE, linear HDR (lower is better)";
+    co.y_label = axis.label;
     co.log_x = true;
-    const std::string name = k == 0 ? "speed_vs_ssim" : "speed_vs_mse_linear";
+    const std::string name = axis.name;
     const std::string note = data::write_chart(o.out + "/" + name + ".svg", series, co);
     report.chart(name + ".svg", co.title, note);
   }
@@ -270,7 +313,8 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
 
   std::vector<EvalRow> rows;
   std::string frames_csv =
-      "model,mode,frame,scene,front_direct_share,offscreen_lit,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear\n";
+      "model,mode,frame,scene,front_direct_share,offscreen_lit,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear,flip,"
+      "grad_error\n";
   bool references_done = false;
   size_t unlit_frames = 0;
   // One mapping scores every row, or mapped-space numbers would not compare: the first
@@ -320,6 +364,7 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   write_file_atomic(o.out + "/results_offscreen.csv", results_csv(rows, true));
   write_file_atomic(o.out + "/frames.csv", frames_csv);
   write_file_atomic(o.out + "/results_by_family.csv", family_csv(rows));
+  write_file_atomic(o.out + "/results_by_distance.csv", distance_csv(rows));
   data::Report report("eval-gi");
   report.text("Data: `" + o.data + "`, split " + o.split + " (" + std::to_string(scored->size()) + " frames, of which " +
               std::to_string(unlit_frames) + " unlit ones set aside: no light on the front view), test-time BatchNorm: " +
@@ -328,7 +373,11 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
               ". Metrics in mapped space (Reinhard x/(x+k), [0,1]) over geometry pixels of the "
               "front view; MSE (linear) in HDR units. Flicker: on camera paths, each frame reprojected onto the one before "
               "(disocclusions skipped), the mean frame-to-frame change in mapped space, relative to the ground truth's "
-              "on the same pixels (1 = as stable as the truth); temporal error: mean |predicted - true| change.");
+              "on the same pixels (1 = as stable as the truth); temporal error: mean |predicted - true| change. "
+              "FLIP: the perceptual difference of Andersson et al. 2020 (LDR, 67 pixels per degree) between the "
+              "mapped images shown as the previews show them, mean over geometry pixels, in [0,1]; gradient error: "
+              "mean |difference of neighbouring pixels' differences| in mapped space, blind to uniform offsets, "
+              "sensitive to moved or missing edges (contact shadows, creases).");
   std::vector<EvalPreview> previews;
   for (auto& r : rows) previews.insert(previews.end(), r.previews.begin(), r.previews.end());
   add_eval_previews(report, previews);
@@ -340,6 +389,12 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   if (offscreen_frames == 0) report.text("No frame of this split is lit mostly from off the screen.");
   else report.table(results_table(rows, true));
   report.heading("Per scene family (SSIM mapped / MSE linear)").table(family_table(rows));
+  report.heading("By distance to the nearest surface break (MSE mapped / FLIP)")
+      .text("Each geometry pixel of the front view by its distance (Chebyshev, pixels) to the nearest depth jump "
+            "(more than 10% of the nearer depth), crease (normals more than 30 degrees apart) or sky edge; in brackets "
+            "the band's share of the pixels. Contact shadows and creases sit in the first bands. Pooled over all "
+            "frames' pixels. See results_by_distance.csv.")
+      .table(distance_table(rows));
   report.heading("Speed against accuracy");
   write_speed_charts(rows, o, report);
   report.write(o.out);

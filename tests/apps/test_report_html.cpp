@@ -238,7 +238,8 @@ TEST_F(ReportHtml, TrainGanAndEvalGiPagesShowEveryImage) {
   r = run_app("eval-gi", "--data " + shell_arg(data) + " --model " + shell_arg(run / "G.blob") + " --out " + shell_arg(out) +
                              " --previews 2");
   ASSERT_EQ(r.code, 0) << r.output;
-  // 2 charts; 2 frames x (truth + 3 rows x 2 images), on the stage and as thumbnails.
-  EXPECT_EQ(check_page(out, 2 + 2 * 7 * 2), 2);
-  check_charts(out, 2);
+  // 3 charts (SSIM, linear MSE, FLIP against time); 2 frames x (truth + 3 rows x 2
+  // images), on the stage and as thumbnails.
+  EXPECT_EQ(check_page(out, 3 + 2 * 7 * 2), 2);
+  check_charts(out, 3);
 }

@@ -110,6 +110,26 @@ TEST_F(TrainGan, EvalGiWritesResultsAndRefusesAFrameWithAMissingFace) {
   EXPECT_NE(csv.find(",surround,"), std::string::npos);
   EXPECT_TRUE(fs::exists(out + "/frames.csv"));
   EXPECT_TRUE(fs::exists(out + "/report.md"));
+  // The detail measures come last, so scripts that cut the earlier columns still read them;
+  // every row's FLIP is a number in [0, 1] and its gradient error a number >= 0.
+  const std::string header = csv.substr(0, csv.find('\n'));
+  const std::string tail = ",path_pairs,flip,grad_error";
+  EXPECT_EQ(header.substr(header.size() - tail.size()), tail);
+  std::istringstream rows(csv.substr(csv.find('\n') + 1));
+  int scored = 0;
+  for (std::string line; std::getline(rows, line); ++scored) {
+    const size_t last = line.rfind(','), before = line.rfind(',', last - 1);
+    const double flip = std::stod(line.substr(before + 1, last - before - 1)), grad = std::stod(line.substr(last + 1));
+    EXPECT_TRUE(flip >= 0 && flip <= 1) << line;
+    EXPECT_TRUE(grad >= 0) << line;
+  }
+  EXPECT_EQ(scored, 3);
+  EXPECT_NE(read_all(out + "/frames.csv").find("ssim_linear,flip,grad_error\n"), std::string::npos);
+  const std::string bands = read_all(out + "/results_by_distance.csv");
+  EXPECT_EQ(bands.rfind("model,mode,band,pixels,share,mse,flip\n", 0), 0u) << bands;
+  EXPECT_NE(bands.find("direct+env,-,0-1,"), std::string::npos) << bands;
+  EXPECT_NE(bands.find(",surround,16+,"), std::string::npos) << bands;
+  EXPECT_TRUE(fs::exists(out + "/speed_vs_flip.svg"));
 
   const std::string broken = (root_ / "broken").string();
   write_dataset(broken, 1, 1, /*drop_left=*/true);

@@ -41,3 +41,23 @@ TEST(ImageMetrics, SsimOfAConstantShiftMatchesTheFormula) {
   double C1 = 1e-4;
   EXPECT_NEAR(masked_ssim(a.data(), b.data(), nullptr, w, h), (0.6 + C1) / (0.61 + C1), 1e-5);
 }
+
+TEST(ImageMetrics, GradientErrorIsBlindToOffsetsAndCountsMovedSteps) {
+  // 4 x 2 image: a step 0 | 1 between columns 1 and 2; the test moves it one column right.
+  const int w = 4, h = 2;
+  std::vector<float> truth = {0, 0, 1, 1, 0, 0, 1, 1}, moved = {0, 0, 0, 1, 0, 0, 0, 1};
+  std::vector<float> offset(truth);
+  for (float& v : offset) v += 0.25f;
+  EXPECT_EQ(masked_gradient_error(truth.data(), offset.data(), nullptr, w, h), 0.0);
+  // 10 differences (3 per row across, 4 down); per row the across differences change by
+  // (0, -1, +1): |.| sums to 2 per row, 4 in all; the vertical ones are 0 in both. 4 / 10.
+  EXPECT_NEAR(masked_gradient_error(truth.data(), moved.data(), nullptr, w, h), 0.4, 1e-12);
+  // A mask keeps only pairs whose two pixels are selected: the top row's three pairs.
+  std::vector<uint8_t> top = {1, 1, 1, 1, 0, 0, 0, 0};
+  EXPECT_NEAR(masked_gradient_error(truth.data(), moved.data(), top.data(), w, h), 2.0 / 3, 1e-12);
+  std::vector<uint8_t> lonely = {1, 0, 1, 0, 0, 0, 0, 0};
+  EXPECT_TRUE(std::isnan(masked_gradient_error(truth.data(), moved.data(), lonely.data(), w, h)));
+  // Symmetric in its arguments.
+  EXPECT_EQ(masked_gradient_error(truth.data(), moved.data(), nullptr, w, h),
+            masked_gradient_error(moved.data(), truth.data(), nullptr, w, h));
+}

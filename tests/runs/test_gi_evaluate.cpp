@@ -17,3 +17,59 @@ TEST(GiEvaluate, UnlitMeansNoLightOnGeometry) {
   s.target_linear[2 * 4 + 3] = 1e-4f;  // channel B, pixel 3: geometry
   EXPECT_FALSE(unlit(s));
 }
+
+// The distance bands of eval-gi: a front view with a box in front of a wall (a depth
+// jump) and a crease, each pixel in the band of its Chebyshev distance to the break.
+TEST(GiEvaluate, DistanceBandsFollowDepthJumpsAndCreases) {
+  EXPECT_EQ(DistanceBands::name(0), "0-1");
+  EXPECT_EQ(DistanceBands::name(3), "8-15");
+  EXPECT_EQ(DistanceBands::name(4), "16+");
+  EXPECT_EQ(DistanceBands::band_of(0), 0);
+  EXPECT_EQ(DistanceBands::band_of(1), 0);
+  EXPECT_EQ(DistanceBands::band_of(2), 1);
+  EXPECT_EQ(DistanceBands::band_of(7), 2);
+  EXPECT_EQ(DistanceBands::band_of(15), 3);
+  EXPECT_EQ(DistanceBands::band_of(16), 4);
+  EXPECT_EQ(DistanceBands::band_of(ao::kNoSeed), 4);
+
+  // 48 x 4: a wall at depth 10 (normal +z) for x < 40; x >= 40 a side wall at depth 10,
+  // normal +x (a crease at x = 39|40); column 0 sky.
+  const int w = 48, h = 4;
+  GiSample s;
+  data::View& v = s.front_geometry;
+  v.width = w, v.height = h, v.fov_y_deg = 60;
+  auto& z = v.add_channel("Z");
+  auto& nx = v.add_channel("N.X");
+  v.add_channel("N.Y");
+  auto& nz = v.add_channel("N.Z");
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y * w + x);
+      z[i] = x == 0 ? INFINITY : 10.0f;
+      (x >= 40 ? nx : nz)[i] = 1;
+    }
+  const std::vector<int8_t> band = distance_bands_of(s);
+  auto expected = [](int x) {
+    if (x == 0) return -1;
+    const int d = std::min(x - 1, x < 40 ? 39 - x : x - 40);  // to the sky edge (x = 1) or the crease
+    return DistanceBands::band_of(d);
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) ASSERT_EQ(band[size_t(y * w + x)], expected(x)) << x;
+
+  // Pooling: a prediction off by 0.1 in every channel on the band-0 pixels only.
+  std::vector<float> truth(size_t(3 * w * h), 0.5f), pred = truth, flip(size_t(w * h), 0.25f);
+  std::vector<uint8_t> geometry(size_t(w * h), 1);
+  for (int y = 0; y < h; ++y) geometry[size_t(y * w)] = 0;
+  for (size_t c = 0; c < 3; ++c)
+    for (size_t i = 0; i < size_t(w * h); ++i)
+      if (band[i] == 0) pred[c * size_t(w * h) + i] += 0.1f;
+  DistanceBands bands;
+  add_to_bands(bands, band, pred, truth, flip, geometry);
+  // band 0: x = 1, 2 (sky edge) and 38..41 (crease): 6 columns of 4 rows.
+  EXPECT_EQ(bands.pixels[0], 24);
+  EXPECT_NEAR(bands.mse(0), 0.01, 1e-6);
+  EXPECT_EQ(bands.mse(1), 0.0);
+  EXPECT_NEAR(bands.mean_flip(2), 0.25, 1e-12);
+  EXPECT_NEAR(bands.share(0), 24.0 / (47 * 4), 1e-12);
+}
