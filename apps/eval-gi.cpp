@@ -2,6 +2,7 @@
 // that plus a constant ambient fitted on the training split) on a dataset's test split.
 //
 //   eval-gi --data DIR --model runs/surround/G.blob --model runs/front/G.blob --out eval
+//   eval-gi --data DIR128 --model g64/G.blob --size 128 --upsample-from 64   a face-64 model at face 128
 // writes eval/results.csv (model,mode,ms_per_frame,mse,psnr,ssim,...,flip,grad_error),
 // results_offscreen.csv, results_by_family.csv, results_by_distance.csv (error by distance to
 // the nearest depth jump or crease), frames.csv, report.md, report.html and previews/.
@@ -31,6 +32,13 @@ int main(int argc, char** argv) {
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
     o.offscreen_share = float(a.get_double("--offscreen-share", 1.0 / 6,
                                            "a frame is off-screen-lit when its front face holds less than this share of its direct light", 0, 1));
+    o.size = a.get_int("--size", 0, "score at this face size, the views box-filtered to it (0: each model at the face it "
+                       "was trained at); a model trained at another size runs fully convolutionally", 0, 16384);
+    o.upsample_from = a.get_int("--upsample-from", 0, "run each model at this face size and bring its indirect light up "
+                                "to the scored size with an upsample guided by depth and normals (0: off)", 0, 16384);
+    if (o.upsample_from > 0 && o.size == 0) a.error("--upsample-from needs --size (the face the light is brought up to)");
+    if (o.upsample_from > 0 && o.size > 0 && (o.upsample_from >= o.size || o.size % o.upsample_from))
+      a.error("--upsample-from must be a proper divisor of --size (" + std::to_string(o.size) + ")");
     if (o.data.empty()) a.error("--data is required");
     if (o.models.empty()) a.error("at least one --model is required");
     a.done();

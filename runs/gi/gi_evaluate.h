@@ -27,6 +27,7 @@
 #include "runs/gi/gi_data.h"
 #include "runs/gi/gi_eval.h"
 #include "models/gi/gi_model_io.h"
+#include "models/gi/guided_upsample.h"
 #include "runs/gi/gi_previews.h"
 
 namespace nns::gi {
@@ -45,6 +46,11 @@ struct EvalOptions {
   // direct light, i.e. most directly lit surfaces are off the screen (docs/gan.md).
   float offscreen_share = 1.0f / 6;
   bool quiet = false;
+  // The resolution study: every method is scored at face `size` (0: each model at the
+  // face it was trained at); with `upsample_from` > 0 each model runs at that face and
+  // its indirect light is brought up to the scored face by the guided upsample
+  // (models/gi/guided_upsample.h), as engines bring up half-resolution GI.
+  int size = 0, upsample_from = 0;
 };
 
 struct EvalRow {
@@ -284,92 +290,112 @@ inline void write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptio
   }
 }
 
-inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
-  namespace fs = std::filesystem;
-  if (o.models.empty()) throw std::invalid_argument("eval-gi: no --model given");
-  fs::create_directories(o.out + "/previews");
-  data::DatasetListing listing = data::list_splits(o.data);
-  // Every model read once, before any frame: a bad blob stops the run at once.
-  std::vector<LoadedGenerator> generators;
-  for (const auto& path : o.models) generators.push_back(load_generator(path));
-  // The ambient term is fitted on the scenes the models trained on: train/ without the
-  // validation scenes the first model's run carved out (the models of one table are
-  // trained on the same data, so they share them).
-  const double val_fraction = generators.front().inputs.validation_fraction;
-  auto [fit_split, validation] = data::hold_out_validation(listing.train, val_fraction);
-  const data::SplitListing* scored = &listing.test;
+// The frames an evaluation scores: test/, the validation scenes the first model's run
+// carved out of train/, or holdout/; and the train/ scenes the ambient term is fitted on.
+struct EvalSplits {
+  data::DatasetListing listing;
+  data::SplitListing fit, validation;
+  const data::SplitListing* scored = nullptr;
+};
+
+inline EvalSplits open_eval_splits(const EvalOptions& o, double validation_fraction) {
+  EvalSplits e;
+  e.listing = data::list_splits(o.data);
+  std::tie(e.fit, e.validation) = data::hold_out_validation(e.listing.train, validation_fraction);
+  e.scored = &e.listing.test;
   if (o.split == "validation") {
-    if (validation.size() == 0)
+    if (e.validation.size() == 0)
       throw std::runtime_error(o.models.front() + ": trained without a validation split (train-gan --validation-fraction)");
-    scored = &validation;
+    e.scored = &e.validation;
   } else if (o.split == "holdout") {
-    if (!listing.has_holdout)
+    if (!e.listing.has_holdout)
       throw std::runtime_error(o.data + ": no holdout/ split (render-dataset --holdout-families makes one)");
-    scored = &listing.holdout;
+    e.scored = &e.listing.holdout;
   } else if (o.split != "test") {
     throw std::invalid_argument("eval-gi: unknown split '" + o.split + "' (test, validation, holdout)");
   }
-  if (scored->size() == 0) throw std::runtime_error(o.data + ": no " + o.split + " views or frames");
+  if (e.scored->size() == 0) throw std::runtime_error(o.data + ": no " + o.split + " views or frames");
+  return e;
+}
 
-  std::vector<EvalRow> rows;
-  std::string frames_csv =
-      "model,mode,frame,scene,front_direct_share,offscreen_lit,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear,flip,"
-      "grad_error\n";
-  bool references_done = false;
-  size_t unlit_frames = 0;
-  // One mapping scores every row, or mapped-space numbers would not compare: the first
-  // model's (models trained on the same split fit the same scale).
-  std::optional<HdrMapping> metric_hdr;
-  for (size_t m = 0; m < o.models.size(); ++m) {
-    const std::string& path = o.models[m];
-    LoadedGenerator& g = generators[m];
-    const GiInputConfig& cfg = g.inputs;
-    GiItemReader rd{cfg.mode, cfg.size};
-    auto test = load_samples(*scored, rd, cfg, o.max_frames, "eval-gi " + detail::label_of(path), o.quiet);
-    // A frame with no light at all on its front geometry (every lamp of the scene hidden
-    // from the camera's room: 12 of the default data's 180 holdout frames) has nothing to
-    // predict: its PSNR is infinite for direct+env and SSIM is undefined, and a constant
-    // ambient term loses there by construction. Such frames are set aside and counted.
-    const size_t before = test.size();
-    test.erase(std::remove_if(test.begin(), test.end(), [](const GiSample& s) { return unlit(s); }), test.end());
-    unlit_frames = before - test.size();
-    if (unlit_frames && !o.quiet)
-      std::fprintf(stderr, "eval-gi: %zu unlit %s frames set aside (no light on the front view)\n", unlit_frames,
-                   o.split.c_str());
-    if (test.empty()) throw std::runtime_error(o.data + ": every " + o.split + " frame is unlit (no light on its front view)");
-    if (!metric_hdr) metric_hdr = HdrMapping(cfg.norm.hdr_scale);
-    const HdrMapping& hdr = *metric_hdr;
-    if (!references_done) {
-      // The references use the first model's data (same test frames and size).
-      auto train = load_samples(fit_split, rd, cfg, o.max_frames, "eval-gi ambient fit", o.quiet);
-      auto ambient = fit_ambient(train);
-      train.clear();
-      rows.push_back(score("direct+env", "-", test, hdr, o,
-                           [](const GiSample& s) { return s.direct_env.clone(); }, frames_csv));
-      rows.push_back(score("direct+env+ambient", "-", test, hdr, o, [&](const GiSample& s) {
-        Tensor<float> p = s.direct_env.clone();
-        const int64_t n = int64_t(s.geometry.size());
-        for (int c = 0; c < 3; ++c)
-          for (int64_t i = 0; i < n; ++i) p[c * n + i] += ambient[size_t(c)];
-        return p;
-      }, frames_csv));
-      references_done = true;
-    }
-    NoGradGuard ng;
-    rows.push_back(score(detail::label_of(path), mode_name(cfg.mode), test, hdr, o, [&](const GiSample& s) {
+// A frame with no light at all on its front geometry (every lamp of the scene hidden
+// from the camera's room: 12 of the default data's 180 holdout frames) has nothing to
+// predict: its PSNR is infinite for direct+env and SSIM is undefined, and a constant
+// ambient term loses there by construction. Such frames are set aside and counted.
+inline size_t set_aside_unlit(std::vector<GiSample>& frames, const EvalOptions& o) {
+  const size_t before = frames.size();
+  frames.erase(std::remove_if(frames.begin(), frames.end(), [](const GiSample& s) { return unlit(s); }), frames.end());
+  const size_t unlit_frames = before - frames.size();
+  if (unlit_frames && !o.quiet)
+    std::fprintf(stderr, "eval-gi: %zu unlit %s frames set aside (no light on the front view)\n", unlit_frames,
+                 o.split.c_str());
+  if (frames.empty())
+    throw std::runtime_error(o.data + ": every " + o.split + " frame is unlit (no light on its front view)");
+  return unlit_frames;
+}
+
+// The two references that learn nothing: direct + env, and that plus a constant ambient
+// fitted on the training scenes.
+inline void score_references(const EvalSplits& e, const GiItemReader& rd, const GiInputConfig& cfg,
+                             std::vector<GiSample>& frames, const HdrMapping& hdr, const EvalOptions& o,
+                             std::vector<EvalRow>& rows, std::string& frames_csv) {
+  auto train = load_samples(e.fit, rd, cfg, o.max_frames, "eval-gi ambient fit", o.quiet);
+  const auto ambient = fit_ambient(train);
+  train.clear();
+  rows.push_back(score("direct+env", "-", frames, hdr, o, [](const GiSample& s) { return s.direct_env.clone(); },
+                       frames_csv));
+  rows.push_back(score("direct+env+ambient", "-", frames, hdr, o, [&](const GiSample& s) {
+    Tensor<float> p = s.direct_env.clone();
+    const int64_t n = int64_t(s.geometry.size());
+    for (int c = 0; c < 3; ++c)
+      for (int64_t i = 0; i < n; ++i) p[c * n + i] += ambient[size_t(c)];
+    return p;
+  }, frames_csv));
+}
+
+// One model's row. With --upsample-from, the model sees the frames box-filtered to that
+// face, and its indirect light (prediction - direct - env) is brought up to the scored
+// frames by the guided upsample; the direct and env light are the scored frames' own.
+inline EvalRow score_model(const std::string& path, LoadedGenerator& g, const EvalSplits& e,
+                           std::vector<GiSample>& frames, const HdrMapping& hdr, const EvalOptions& o,
+                           std::string& frames_csv) {
+  const GiInputConfig& cfg = g.inputs;
+  NoGradGuard ng;
+  if (o.upsample_from <= 0)
+    return score(detail::label_of(path), mode_name(cfg.mode), frames, hdr, o, [&](const GiSample& s) {
       return predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
-    }, frames_csv));
-  }
+    }, frames_csv);
+  const GiItemReader low_rd{cfg.mode, o.upsample_from};
+  std::vector<GiSample> low = load_samples(*e.scored, low_rd, cfg, o.max_frames, "eval-gi low", o.quiet);
+  std::map<std::string, size_t> low_of;
+  for (size_t i = 0; i < low.size(); ++i) low_of[low[i].name] = i;
+  const std::string label = detail::label_of(path) + " @" + std::to_string(o.upsample_from) + " guided";
+  return score(label, mode_name(cfg.mode), frames, hdr, o, [&](const GiSample& s) {
+    const GiSample& l = low.at(low_of.at(s.name));
+    Tensor<float> indirect = predict_linear(g, l, o.bn_batch_stats, o.dropout_on);
+    for (int64_t i = 0; i < indirect.numel(); ++i) indirect[i] -= l.direct_env[i];
+    Tensor<float> p = guided_upsample(indirect, l.front_geometry, s.front_geometry);
+    for (int64_t i = 0; i < p.numel(); ++i) p[i] += s.direct_env[i];
+    return p;
+  }, frames_csv);
+}
+
+inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOptions& o, size_t scored_frames,
+                              size_t unlit_frames, const std::string& frames_csv) {
   write_file_atomic(o.out + "/results.csv", results_csv(rows, false));
   write_file_atomic(o.out + "/results_offscreen.csv", results_csv(rows, true));
   write_file_atomic(o.out + "/frames.csv", frames_csv);
   write_file_atomic(o.out + "/results_by_family.csv", family_csv(rows));
   write_file_atomic(o.out + "/results_by_distance.csv", distance_csv(rows));
   data::Report report("eval-gi");
-  report.text("Data: `" + o.data + "`, split " + o.split + " (" + std::to_string(scored->size()) + " frames, of which " +
+  report.text("Data: `" + o.data + "`, split " + o.split + " (" + std::to_string(scored_frames) + " frames, of which " +
               std::to_string(unlit_frames) + " unlit ones set aside: no light on the front view), test-time BatchNorm: " +
               (o.bn_batch_stats ? "batch statistics" : "running statistics") + ", dropout: " +
               (o.dropout_on ? "on" : "off") +
+              (o.size > 0 ? ", scored at face " + std::to_string(o.size) : std::string()) +
+              (o.upsample_from > 0 ? ", models run at face " + std::to_string(o.upsample_from) +
+                                         " and their indirect light upsampled, guided by depth and normals"
+                                   : std::string()) +
               ". Metrics in mapped space (Reinhard x/(x+k), [0,1]) over geometry pixels of the "
               "front view; MSE (linear) in HDR units. Flicker: on camera paths, each frame reprojected onto the one before "
               "(disocclusions skipped), the mean frame-to-frame change in mapped space, relative to the ground truth's "
@@ -398,6 +424,36 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   report.heading("Speed against accuracy");
   write_speed_charts(rows, o, report);
   report.write(o.out);
+}
+
+inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
+  if (o.models.empty()) throw std::invalid_argument("eval-gi: no --model given");
+  std::filesystem::create_directories(o.out + "/previews");
+  // Every model read once, before any frame: a bad blob stops the run at once.
+  std::vector<LoadedGenerator> generators;
+  for (const auto& path : o.models) generators.push_back(load_generator(path));
+  // The ambient term is fitted on the scenes the models trained on: train/ without the
+  // validation scenes the first model's run carved out (the models of one table are
+  // trained on the same data, so they share them).
+  const EvalSplits e = open_eval_splits(o, generators.front().inputs.validation_fraction);
+  std::vector<EvalRow> rows;
+  std::string frames_csv =
+      "model,mode,frame,scene,front_direct_share,offscreen_lit,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear,flip,"
+      "grad_error\n";
+  size_t unlit_frames = 0;
+  // One mapping scores every row, or mapped-space numbers would not compare: the first
+  // model's (models trained on the same split fit the same scale).
+  const HdrMapping hdr(generators.front().inputs.norm.hdr_scale);
+  for (size_t m = 0; m < o.models.size(); ++m) {
+    const GiInputConfig& cfg = generators[m].inputs;
+    const GiItemReader rd{cfg.mode, o.size > 0 ? o.size : cfg.size};
+    auto frames = load_samples(*e.scored, rd, cfg, o.max_frames, "eval-gi " + detail::label_of(o.models[m]), o.quiet);
+    unlit_frames = set_aside_unlit(frames, o);
+    // The references use the first model's data (same frames and size).
+    if (m == 0) score_references(e, rd, cfg, frames, hdr, o, rows, frames_csv);
+    rows.push_back(score_model(o.models[m], generators[m], e, frames, hdr, o, frames_csv));
+  }
+  write_eval_report(rows, o, e.scored->size(), unlit_frames, frames_csv);
   return rows;
 }
 
