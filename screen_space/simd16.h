@@ -4,15 +4,16 @@
 // G-buffer planes), in one of three backends chosen at compile time:
 //   simd16_avx512.h  AVX-512: one instruction per operation;
 //   simd16_avx2.h    AVX2 + FMA (Intel since Haswell, AMD since Zen): two ymm halves;
-//   simd16_generic.h plain loops over 16 floats, vectorised by the compiler as far as
-//                    the target allows (SSE2 in the portable build).
+//   simd16_generic.h GCC's vector extension on 16 floats (and loops where it has no
+//                    operator), lowered to what the target has (SSE2 in the portable build).
 // All three give the same result in every lane for every input (NaN, -0, subnormal,
-// out of range) — tests/screen_space/test_simd16.cpp checks the one a build uses against
-// scalar code — so every build computes the same numbers. The expressions written with
-// them (a * b + c) are contracted into FMAs by GCC alike in the three, as the compiler
-// sees the same vector arithmetic. Preconditions: clamp(a, lo, hi) with lo <= hi;
-// scale2(a, n) with n integral. NNSHADE_SIMD16_GENERIC=1 forces the generic backend
-// (to compare a build's output with it).
+// out of range): tests/screen_space/test_simd16.cpp checks the build's backend and the
+// generic one against scalar code. Expressions written with them (a * b + c) are
+// contracted into FMAs by GCC on the same vector statements in the three; where GCC
+// inlines a helper in one backend and not in another, the fusion can differ by an ulp
+// (screen_space.backends_agree measures it: tests/screen_space/backends/ao_outputs.cpp).
+// Preconditions: clamp(a, lo, hi) with lo <= hi; scale2(a, n) with n integral.
+// NNSHADE_SIMD16_GENERIC=1 forces the generic backend (to compare a build with it).
 //
 // Lane l of a block is pixel x0 + l of one row, x0 a multiple of 16: the 4x4 noise
 // tiles then depend only on (l & 3, y & 3), and per-row tables replace per-pixel trig.
