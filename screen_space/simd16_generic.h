@@ -22,6 +22,7 @@ constexpr const char* kBackend = "generic";
 // 16-byte aligned: a 64-byte aligned argument draws GCC's ABI note in every file.
 typedef float Floats16 __attribute__((vector_size(64), aligned(16)));
 typedef int32_t Ints16 __attribute__((vector_size(64), aligned(16)));
+typedef uint32_t Uints16 __attribute__((vector_size(64), aligned(16)));
 
 struct VF {
   Floats16 v;
@@ -67,8 +68,9 @@ inline VF floor(VF a) { NNS_LANES a.v[l] = std::floor(a.v[l]); return a; }
 inline VI to_int(VF a) { return {__builtin_convertvector(a.v, Ints16)}; }
 inline VI floor_to_int(VF a) { return to_int(floor(a)); }
 inline VF to_float(VI a) { return {__builtin_convertvector(a.v, Floats16)}; }
-inline VI operator+(VI a, VI b) { return {a.v + b.v}; }
-inline VI operator*(VI a, VI b) { return {a.v * b.v}; }
+// Wrapping, as the hardware's: in unsigned lanes, where C++ defines it.
+inline VI operator+(VI a, VI b) { return {(Ints16)((Uints16)a.v + (Uints16)b.v)}; }
+inline VI operator*(VI a, VI b) { return {(Ints16)((Uints16)a.v * (Uints16)b.v)}; }
 inline VI clamp(VI a, int lo, int hi) {
   const Ints16 l = a.v < lo ? Ints16{} + lo : a.v;
   return {l > hi ? Ints16{} + hi : l};
