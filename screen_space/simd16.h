@@ -1,9 +1,19 @@
 #pragma once
 // Sixteen pixels of a row at a time: the few vector operations the AO methods need
 // (arithmetic, compares into bit masks, blends, masked loads and gathers from the
-// G-buffer planes). With AVX-512 they are single instructions; without it the same
-// functions are plain loops over 16 floats, which the compiler vectorises as far as the
-// target allows (AVX2, SSE) — so every build computes the same thing.
+// G-buffer planes), in one of three backends chosen at compile time:
+//   simd16_avx512.h  AVX-512: one instruction per operation;
+//   simd16_avx2.h    AVX2 + FMA (Intel since Haswell, AMD since Zen): two ymm halves;
+//   simd16_generic.h GCC's vector extension on 16 floats (and loops where it has no
+//                    operator), lowered to what the target has (SSE2 in the portable build).
+// All three give the same result in every lane for every input (NaN, -0, subnormal,
+// out of range): tests/screen_space/test_simd16.cpp checks the build's backend and the
+// generic one against scalar code. Expressions written with them (a * b + c) are
+// contracted into FMAs by GCC on the same vector statements in the three; where GCC
+// inlines a helper in one backend and not in another, the fusion can differ by an ulp
+// (screen_space.backends_agree measures it: tests/screen_space/backends/ao_outputs.cpp).
+// Preconditions: clamp(a, lo, hi) with lo <= hi; scale2(a, n) with n integral.
+// NNSHADE_SIMD16_GENERIC=1 forces the generic backend (to compare a build with it).
 //
 // Lane l of a block is pixel x0 + l of one row, x0 a multiple of 16: the 4x4 noise
 // tiles then depend only on (l & 3, y & 3), and per-row tables replace per-pixel trig.
@@ -12,112 +22,20 @@
 
 #include "core/thread_pool.h"
 #include "screen_space/gbuffer.h"
+#include "screen_space/simd16_lanes.h"
 
-#if defined(__AVX512F__)
-#include <immintrin.h>
+#if defined(__AVX512F__) && !NNSHADE_SIMD16_GENERIC
+#include "screen_space/simd16_avx512.h"
+#elif defined(__AVX2__) && defined(__FMA__) && !NNSHADE_SIMD16_GENERIC
+#include "screen_space/simd16_avx2.h"
+#else
+#include "screen_space/simd16_generic.h"
 #endif
 
 namespace nns::ao::simd {
 
-constexpr int kLanes = 16;
-using Mask = uint32_t;  // bit l = lane l (only the low 16 bits are used)
-
-#if defined(__AVX512F__)
-struct VF {
-  __m512 v;
-};
-struct VI {
-  __m512i v;
-};
-inline VF splat(float a) { return {_mm512_set1_ps(a)}; }
-inline VI splat_i(int a) { return {_mm512_set1_epi32(a)}; }
-inline VF load(const float* p) { return {_mm512_loadu_ps(p)}; }
-// Lanes outside m read `fill` and touch no memory.
-inline VF load(const float* p, Mask m, float fill) {
-  return {_mm512_mask_loadu_ps(_mm512_set1_ps(fill), __mmask16(m), p)};
-}
-inline void store(float* p, VF a, Mask m) { _mm512_mask_storeu_ps(p, __mmask16(m), a.v); }
-inline VF operator+(VF a, VF b) { return {_mm512_add_ps(a.v, b.v)}; }
-inline VF operator-(VF a, VF b) { return {_mm512_sub_ps(a.v, b.v)}; }
-inline VF operator*(VF a, VF b) { return {_mm512_mul_ps(a.v, b.v)}; }
-inline VF operator/(VF a, VF b) { return {_mm512_div_ps(a.v, b.v)}; }
-inline VF sqrt(VF a) { return {_mm512_sqrt_ps(a.v)}; }
-inline VF min(VF a, VF b) { return {_mm512_min_ps(a.v, b.v)}; }
-inline VF max(VF a, VF b) { return {_mm512_max_ps(a.v, b.v)}; }
-inline VF abs(VF a) { return {_mm512_abs_ps(a.v)}; }
-inline VF floor(VF a) { return {_mm512_roundscale_ps(a.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)}; }
-inline VI to_int(VF a) { return {_mm512_cvttps_epi32(a.v)}; }  // truncates, as int(float)
-// int(floor(a)) in one instruction (the conversion rounds down): what to_int(floor(a))
-// gives, for every float (out of range and NaN: INT_MIN from both).
-inline VI floor_to_int(VF a) { return {_mm512_cvt_roundps_epi32(a.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)}; }
-inline VF to_float(VI a) { return {_mm512_cvtepi32_ps(a.v)}; }
-inline VI operator+(VI a, VI b) { return {_mm512_add_epi32(a.v, b.v)}; }
-inline VI operator*(VI a, VI b) { return {_mm512_mullo_epi32(a.v, b.v)}; }
-inline VI clamp(VI a, int lo, int hi) {
-  return {_mm512_min_epi32(_mm512_max_epi32(a.v, _mm512_set1_epi32(lo)), _mm512_set1_epi32(hi))};
-}
-inline VI lane_index() { return {_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)}; }
-inline Mask lt(VF a, VF b) { return _mm512_cmp_ps_mask(a.v, b.v, _CMP_LT_OQ); }
-inline Mask le(VF a, VF b) { return _mm512_cmp_ps_mask(a.v, b.v, _CMP_LE_OQ); }
-inline Mask gt(VF a, VF b) { return _mm512_cmp_ps_mask(a.v, b.v, _CMP_GT_OQ); }
-inline Mask ge(VF a, VF b) { return _mm512_cmp_ps_mask(a.v, b.v, _CMP_GE_OQ); }
-inline VF select(Mask m, VF a, VF b) { return {_mm512_mask_blend_ps(__mmask16(m), b.v, a.v)}; }
-inline VF gather(const float* base, VI idx, Mask m, float fill) {
-  return {_mm512_mask_i32gather_ps(_mm512_set1_ps(fill), __mmask16(m), idx.v, base, 4)};
-}
-inline VF scale2(VF a, VF n) { return {_mm512_scalef_ps(a.v, n.v)}; }  // a * 2^n, n integral
-// PReLU with beta (the NNAO head): x > 0 ? beta x : alpha x.
-inline VF prelu(VF x, VF alpha, VF beta) {
-  return {_mm512_mask_blend_ps(_mm512_cmp_ps_mask(x.v, _mm512_setzero_ps(), _CMP_GT_OQ), _mm512_mul_ps(alpha.v, x.v),
-                               _mm512_mul_ps(beta.v, x.v))};
-}
-#else
-struct VF {
-  float v[kLanes];
-};
-struct VI {
-  int32_t v[kLanes];
-};
-#define NNS_LANES for (int l = 0; l < kLanes; ++l)
-inline VF splat(float a) { VF r; NNS_LANES r.v[l] = a; return r; }
-inline VI splat_i(int a) { VI r; NNS_LANES r.v[l] = a; return r; }
-inline VF load(const float* p) { VF r; NNS_LANES r.v[l] = p[l]; return r; }
-inline VF load(const float* p, Mask m, float fill) { VF r; NNS_LANES r.v[l] = (m >> l & 1) ? p[l] : fill; return r; }
-inline void store(float* p, VF a, Mask m) { NNS_LANES if (m >> l & 1) p[l] = a.v[l]; }
-inline VF operator+(VF a, VF b) { NNS_LANES a.v[l] += b.v[l]; return a; }
-inline VF operator-(VF a, VF b) { NNS_LANES a.v[l] -= b.v[l]; return a; }
-inline VF operator*(VF a, VF b) { NNS_LANES a.v[l] *= b.v[l]; return a; }
-inline VF operator/(VF a, VF b) { NNS_LANES a.v[l] /= b.v[l]; return a; }
-inline VF sqrt(VF a) { NNS_LANES a.v[l] = std::sqrt(a.v[l]); return a; }
-inline VF min(VF a, VF b) { NNS_LANES a.v[l] = b.v[l] < a.v[l] ? b.v[l] : a.v[l]; return a; }
-inline VF max(VF a, VF b) { NNS_LANES a.v[l] = b.v[l] > a.v[l] ? b.v[l] : a.v[l]; return a; }
-inline VF abs(VF a) { NNS_LANES a.v[l] = std::fabs(a.v[l]); return a; }
-inline VF floor(VF a) { NNS_LANES a.v[l] = std::floor(a.v[l]); return a; }
-inline VI to_int(VF a) { VI r; NNS_LANES r.v[l] = int32_t(a.v[l]); return r; }
-inline VI floor_to_int(VF a) { VI r; NNS_LANES r.v[l] = int32_t(std::floor(a.v[l])); return r; }
-inline VF to_float(VI a) { VF r; NNS_LANES r.v[l] = float(a.v[l]); return r; }
-inline VI operator+(VI a, VI b) { NNS_LANES a.v[l] += b.v[l]; return a; }
-inline VI operator*(VI a, VI b) { NNS_LANES a.v[l] *= b.v[l]; return a; }
-inline VI clamp(VI a, int lo, int hi) { NNS_LANES a.v[l] = a.v[l] < lo ? lo : (a.v[l] > hi ? hi : a.v[l]); return a; }
-inline VI lane_index() { VI r; NNS_LANES r.v[l] = l; return r; }
-inline Mask lt(VF a, VF b) { Mask m = 0; NNS_LANES m |= Mask(a.v[l] < b.v[l]) << l; return m; }
-inline Mask le(VF a, VF b) { Mask m = 0; NNS_LANES m |= Mask(a.v[l] <= b.v[l]) << l; return m; }
-inline Mask gt(VF a, VF b) { Mask m = 0; NNS_LANES m |= Mask(a.v[l] > b.v[l]) << l; return m; }
-inline Mask ge(VF a, VF b) { Mask m = 0; NNS_LANES m |= Mask(a.v[l] >= b.v[l]) << l; return m; }
-inline VF select(Mask m, VF a, VF b) { NNS_LANES a.v[l] = (m >> l & 1) ? a.v[l] : b.v[l]; return a; }
-inline VF gather(const float* base, VI idx, Mask m, float fill) {
-  VF r; NNS_LANES r.v[l] = (m >> l & 1) ? base[idx.v[l]] : fill; return r;
-}
-inline VF scale2(VF a, VF n) { NNS_LANES a.v[l] = std::ldexp(a.v[l], int(n.v[l])); return a; }
-// A per-lane choice, not a bit mask and a blend: the compiler vectorises it (with
-// select(gt(..)) the portable head built and tested a mask bit by bit).
-inline VF prelu(VF x, VF alpha, VF beta) { NNS_LANES x.v[l] = x.v[l] > 0 ? beta.v[l] * x.v[l] : alpha.v[l] * x.v[l]; return x; }
-#undef NNS_LANES
-#endif
-
 inline VF operator-(VF a) { return splat(0.0f) - a; }
 inline VF saturate(VF a) { return min(max(a, splat(0.0f)), splat(1.0f)); }
-constexpr Mask kAll = 0xFFFFu;
 
 // data::is_sky on 16 depths: !(z < 1e30) || z <= 0 (NaN is sky).
 inline Mask sky(VF z) {
@@ -125,7 +43,8 @@ inline Mask sky(VF z) {
 }
 
 // exp(x) for x <= 0 (the bilateral weights), Cody-Waite reduction and a degree-6
-// polynomial: relative error below 2e-7 against std::exp; 0 below -87.
+// polynomial: relative error below 2.5e-7 against exp in double (2.29e-7 the worst
+// found sampling [-87, 0] every 2e-4; tests/screen_space/test_simd16.cpp); 0 below -87.
 inline VF exp_nonpositive(VF x) {
   const VF big = max(x, splat(-87.0f));
   const VF n = floor(big * splat(1.44269504f) + splat(0.5f));
