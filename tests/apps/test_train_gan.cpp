@@ -476,21 +476,23 @@ TEST_F(TrainGan, SizeZeroTrainsNonSquareViewsAsStoredAndNamesTheLevelsThatFit) {
   EXPECT_NE(read_all(ok + "-bad.log").find("--size must be 0"), std::string::npos) << read_all(ok + "-bad.log");
 }
 
-// The resolution study: a model trained at face 8 scored at face 16, run there fully
-// convolutionally, and run at 8 with its indirect light brought up by the guided upsample.
+// The resolution study: a model trained at face 16 scored at face 32, run there fully
+// convolutionally, and run at 16 with its indirect light brought up by the guided upsample.
 // Both score the same face-16 frames: the references agree byte for byte, the models do not.
 TEST_F(TrainGan, EvalGiScoresAModelAtAnotherSizeAndThroughTheGuidedUpsample) {
+  const std::string data = (root_ / "data32").string();
+  write_dataset(data, 3, 2, false, 32);
   const std::string run_dir = (root_ / "small").string();
-  ASSERT_EQ(run(kBin + "train-gan --data " + (root_ / "data").string() + " --out " + run_dir +
-                    " --size 8 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 1 --sample-every 0 --no-eval"
+  ASSERT_EQ(run(kBin + "train-gan --data " + data + " --out " + run_dir +
+                    " --size 16 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 1 --sample-every 0 --no-eval"
                     " --validation-fraction 0",
                 run_dir + ".log"),
             0)
       << read_all(run_dir + ".log");
-  const std::string base = kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + run_dir + "/G.blob --size 16";
+  const std::string base = kBin + "eval-gi --data " + data + " --model " + run_dir + "/G.blob --size 32";
   const std::string conv = (root_ / "at16").string(), guided = (root_ / "guided16").string();
   ASSERT_EQ(run(base + " --out " + conv, conv + ".log"), 0) << read_all(conv + ".log");
-  ASSERT_EQ(run(base + " --upsample-from 8 --out " + guided, guided + ".log"), 0) << read_all(guided + ".log");
+  ASSERT_EQ(run(base + " --upsample-from 16 --out " + guided, guided + ".log"), 0) << read_all(guided + ".log");
   auto lines = [](const std::string& csv) {
     std::vector<std::string> out;
     std::istringstream in(csv);
@@ -506,13 +508,12 @@ TEST_F(TrainGan, EvalGiScoresAModelAtAnotherSizeAndThroughTheGuidedUpsample) {
   EXPECT_EQ(a[1], b[1]);  // direct+env, without the timing column
   EXPECT_EQ(a[2], b[2]);  // direct+env+ambient
   EXPECT_NE(a[3], b[3]);
-  EXPECT_NE(b[3].find("small/G @8 guided"), std::string::npos) << b[3];
-  // The scored size: the previews are 16 pixels wide.
-  EXPECT_NE(read_all(guided + "/report.md").find("scored at face 16"), std::string::npos);
+  EXPECT_NE(b[3].find("small/G @16 guided"), std::string::npos) << b[3];
+    EXPECT_NE(read_all(guided + "/report.md").find("scored at face 32"), std::string::npos);
   // Flags that cannot work are refused, naming the flag.
   const std::string bad = (root_ / "bad16").string();
-  EXPECT_EQ(run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + run_dir +
-                    "/G.blob --upsample-from 8 --out " + bad, bad + ".log"), 2);
+  EXPECT_EQ(run(kBin + "eval-gi --data " + data + " --model " + run_dir +
+                    "/G.blob --upsample-from 16 --out " + bad, bad + ".log"), 2);
   EXPECT_NE(read_all(bad + ".log").find("--upsample-from needs --size"), std::string::npos) << read_all(bad + ".log");
   EXPECT_EQ(run(base + " --upsample-from 6 --out " + bad, bad + ".log"), 2);
   EXPECT_NE(read_all(bad + ".log").find("proper divisor of --size"), std::string::npos) << read_all(bad + ".log");
