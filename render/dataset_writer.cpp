@@ -41,13 +41,21 @@ void apply_preset(DatasetJob& job) {
   } else if (job.preset == "surround-v2" || job.preset == "surround-v3") {
     s.ao = true, s.lighting = true, s.indirect = true;
     job.vary_lighting = true;
-  } else if (job.preset == "surround-v4") {
+  } else if (job.preset == "surround-v4" || job.preset == "surround-v5") {
     s.ao = true, s.lighting = true, s.indirect = true;
     job.vary_lighting = true;
     job.vary_textures = true;
+    if (job.preset == "surround-v5") {
+      // surround-v4's frames, rendered faster (docs/renderer.md, "surround-v5"):
+      // adaptive indirect paths on front, and the side faces' AO and env at the rays
+      // per face of a 64x64 face (64 per pixel there: 16 at 128), at least 8 per pixel.
+      if (s.adaptive_first == 0) s.adaptive_first = kSurroundV5FirstPaths;
+      if (s.adaptive_max == 0) s.adaptive_max = 4 * s.gi_spp;
+      if (s.side_spp == 0) s.side_spp = surround_v5_side_spp(job.width);
+    }
   } else {
     throw std::invalid_argument("unknown preset '" + job.preset +
-                                "' (nnao, nnao-v2, gi, surround, surround-v2, surround-v3, surround-v4)");
+                                "' (nnao, nnao-v2, gi, surround, surround-v2, surround-v3, surround-v4, surround-v5)");
   }
 }
 
@@ -154,6 +162,13 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
     if (job.vary_textures)
       m << "texture-variation: procedural albedo textures (noise, bricks, tiles, wood, stains, dirt) on most "
            "materials per scene (render/scenes/texture_variation.h)\n";
+    const RenderSettings& rs = job.settings;
+    if (rs.adaptive_first > 0 && rs.indirect)
+      m << "adaptive-paths: indirect " << std::min(rs.adaptive_first, rs.gi_spp) << " paths per pixel first, then a mean of "
+        << rs.gi_spp << " (at most " << (rs.adaptive_max > 0 ? rs.adaptive_max : 4 * rs.gi_spp)
+        << ") by the std of the neighbours' paths (render/adaptive_paths.h)\n";
+    if (rs.side_spp > 0 && is_surround_preset(job.preset))
+      m << "side-spp: " << rs.side_spp << " AO and env rays per pixel on the five side faces\n";
     if (job.vary_views) {
       ViewVariation v;
       char buf[512];
@@ -204,7 +219,7 @@ void add_tasks(std::vector<SceneTask>& tasks, const std::string& split, int tota
 std::vector<std::string> families_to_render(const DatasetJob& job) {
   std::vector<std::string> families = job.families;
   if (families.empty()) {
-    const int generations = job.preset == "surround-v4"   ? 4
+    const int generations = job.preset == "surround-v4" || job.preset == "surround-v5" ? 4
                             : job.preset == "surround-v3" ? 3
                             : job.preset == "nnao-v2" || job.preset == "surround-v2" ? 2
                                                                                      : 1;
