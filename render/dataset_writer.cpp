@@ -142,7 +142,7 @@ std::vector<std::string> families_in(const std::vector<SceneTask>& tasks, const 
 }
 
 // DIR/metadata.txt (docs/dataset-format.md): "key: value" lines, written to a
-// temporary name and renamed like the views. Train and test list the families they
+// temporary name and renamed like the views, before the first view. Train and test list the families they
 // really hold (a small job may not reach every family); holdout lists every held-out
 // family, since none of them may appear elsewhere, rendered or not.
 void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) {
@@ -158,6 +158,13 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
     m << "families.train: " << joined(families_in(tasks, "train")) << "\n"
       << "families.test: " << joined(families_in(tasks, "test")) << "\n";
     if (!holdout.empty()) m << "families.holdout: " << joined(holdout) << "\n";
+    // What the finished render holds, from the plan: dataset-info compares the folders.
+    for (const char* split : {"train", "test", "holdout"}) {
+      int views = 0;
+      for (const SceneTask& t : tasks)
+        if (t.split == split) views += t.views;
+      m << "views." << split << ": " << views << "\n";
+    }
     if (job.vary_lighting) m << "lighting-variation: albedo, light colour and exposure, sun direction and size, extra lamps per scene (render/scenes/scene_variation.h)\n";
     if (job.vary_textures)
       m << "texture-variation: procedural albedo textures (noise, bricks, tiles, wood, stains, dirt) on most "
@@ -423,8 +430,7 @@ DatasetReport render_dataset(DatasetJob job) {
   if (!job.holdout_families.empty()) warn_unrendered_holdout_families(job, plan);
   if (job.parts < 1 || job.part < 0 || job.part >= job.parts)
     throw std::invalid_argument("render_dataset: part " + std::to_string(job.part) + " of " + std::to_string(job.parts));
-  if (job.part == 0 && (!job.holdout_families.empty() || job.vary_views || job.vary_lighting || job.vary_textures))
-    write_metadata(job, plan.tasks);
+  if (job.part == 0) write_metadata(job, plan.tasks);
   RenderState st{{}, Progress("render " + job.preset, job.views)};
   for (const SceneTask& task : plan.tasks) render_scene(job, task, P, st);
   if (job.progress) st.bar.finish();

@@ -86,16 +86,17 @@ inline bool is_surround_preset(const std::string& preset) {
 // surround-v5's speed settings (RenderSettings::adaptive_first, side_spp), unless a job
 // sets its own: the first paths of every front pixel, and the AO / env rays per pixel
 // of the side faces for a face of `size` pixels a side: 64 x 64^2 rays per face, as a
-// 64x64 face at 64 per pixel, at least 8.
+// 64x64 face at 64 per pixel (16 at 128, 8 at 256 and above), at most 64 (surround-v4's).
 inline constexpr int kSurroundV5FirstPaths = 64;
 inline int surround_v5_side_spp(int size) {
   const long per_face = 64L * 64 * 64, pixels = long(size) * size;
-  return int(std::max(8L, (per_face + pixels / 2) / std::max(1L, pixels)));
+  return int(std::clamp((per_face + pixels / 2) / std::max(1L, pixels), 8L, 64L));
 }
 
-// The metadata file of a dataset (DIR/metadata.txt, docs/dataset-format.md): written
-// when a job holds families out or varies its views, so the older presets' folders
-// stay byte for byte what they were.
+// The metadata file of a dataset (DIR/metadata.txt, docs/dataset-format.md), written
+// by every render before its first view: the preset, seeds, families and how many
+// views (surround: frames) each split will hold ("views.train: 1680"), so dataset-info
+// can tell a render that did not finish. The views themselves do not depend on it.
 inline constexpr const char* kMetadataFile = "metadata.txt";
 
 DatasetReport render_dataset(DatasetJob job);
