@@ -52,15 +52,11 @@ int main(int argc, char** argv) {
                                "and extra lamps varied per scene, pitch widened; surround-v3 = surround-v2 plus the third generation "
                                "(corridor, courtyard, multiroom); surround-v4 = surround-v3 plus the fourth generation (cloister, basilica) "
                                "and procedural albedo textures on most materials; surround-v5 = surround-v4's frames rendered "
-                               "faster: adaptive indirect paths on front (--gi-spp is their mean), fewer AO and env rays on the "
-                               "side faces (--side-spp)");
+                               "faster: fewer AO and env rays on the side faces (--side-spp)");
   job.views = args.get_int("--views", 80, "views (surround: frames) over train + test", 1, 1000000);
   std::string size = args.get_string("--size", "", "image size WxH, each side 1 to " + std::to_string(kMaxSide) + " (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
   job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel", 1, 65536);
   job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel", 1, 65536);
-  job.settings.adaptive_first = args.get_int("--gi-first", 0, "adaptive indirect paths: every front pixel traces this many first, "
-                                             "the rest of the --gi-spp mean where its neighbours' paths varied most "
-                                             "(0: the preset's: 64 for surround-v5, else off)", 0, 65536);
   job.settings.side_spp = args.get_int("--side-spp", 0, "AO and env rays per pixel on the five side faces of a surround frame "
                                        "(0: the preset's: surround-v5 64 x (64 / face size)^2, at least 8; the others --spp and "
                                        "min(--gi-spp, 64))", 0, 65536);

@@ -46,11 +46,8 @@ void apply_preset(DatasetJob& job) {
     job.vary_lighting = true;
     job.vary_textures = true;
     if (job.preset == "surround-v5") {
-      // surround-v4's frames, rendered faster (docs/renderer.md, "surround-v5"):
-      // adaptive indirect paths on front, and the side faces' AO and env at the rays
-      // per face of a 64x64 face (64 per pixel there: 16 at 128), at least 8 per pixel.
-      if (s.adaptive_first == 0) s.adaptive_first = kSurroundV5FirstPaths;
-      if (s.adaptive_max == 0) s.adaptive_max = 4 * s.gi_spp;
+      // surround-v4's frames, rendered faster (docs/renderer.md, "surround-v5"): the
+      // side faces' AO and env at the rays per face of a 64x64 face (16 per pixel at 128).
       if (s.side_spp == 0) s.side_spp = surround_v5_side_spp(job.width);
     }
   } else {
@@ -170,10 +167,6 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
       m << "texture-variation: procedural albedo textures (noise, bricks, tiles, wood, stains, dirt) on most "
            "materials per scene (render/scenes/texture_variation.h)\n";
     const RenderSettings& rs = job.settings;
-    if (rs.adaptive_first > 0 && rs.indirect)
-      m << "adaptive-paths: indirect " << std::min(rs.adaptive_first, rs.gi_spp) << " paths per pixel first, then a mean of "
-        << rs.gi_spp << " (at most " << (rs.adaptive_max > 0 ? rs.adaptive_max : 4 * rs.gi_spp)
-        << ") by the std of the neighbours' paths (render/adaptive_paths.h)\n";
     if (rs.side_spp > 0 && is_surround_preset(job.preset))
       m << "side-spp: " << rs.side_spp << " AO and env rays per pixel on the five side faces\n";
     if (job.vary_views) {

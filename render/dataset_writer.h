@@ -83,11 +83,9 @@ inline bool is_surround_preset(const std::string& preset) {
          preset == "surround-v5";
 }
 
-// surround-v5's speed settings (RenderSettings::adaptive_first, side_spp), unless a job
-// sets its own: the first paths of every front pixel, and the AO / env rays per pixel
-// of the side faces for a face of `size` pixels a side: 64 x 64^2 rays per face, as a
-// 64x64 face at 64 per pixel (16 at 128, 8 at 256 and above), at most 64 (surround-v4's).
-inline constexpr int kSurroundV5FirstPaths = 64;
+// surround-v5's AO / env rays per pixel on the side faces (RenderSettings::side_spp),
+// unless a job sets its own, for a face of `size` pixels a side: 64 x 64^2 rays per face,
+// as a 64x64 face at 64 per pixel (16 at 128, 8 at 256 and above), at most 64 (surround-v4's).
 inline int surround_v5_side_spp(int size) {
   const long per_face = 64L * 64 * 64, pixels = long(size) * size;
   return int(std::clamp((per_face + pixels / 2) / std::max(1L, pixels), 8L, 64L));

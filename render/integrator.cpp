@@ -277,13 +277,13 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
                       Vec3& indirect, float roulette) {
   env = indirect = Vec3();
   if (spp <= 0) return;
+  Frame frame(hit.normal);
+  Vec3 origin = RayTracer::offset(hit.position, hit.normal);
+  float s1 = rng.uniform_float(), s2 = rng.uniform_float();
+  Accum3 e, ind;
   if (bounces == 0) {  // env alone: shadow rays, 16 at a time
-    Frame frame(hit.normal);
-    Vec3 origin = RayTracer::offset(hit.position, hit.normal);
-    float s1 = rng.uniform_float(), s2 = rng.uniform_float();
     const Sky& sky = rt.scene().sky;
     if (max_abs(sky.zenith) == 0 && max_abs(sky.horizon) == 0 && max_abs(sky.ground) == 0) return;  // env = 0
-    Accum3 e;
     Vec3 dirs[16];
     for (int k = 0; k < (spp + 15) / 16; ++k) {
       int count = cosine_packet(frame, k, spp, s1, s2, true, dirs);
@@ -295,22 +295,9 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
     return;
   }
   // Shared by the pixel's paths, in path order: deterministic for any thread count.
-  LightVisibility vis(rt.scene());
-  PathSums sums;
-  trace_paths(rt, hit, spp, bounces, roulette, vis, rng, sums);
-  env = sums.env.mean(spp);
-  indirect = sums.indirect.mean(spp);
-}
-
-void trace_paths(const RayTracer& rt, const Hit& hit, int n, int bounces, float roulette, LightVisibility& vis,
-                 Rng& rng, PathSums& sums) {
-  if (n <= 0) return;
-  const int spp = n;
-  Frame frame(hit.normal);
-  Vec3 origin = RayTracer::offset(hit.position, hit.normal);
-  float s1 = rng.uniform_float(), s2 = rng.uniform_float();
   const LightTable lights(rt.scene());
-  // The first bounce's own random numbers, stratified over the batch's paths ("padded"
+  LightVisibility vis(rt.scene());
+  // The first bounce's own random numbers, stratified over the pixel's paths ("padded"
   // sampling): path i continues in direction order[i] of a second shifted Hammersley
   // set and picks its light with the number (pick[i] + shift) / spp, order and pick
   // being random permutations. Each path's numbers are still uniform and independent
@@ -327,7 +314,7 @@ void trace_paths(const RayTracer& rt, const Hit& hit, int n, int bounces, float 
     Vec3 d = frame.to_world(cosine_hemisphere(u1, u2));
     Hit h = rt.intersect(origin, d);
     if (!h.valid()) {
-      sums.env.add(rt.scene().sky.radiance(d));
+      e.add(rt.scene().sky.radiance(d));
       continue;
     }
     const Material& m = *h.material;
@@ -338,12 +325,10 @@ void trace_paths(const RayTracer& rt, const Hit& hit, int n, int bounces, float 
     Vec3 direct = light_sample(rt, lights, h.position, h.normal, rng, &vis, u);
     const Vec3 albedo = surface_albedo(m, h.position, h.normal);
     Vec3 later = incoming(rt, lights, vis, h.position, h.normal, next, 1, bounces, albedo, roulette, rng);
-    const Vec3 value = m.emission + albedo * (direct + later);
-    sums.indirect.add(value);
-    const double lum = (double(value.x) + double(value.y) + double(value.z)) / 3;
-    sums.lum += lum, sums.lum2 += lum * lum;
+    ind.add(m.emission + albedo * (direct + later));
   }
-  sums.paths += spp;
+  env = e.mean(spp);
+  indirect = ind.mean(spp);
 }
 
 }  // namespace nns::data

@@ -3,7 +3,6 @@
 // radiometric definitions are in docs/renderer.md; in short, every lighting channel is
 // irradiance / pi (the radiance a white Lambertian surface would reflect), so that
 // shaded = albedo * (direct + env + indirect) + emission.
-#include <algorithm>
 #include <vector>
 
 #include "core/rng.h"
@@ -22,12 +21,6 @@ struct RenderSettings {
   bool indirect = true;  // with lighting: also path-trace `indirect`, the GI target
   uint64_t seed = 0;
   float ao_radius = 0;   // > 0: AO radius for this view instead of the scene's (nnao-v2 varies it per view)
-  // Adaptive paths for `indirect` (render_view; 0 = off: every pixel traces gi_spp). > 0:
-  // every pixel first traces this many, then more where its neighbours' first paths
-  // varied most, so that the view's geometry pixels average gi_spp paths, each pixel
-  // at most adaptive_max (render/adaptive_paths.h). Set by surround-v5 only.
-  int adaptive_first = 0;
-  int adaptive_max = 0;
   // > 0: AO rays and env rays per pixel on the five non-front faces of a surround frame
   // (0: ao_spp, and min(gi_spp, 64) env rays, as surround .. surround-v4). Set by surround-v5 only.
   int side_spp = 0;
@@ -71,23 +64,5 @@ Vec3 light_sample(const RayTracer& rt, Vec3 p, Vec3 n, Rng& rng, LightVisibility
 // early). 0 traces every path to `bounces` (the furnace's zero-variance case).
 void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces, Rng& rng, Vec3& env,
                       Vec3& indirect, float roulette = 0);
-
-// What a batch of paths of one pixel adds up: sums over its paths of env and indirect,
-// and of each path's indirect luminance (mean of R, G, B) and its square, from which
-// the adaptive renderer estimates how much the pixel's paths vary.
-struct PathSums {
-  Accum3 env, indirect;
-  int paths = 0;
-  double lum = 0, lum2 = 0;
-  // Unbiased sample variance of a path's indirect luminance (0 below two paths).
-  double variance() const { return paths > 1 ? std::max(0.0, (lum2 - lum * lum / paths) / (paths - 1)) : 0.0; }
-};
-
-// `n` more paths of env_and_indirect (bounces >= 1) from `hit`, added to `sums`: a
-// stratified set of their own (a shifted Hammersley set of n first directions, the
-// first bounce padded over them), with the pixel's learnt light visibility `vis`
-// carried from batch to batch. env_and_indirect is one batch of spp paths, divided by spp.
-void trace_paths(const RayTracer& rt, const Hit& hit, int n, int bounces, float roulette, LightVisibility& vis,
-                 Rng& rng, PathSums& sums);
 
 }  // namespace nns::data

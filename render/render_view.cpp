@@ -1,14 +1,11 @@
 #include "render/render_view.h"
 
-#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <limits>
-#include <memory>
 #include <stdexcept>
 
 #include "core/thread_pool.h"
-#include "render/adaptive_paths.h"
 
 namespace nns::data {
 
@@ -62,16 +59,6 @@ View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s
   }
 
   const Rng view_rng = Rng(s.seed).fork(view_id);
-  // Adaptive paths (RenderSettings::adaptive_first): what a pixel's first paths left for
-  // the second pass, which traces the rest of its allotment (render/adaptive_paths.h).
-  const bool adaptive = s.lighting && s.indirect && s.adaptive_first > 0;
-  struct Pending {
-    Hit hit;
-    Rng rng{0};
-    LightVisibility vis;
-    PathSums sums;
-  };
-  std::vector<std::unique_ptr<Pending>> pending(adaptive ? size_t(cam.width) * size_t(cam.height) : 0);
   std::atomic<int> next_row{0};
   std::atomic<uint64_t> rays{0};
   // Rows are handed out one at a time (sky rows are cheap, floor rows are not); the
@@ -99,11 +86,6 @@ View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s
         if (s.lighting) {
           put(p.dir, i, direct_light(rt, h.position, h.normal, s.light_spp, rng));
           put(p.emi, i, h.material->emission);
-          if (adaptive) {
-            auto& st = pending[i] = std::make_unique<Pending>(Pending{h, rng, LightVisibility(sc), {}});
-            trace_paths(rt, h, std::min(s.adaptive_first, s.gi_spp), s.bounces, s.roulette, st->vis, st->rng, st->sums);
-            continue;
-          }
           Vec3 env, ind;
           env_and_indirect(rt, h, s.gi_spp, s.indirect ? s.bounces : 0, rng, env, ind, s.roulette);
           put(p.env, i, env);
@@ -113,30 +95,6 @@ View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s
     }
     rays += RayTracer::thread_ray_count() - rays0;
   });
-  if (adaptive) {
-    std::vector<double> variance(pending.size(), 0.0);
-    std::vector<uint8_t> geometry(pending.size(), 0);
-    for (size_t i = 0; i < pending.size(); ++i)
-      if (pending[i]) variance[i] = pending[i]->sums.variance(), geometry[i] = 1;
-    const std::vector<int> paths = allot_paths(cam.width, cam.height, variance, geometry, std::min(s.adaptive_first, s.gi_spp),
-                                               s.gi_spp, s.adaptive_max > 0 ? s.adaptive_max : 4 * s.gi_spp);
-    next_row = 0;
-    ThreadPool::global().run([&](int, int) {
-      uint64_t rays0 = RayTracer::thread_ray_count();
-      for (int y; (y = next_row.fetch_add(1)) < cam.height;) {
-        for (int x = 0; x < cam.width; ++x) {
-          size_t i = size_t(y) * size_t(cam.width) + size_t(x);
-          if (!pending[i]) continue;
-          Pending& st = *pending[i];
-          trace_paths(rt, st.hit, paths[i] - st.sums.paths, s.bounces, s.roulette, st.vis, st.rng, st.sums);
-          put(p.env, i, st.sums.env.mean(st.sums.paths));
-          put(p.ind, i, st.sums.indirect.mean(st.sums.paths));
-          pending[i].reset();
-        }
-      }
-      rays += RayTracer::thread_ray_count() - rays0;
-    });
-  }
   if (stats) {
     stats->rays += rays.load();
     stats->seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
