@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
   job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel", 1, 65536);
   job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel", 1, 65536);
   job.settings.side_spp = args.get_int("--side-spp", 0, "AO and env rays per pixel on the five side faces of a surround frame "
-                                       "(0: the preset's: surround-v5 64 x (64 / face size)^2, at least 8; the others --spp and "
+                                       "(0: the preset's: surround-v5 64 x 64 / face size, 8 to 64; the others --spp and "
                                        "min(--gi-spp, 64))", 0, 65536);
   job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)", 1, 64);
   job.settings.seed = uint64_t(args.get_int("--seed", 1, "seed: scenes, cameras and noise", 0, INT_MAX));

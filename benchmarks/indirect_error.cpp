@@ -1,8 +1,10 @@
 // The error of a GI estimator against a converged reference, per scene family: the
 // measure behind the renderer's efficiency table (docs/renderer.md, "Throughput").
-//   indirect_error [--channel indirect] [--face front] REF_A REF_B EST...
+//   indirect_error [--channel indirect] [--face front] [--block K] REF_A REF_B EST...
 //   --face F: a side face instead of front (its AO or env against two renders at the
-//   same settings: "ref variance" x 2 is then one render's per-pixel noise variance).
+//   same settings: "ref variance" x 2 is then one render's per-pixel noise variance);
+//   --block K: every plane averaged over K x K pixels first (the error per area of a
+//   face K times smaller: face 128 with --block 2 against the data of face 64).
 // Every argument is a surround dataset of the same frames (render-dataset with the same
 // --seed, preset, families and views; REF_A and REF_B at a high --gi-spp with two
 // different --noise-seed values, each EST with a noise seed of its own). Over the
@@ -21,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -41,14 +44,41 @@ struct Front {
 };
 
 // Front faces by frame path relative to the dataset root, in listing order.
-std::map<std::string, Front> fronts(const std::string& root, size_t face) {
+// The view with every channel averaged over blocks of k x k pixels; a block with any
+// sky pixel is sky (Z = inf). The error per block is what a k-times smaller face of
+// the same frame would see: a face of 128 against the data of a face of 64, per area.
+View block_average(const View& v, int k) {
+  if (k <= 1) return v;
+  View out = v;
+  out.width = v.width / k, out.height = v.height / k;
+  for (auto& [name, plane] : v.channels) {
+    std::vector<float>& dst = out.channels[name];
+    dst.assign(size_t(out.width) * size_t(out.height), 0.0f);
+    for (int y = 0; y < out.height; ++y)
+      for (int x = 0; x < out.width; ++x) {
+        double sum = 0;
+        bool sky = false;
+        for (int dy = 0; dy < k; ++dy)
+          for (int dx = 0; dx < k; ++dx) {
+            const size_t i = size_t(y * k + dy) * size_t(v.width) + size_t(x * k + dx);
+            sum += plane[i];
+            sky |= !std::isfinite(v.channel("Z")[i]);
+          }
+        dst[size_t(y) * size_t(out.width) + size_t(x)] =
+            name == "Z" && sky ? INFINITY : float(sum / (k * k));
+      }
+  }
+  return out;
+}
+
+std::map<std::string, Front> fronts(const std::string& root, size_t face, int block) {
   DatasetListing l = list_dataset(root);
   std::map<std::string, Front> out;
   for (const SplitListing* s : {&l.train, &l.test, &l.holdout})
     for (const FrameEntry& f : s->frames) {
       if (f.faces[face].empty()) continue;
       Front fr;
-      fr.view = read_view(f.faces[face]);
+      fr.view = block_average(read_view(f.faces[face]), block);
       std::string name = fr.view.scene;
       size_t dash = name.find_last_of('-');
       fr.family = dash == std::string::npos ? name : name.substr(0, dash);
@@ -72,14 +102,16 @@ struct Stat {  // running sums over pixels x channels
 
 int main(int argc, char** argv) {
   std::string channel = "indirect", face_name = "front";
+  int block = 1;
   std::vector<std::string> dirs;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--channel") == 0 && i + 1 < argc) channel = argv[++i];
     else if (std::strcmp(argv[i], "--face") == 0 && i + 1 < argc) face_name = argv[++i];
+    else if (std::strcmp(argv[i], "--block") == 0 && i + 1 < argc) block = std::max(1, std::atoi(argv[++i]));
     else dirs.push_back(argv[i]);
   }
   if (dirs.size() < 3) {
-    std::fprintf(stderr, "usage: indirect_error [--channel indirect] [--face front] REF_A REF_B EST...\n");
+    std::fprintf(stderr, "usage: indirect_error [--channel indirect] [--face front] [--block K] REF_A REF_B EST...\n");
     return 1;
   }
   try {
@@ -88,7 +120,7 @@ int main(int argc, char** argv) {
     for (size_t f = 0; f < kFaceNames.size(); ++f)
       if (face_name == kFaceNames[f]) face = f;
     if (face == kFaceNames.size()) throw std::runtime_error("--face: '" + face_name + "' is not a cube face name");
-    for (auto& d : dirs) sets.push_back(fronts(d, face));
+    for (auto& d : dirs) sets.push_back(fronts(d, face, block));
     const auto& A = sets[0];
     const auto& B = sets[1];
     // RGB channels, or a single one (AO) counted as three equal ones.

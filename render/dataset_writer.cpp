@@ -46,8 +46,8 @@ void apply_preset(DatasetJob& job) {
     job.vary_lighting = true;
     job.vary_textures = true;
     if (job.preset == "surround-v5") {
-      // surround-v4's frames, rendered faster (docs/renderer.md, "surround-v5"): the
-      // side faces' AO and env at the rays per face of a 64x64 face (16 per pixel at 128).
+      // surround-v4's frames, rendered faster (docs/renderer.md, "surround-v5"): fewer
+      // AO and env rays on the side faces of a large face (32 per pixel at 128).
       if (s.side_spp == 0) s.side_spp = surround_v5_side_spp(job.width);
     }
   } else {

@@ -52,18 +52,19 @@ TEST(RenderSideSpp, SideSppSetsTheSideFacesRaysOnly) {
   EXPECT_NE(plain[2].channel("env.B"), fewer[2].channel("env.B"));
 }
 
-// surround-v5's side rays keep a 64x64 face's rays per face, and never more than surround-v4's.
+// surround-v5's side rays halve per doubling of the face, never more than surround-v4's.
 TEST(RenderSideSpp, SurroundV5SideRaysPerFaceSize) {
   EXPECT_EQ(surround_v5_side_spp(64), 64);
   EXPECT_EQ(surround_v5_side_spp(32), 64);
-  EXPECT_EQ(surround_v5_side_spp(128), 16);
-  EXPECT_EQ(surround_v5_side_spp(256), 8);
+  EXPECT_EQ(surround_v5_side_spp(128), 32);
+  EXPECT_EQ(surround_v5_side_spp(256), 16);
+  EXPECT_EQ(surround_v5_side_spp(1024), 8);
   DatasetJob job;
   job.preset = "surround-v5";
   job.width = job.height = 128;
   job.settings.gi_spp = 256;
   apply_preset(job);
-  EXPECT_EQ(job.settings.side_spp, 16);
+  EXPECT_EQ(job.settings.side_spp, 32);
   EXPECT_TRUE(job.vary_textures && job.vary_lighting);
   DatasetJob v4 = job;
   v4.preset = "surround-v4";
