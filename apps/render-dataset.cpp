@@ -40,22 +40,32 @@ bool parse_size(const std::string& s, int& w, int& h) {
 int main(int argc, char** argv) {
   // mpirun -np N: view i is rendered by rank i % N, the dataset is the one-process one.
   dist::Session mpi(argc, argv);
-  std::string families_help = "procedural scene families (default: surround-v4 all, surround-v3 generations 1-3, nnao-v2 and surround-v2 generations 1-2, other presets the first eight; generation 3 is corridor, courtyard, multiroom, generation 4 cloister, basilica: ";
+  std::string families_help =
+      "procedural scene families (default: surround-v4 and v5 all, surround-v3 generations 1-3, nnao-v2 and "
+      "surround-v2 generations 1-2, other presets the first eight; generation 3 is corridor, courtyard, multiroom, "
+      "generation 4 cloister, basilica: ";
   for (auto& f : data::scene_families()) families_help += f.name + (&f == &data::scene_families().back() ? ")" : ", ");
   cli::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
   data::DatasetJob job;
   job.out = args.get_path("--out", "", "output dataset folder (required)");
-  job.preset = args.get_choice("--preset", "nnao", {"nnao", "nnao-v2", "gi", "surround", "surround-v2", "surround-v3", "surround-v4"},
+  job.preset = args.get_choice("--preset", "nnao",
+                               {"nnao", "nnao-v2", "gi", "surround", "surround-v2", "surround-v3", "surround-v4",
+                                "surround-v5"},
                                "channels: nnao = Z N albedo AO; nnao-v2 = nnao over all families with per-view fov, "
                                "aspect, size, AO radius and pitch varied; gi = + direct emission env indirect; "
                                "surround = gi as cube frames; surround-v2 = surround over generations 1-2, albedos, lights, sun "
                                "and extra lamps varied per scene, pitch widened; surround-v3 = surround-v2 plus the third generation "
                                "(corridor, courtyard, multiroom); surround-v4 = surround-v3 plus the fourth generation (cloister, basilica) "
-                               "and procedural albedo textures on most materials");
+                               "and procedural albedo textures on most materials; surround-v5 = surround-v4's frames "
+                               "rendered faster: fewer AO and env rays on the side faces (--side-spp)");
   job.views = args.get_int("--views", 80, "views (surround: frames) over train + test", 1, 1000000);
   std::string size = args.get_string("--size", "", "image size WxH, each side 1 to " + std::to_string(kMaxSide) + " (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
   job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel", 1, 65536);
   job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel", 1, 65536);
+  job.settings.side_spp = args.get_int("--side-spp", 0,
+                                       "AO and env rays per pixel on the five side faces of a surround frame (0: the "
+                                       "preset's: surround-v5 64 x 64 / face size, 8 to 64; the others --spp and "
+                                       "min(--gi-spp, 64))", 0, 65536);
   job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)", 1, 64);
   job.settings.seed = uint64_t(args.get_int("--seed", 1, "seed: scenes, cameras and noise", 0, INT_MAX));
   int noise_seed = args.get_int("--noise-seed", -1, "seed of the Monte-Carlo noise alone (-1: --seed): the same scenes and cameras with independent noise", -1, INT_MAX);

@@ -232,6 +232,43 @@ void read_metadata(const std::string& root, ValidationReport& r, ProblemSink& si
   }
 }
 
+// metadata.txt's "views.<split>" (render-dataset writes them from its plan before the
+// first view) against the views or surround frames the split holds: fewer is a render
+// that did not finish, more are views of another render. Without the keys (datasets
+// rendered before they existed) there is nothing to compare.
+void check_split_counts(const std::string& root, const ValidationReport& r, ProblemSink& sink) {
+  const std::string meta = (std::filesystem::path(root) / "metadata.txt").string();
+  const auto preset = r.metadata.find("preset");
+  const bool surround = preset != r.metadata.end() && preset->second.rfind("surround", 0) == 0;
+  for (const char* split : {"train", "test", "holdout"}) {
+    auto it = r.metadata.find(std::string("views.") + split);
+    if (it == r.metadata.end()) continue;
+    sink.set_split(split);
+    int64_t want = -1;
+    try {
+      size_t used = 0;
+      want = std::stoll(it->second, &used);
+      if (used != it->second.size()) want = -1;
+    } catch (const std::exception&) {
+    }
+    if (want < 0) {
+      sink.error(meta, "", it->first + ": expected a count of views, got '" + it->second + "'");
+      continue;
+    }
+    const int64_t views = r.views.count(split) ? r.views.at(split) : 0;
+    const int64_t frames = r.frames.count(split) ? r.frames.at(split) : 0;
+    const bool as_frames = surround || frames > 0;
+    const int64_t have = views + frames;
+    if (have == want) continue;
+    const int64_t diff = have > want ? have - want : want - have;
+    sink.error(meta, "",
+               std::string(split) + "/: " + std::to_string(have) + (as_frames ? " frames" : " views") +
+                   ", metadata.txt says " + std::to_string(want) + ": " + std::to_string(diff) +
+                   (have < want ? " missing: a render that did not finish?" : " extra: views of another render?"));
+  }
+  sink.set_split("");
+}
+
 }  // namespace
 
 std::string scene_family_of(const std::string& scene) {
@@ -339,6 +376,8 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
                    "scene '" + scene + "' is in holdout/ but its family '" + scene_family_of(scene) +
                        "' is not in metadata.txt's families.holdout");
   }
+
+  if (!d.flat) check_split_counts(root, r, sink);
 
   int64_t total = 0;
   for (auto& [n, c] : r.views) total += c;

@@ -38,8 +38,10 @@ struct ValidationReport {
   std::map<std::string, int64_t> views, frames;          // per split ("train", "test")
   std::map<std::string, int64_t> resolutions;            // "WxH" -> files
   std::map<std::string, std::set<std::string>> scenes;   // split -> scene names ("holdout" too)
-  // DIR/metadata.txt, when present (render-dataset writes it for nnao-v2 and for
-  // --holdout-families): every "key: value" line, and the "families.<split>" lists.
+  // DIR/metadata.txt, when present (render-dataset writes it for every render; before
+  // that, for nnao-v2, surround-v2 .. v4 and --holdout-families): every "key: value"
+  // line, and the "families.<split>" lists. Its "views.<split>" counts are checked
+  // against the folders (an error when they differ).
   bool has_metadata = false;
   std::map<std::string, std::string> metadata;
   std::map<std::string, std::vector<std::string>> split_families;

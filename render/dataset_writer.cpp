@@ -41,13 +41,18 @@ void apply_preset(DatasetJob& job) {
   } else if (job.preset == "surround-v2" || job.preset == "surround-v3") {
     s.ao = true, s.lighting = true, s.indirect = true;
     job.vary_lighting = true;
-  } else if (job.preset == "surround-v4") {
+  } else if (job.preset == "surround-v4" || job.preset == "surround-v5") {
     s.ao = true, s.lighting = true, s.indirect = true;
     job.vary_lighting = true;
     job.vary_textures = true;
+    if (job.preset == "surround-v5") {
+      // surround-v4's frames, rendered faster (docs/renderer.md, "surround-v5"): fewer
+      // AO and env rays on the side faces of a large face (32 per pixel at 128).
+      if (s.side_spp == 0) s.side_spp = surround_v5_side_spp(job.width);
+    }
   } else {
     throw std::invalid_argument("unknown preset '" + job.preset +
-                                "' (nnao, nnao-v2, gi, surround, surround-v2, surround-v3, surround-v4)");
+                                "' (nnao, nnao-v2, gi, surround, surround-v2, surround-v3, surround-v4, surround-v5)");
   }
 }
 
@@ -134,7 +139,7 @@ std::vector<std::string> families_in(const std::vector<SceneTask>& tasks, const 
 }
 
 // DIR/metadata.txt (docs/dataset-format.md): "key: value" lines, written to a
-// temporary name and renamed like the views. Train and test list the families they
+// temporary name and renamed like the views, before the first view. Train and test list the families they
 // really hold (a small job may not reach every family); holdout lists every held-out
 // family, since none of them may appear elsewhere, rendered or not.
 void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) {
@@ -150,10 +155,20 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
     m << "families.train: " << joined(families_in(tasks, "train")) << "\n"
       << "families.test: " << joined(families_in(tasks, "test")) << "\n";
     if (!holdout.empty()) m << "families.holdout: " << joined(holdout) << "\n";
+    // What the finished render holds, from the plan: dataset-info compares the folders.
+    for (const char* split : {"train", "test", "holdout"}) {
+      int views = 0;
+      for (const SceneTask& t : tasks)
+        if (t.split == split) views += t.views;
+      m << "views." << split << ": " << views << "\n";
+    }
     if (job.vary_lighting) m << "lighting-variation: albedo, light colour and exposure, sun direction and size, extra lamps per scene (render/scenes/scene_variation.h)\n";
     if (job.vary_textures)
       m << "texture-variation: procedural albedo textures (noise, bricks, tiles, wood, stains, dirt) on most "
            "materials per scene (render/scenes/texture_variation.h)\n";
+    const RenderSettings& rs = job.settings;
+    if (rs.side_spp > 0 && is_surround_preset(job.preset))
+      m << "side-spp: " << rs.side_spp << " AO and env rays per pixel on the five side faces\n";
     if (job.vary_views) {
       ViewVariation v;
       char buf[512];
@@ -204,7 +219,7 @@ void add_tasks(std::vector<SceneTask>& tasks, const std::string& split, int tota
 std::vector<std::string> families_to_render(const DatasetJob& job) {
   std::vector<std::string> families = job.families;
   if (families.empty()) {
-    const int generations = job.preset == "surround-v4"   ? 4
+    const int generations = job.preset == "surround-v4" || job.preset == "surround-v5" ? 4
                             : job.preset == "surround-v3" ? 3
                             : job.preset == "nnao-v2" || job.preset == "surround-v2" ? 2
                                                                                      : 1;
@@ -408,8 +423,7 @@ DatasetReport render_dataset(DatasetJob job) {
   if (!job.holdout_families.empty()) warn_unrendered_holdout_families(job, plan);
   if (job.parts < 1 || job.part < 0 || job.part >= job.parts)
     throw std::invalid_argument("render_dataset: part " + std::to_string(job.part) + " of " + std::to_string(job.parts));
-  if (job.part == 0 && (!job.holdout_families.empty() || job.vary_views || job.vary_lighting || job.vary_textures))
-    write_metadata(job, plan.tasks);
+  if (job.part == 0) write_metadata(job, plan.tasks);
   RenderState st{{}, Progress("render " + job.preset, job.views)};
   for (const SceneTask& task : plan.tasks) render_scene(job, task, P, st);
   if (job.progress) st.bar.finish();

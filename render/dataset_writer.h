@@ -4,6 +4,7 @@
 // share a scene: test views come from other instances of each family (or other files).
 // Held-out families (leave-families-out) go only to DIR/holdout, and DIR/metadata.txt
 // records which families are in which split.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -20,7 +21,8 @@ struct DatasetJob {
                                        // lights varied per scene (render/scenes/scene_variation.h);
                                        // surround-v3: surround-v2 over generations 1-3;
                                        // surround-v4: surround-v3 plus generation 4 and
-                                       // textured materials (render/scenes/texture_variation.h)
+                                       // textured materials (render/scenes/texture_variation.h);
+                                       // surround-v5: surround-v4's frames, rendered faster
   int views = 80;                      // views (frames for surround) over train + test
   double test_fraction = 0.2;          // share of views rendered from held-out scenes
   int views_per_scene = 4;             // views taken in one scene before the next
@@ -30,7 +32,7 @@ struct DatasetJob {
   std::vector<std::string> scene_files;  // OBJ / glTF; none = procedural families
   std::vector<std::string> families;     // procedural families to use; empty = the preset's
                                          // (generation 1 for nnao/gi/surround, 1-2 for nnao-v2
-                                         // and surround-v2, 1-3 for surround-v3, 1-4 for surround-v4)
+                                         // and surround-v2, 1-3 for surround-v3, 1-4 for surround-v4 and v5)
   // Leave-families-out: these families render only into holdout/, never into train/
   // or test/; they must be among `families` (or the preset's), and leave at least one.
   std::vector<std::string> holdout_families;
@@ -77,12 +79,25 @@ void apply_preset(DatasetJob& job);
 
 // Whether a preset writes cube frames (surround, surround-v2 .. v4) rather than single views.
 inline bool is_surround_preset(const std::string& preset) {
-  return preset == "surround" || preset == "surround-v2" || preset == "surround-v3" || preset == "surround-v4";
+  return preset == "surround" || preset == "surround-v2" || preset == "surround-v3" || preset == "surround-v4" ||
+         preset == "surround-v5";
 }
 
-// The metadata file of a dataset (DIR/metadata.txt, docs/dataset-format.md): written
-// when a job holds families out or varies its views, so the older presets' folders
-// stay byte for byte what they were.
+// surround-v5's AO / env rays per pixel on the side faces (RenderSettings::side_spp),
+// unless a job sets its own, for a face of `size` pixels a side: 64 x 64 / size, at most
+// 64 (surround-v4's), at least 8: 32 at 128, 16 at 256. Stratified rays' noise variance
+// falls faster than 1 / rays (measured at face 128: 32 rays 2.9x, 16 rays 8.2x the
+// variance of 64), so halving the rays per doubling of the face keeps the noise per area
+// of a 64x64 face's pixel below that face's at 64 rays (0.73x at 128); a quarter
+// (rays per face constant) would double it.
+inline int surround_v5_side_spp(int size) {
+  return int(std::clamp((64L * 64 + size / 2) / std::max(1L, long(size)), 8L, 64L));
+}
+
+// The metadata file of a dataset (DIR/metadata.txt, docs/dataset-format.md), written
+// by every render before its first view: the preset, seeds, families and how many
+// views (surround: frames) each split will hold ("views.train: 1680"), so dataset-info
+// can tell a render that did not finish. The views themselves do not depend on it.
 inline constexpr const char* kMetadataFile = "metadata.txt";
 
 DatasetReport render_dataset(DatasetJob job);

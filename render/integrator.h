@@ -21,6 +21,9 @@ struct RenderSettings {
   bool indirect = true;  // with lighting: also path-trace `indirect`, the GI target
   uint64_t seed = 0;
   float ao_radius = 0;   // > 0: AO radius for this view instead of the scene's (nnao-v2 varies it per view)
+  // > 0: AO rays and env rays per pixel on the five non-front faces of a surround frame
+  // (0: ao_spp, and min(gi_spp, 64) env rays, as surround .. surround-v4). Set by surround-v5 only.
+  int side_spp = 0;
 };
 
 // Cosine-weighted fraction of the hemisphere around hit.normal whose rays travel

@@ -93,7 +93,8 @@ Texel triplanar(const MaterialTexture& t, Vec3 p, Vec3 n, Pattern pattern) {
   Texel acc;
   if (!(sum > 0)) return acc;  // a zero normal: no texture rather than a NaN
   acc.mul = Vec3(0);
-  const float ca = std::cos(t.angle), sa = std::sin(t.angle);
+  float ca = 1, sa = 0;  // only a floor's plane turns: walls need no sine (the same bits either way)
+  if (w[1] > 0) ca = std::cos(t.angle), sa = std::sin(t.angle);
   for (int k = 0; k < 3; ++k) {
     if (w[k] <= 0) continue;
     float u, v;

@@ -38,6 +38,7 @@ std::array<View, 6> render_surround(const RayTracer& rt, const Camera& front, in
       fs.indirect = false;
       // env alone is smooth (no bright off-screen patches to find): 64 rays suffice.
       fs.gi_spp = std::min(fs.gi_spp, 64);
+      if (s.side_spp > 0) fs.ao_spp = fs.gi_spp = s.side_spp;
     }
     views[i] = render_view(rt, cams[i], fs, frame_id * 6 + uint64_t(i), &cams[0], stats);
   }

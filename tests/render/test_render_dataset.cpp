@@ -170,7 +170,8 @@ TEST(RenderDataset, SurroundV2VariesLightingAndRecordsIt) {
   View vb = read_view(list_dataset(b).train.frames[0].faces[0]);
   EXPECT_EQ(va.channel("albedo.R"), vb.channel("albedo.R"));
   EXPECT_EQ(va.channel("indirect.G"), vb.channel("indirect.G"));
-  // The plain surround preset writes no metadata: its folders stay what they were.
+  // The plain surround preset writes metadata too (its views are what they were:
+  // test_render_fingerprints), without the variation.
   std::string c = temp_dir("sv2c");
   DatasetJob plain = tiny("surround", c);
   plain.families = {"room", "lounge"};
@@ -178,7 +179,12 @@ TEST(RenderDataset, SurroundV2VariesLightingAndRecordsIt) {
   plain.views = 4;
   plain.views_per_scene = 1;
   render_dataset(plain);
-  EXPECT_FALSE(fs::exists(c + "/metadata.txt"));
+  ValidationReport vc = validate_dataset(c, {});
+  EXPECT_TRUE(vc.clean());
+  EXPECT_EQ(vc.metadata["preset"], "surround");
+  EXPECT_EQ(vc.metadata["views.train"], "3");
+  EXPECT_EQ(vc.metadata["views.test"], "1");
+  EXPECT_EQ(vc.metadata.count("lighting-variation"), 0u);
 }
 
 // --noise-seed: the same scenes, cameras and lighting with independent noise (a
@@ -246,7 +252,11 @@ TEST(RenderDataset, HoldoutFamiliesGoOnlyToHoldout) {
   ASSERT_EQ(lp.train.views.size(), l.train.views.size());
   for (size_t i = 0; i < lp.train.views.size(); ++i)
     EXPECT_EQ(read_view(lp.train.views[i]).channel("AO"), read_view(l.train.views[i]).channel("AO")) << i;
-  EXPECT_FALSE(fs::exists(fs::path(plain) / kMetadataFile)) << "the older presets write no metadata file";
+  ValidationReport vp = validate_dataset(plain, {});
+  EXPECT_TRUE(vp.clean());
+  EXPECT_EQ(vp.metadata["preset"], "nnao");
+  EXPECT_EQ(vp.metadata.count("families.holdout"), 0u);
+  EXPECT_EQ(vp.metadata["views.holdout"], "0");
 }
 
 // A leak the validator must catch: a held-out family's scene in train/.
