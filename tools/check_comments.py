@@ -19,7 +19,9 @@ def main(root):
     bad = []
     for folder in FOLDERS:
         for path in sorted((root / folder).rglob("*")):
-            if path.suffix not in SUFFIXES or not path.is_file() or path.name == "check_comments.py":
+            # scripts/ holds shell scripts without a suffix
+            if (path.suffix not in SUFFIXES and not (folder == "scripts" and path.suffix == "")) or not path.is_file() \
+                    or path.name == "check_comments.py":
                 continue
             for number, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
                 if ISSUE.search(line):
