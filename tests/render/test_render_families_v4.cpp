@@ -17,6 +17,7 @@
 #include "render/placement.h"
 #include "render/render_view.h"
 #include "render/scenes/families.h"
+#include "tests/render/family_checks.h"
 
 using namespace nns;
 using namespace nns::data;
@@ -126,25 +127,7 @@ TEST(SceneFamiliesV4, ValidScenesAndCamerasInsideForManySeeds) {
 
 // Lit through openings: indirect light in view, and occlusion.
 TEST(SceneFamiliesV4, RenderLitViewsWithIndirectLight) {
-  for (const std::string& name : kFourth) {
-    Scene s = make_family_scene(name, 0, 8);
-    RayTracer rt(s);
-    Rng rng(4);
-    Camera cam = place_camera(rt, 24, 24, 90, rng);
-    RenderSettings rs;
-    rs.ao_spp = 8, rs.gi_spp = 16, rs.light_spp = 1, rs.seed = 2;
-    View v = render_view(rt, cam, rs, 1);
-    double indirect = 0, ao = 0;
-    int geo = 0;
-    for (size_t i = 0; i < v.channel("Z").size(); ++i) {
-      if (is_sky(v.channel("Z")[i])) continue;
-      ++geo;
-      indirect += v.channel("indirect.G")[i], ao += v.channel("AO")[i];
-    }
-    ASSERT_GT(geo, 0) << name;
-    EXPECT_GT(indirect / geo, 0.01) << name << ": no indirect light";
-    EXPECT_LT(ao / geo, 0.98) << name << ": nothing occluded";
-  }
+  for (const std::string& name : kFourth) nns::testing::expect_lit_view_with_indirect_light(name);
 }
 
 // surround-v4 over generations 1-4, recorded in metadata.txt; for the same families
