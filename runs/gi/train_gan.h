@@ -174,12 +174,12 @@ inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplit
   GiItemReader rd{inputs.mode, o.size};
   const size_t n_train = std::min(max_items(o), split_items(s.train, rd.mode));
   if (n_train == 0) throw std::runtime_error(o.data_dir + ": no training samples for --mode " + o.mode);
-  // The first item's shape, before the normalisation pass reads the whole split.
-  const Tensor<float>& shape_probe = load_sample(s.train, rd, inputs, 0).input;
-  require_unet_divisible(o, int(shape_probe.size(2)), int(shape_probe.size(3)));
-  inputs.norm = fit_normalisation(s.train, rd, max_items(o));
+  // The first item, read before the normalisation pass reads the whole split: its shape
+  // is every sample's (the checks and the memory estimate need nothing else).
   const GiSample first = load_sample(s.train, rd, inputs, 0);
+  require_unet_divisible(o, int(first.input.size(2)), int(first.input.size(3)));
   if (o.augment.mirror) (void)mirrored(first);  // refuses an odd face size before the first step
+  inputs.norm = fit_normalisation(s.train, rd, max_items(o));
   const double gib = double(sample_bytes(first)) * double(n_train) / double(1 << 30);
   const bool streamed = o.stream == "on" || (o.stream == "auto" && gib > o.memory_budget_gib);
   GiTrainData train = streamed ? GiTrainData(s.train, rd, inputs, n_train)
