@@ -8,8 +8,8 @@
 // the range of the per-round ratios fp32 / bf16. Items: the square and U-Net GEMM shapes
 // of bench_gemm, the conv2d fwd+bwd shapes of bench_conv that go through GEMM, and the
 // pix2pix 256 ngf64 iteration of bench_gan_iteration. Timing of a GEMM or conv item
-// repeats the call for at least 0.2 s. Times are process CPU time (summed over the
-// threads): on a machine shared with other jobs, wall time measures the scheduler (with
+// repeats the call for at least 0.2 s. Times are CPU time (summed over the
+// pool's threads, pool_cpu_ms): on a machine shared with other jobs, wall time measures the scheduler (with
 // 1 thread, CPU time is the time the work took); wall-time ratios are printed beside.
 #include <algorithm>
 #include <array>
@@ -49,11 +49,7 @@ struct Item {
   std::vector<double> wall[2];   // wall seconds per call
 };
 
-double cpu_now() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
+double cpu_now() { return pool_cpu_ms() * 1e-3; }
 
 // {CPU seconds, wall seconds} per call.
 std::pair<double, double> time_call(Item& it) {

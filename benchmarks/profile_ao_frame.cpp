@@ -9,8 +9,9 @@
 // brought to WxH by nearest-pixel resampling). A ladder folder (train-nnao --ladder)
 // times every rung; without a model, a random one of the default shape (16 directions x
 // 8 steps, 4 bands, hidden 16, 4 blur passes; the weights do not change the work).
-// Prints per method the best and median wall ms per frame, the median process CPU ms,
-// their ratio (the threads the method kept busy) and the machine's processor.
+// Prints per method the best and median wall ms per frame, the median CPU ms of the
+// pool's threads (pool_cpu_ms), their ratio (the threads the method kept busy) and the
+// machine's processor.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -38,12 +39,6 @@ namespace {
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0 : v[v.size() / 2];
-}
-
-double cpu_ms() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
 }
 
 struct Method {
@@ -100,11 +95,11 @@ int main(int argc, char** argv) {
     for (int r = 0; r < rounds + 1; ++r)  // round 0 warms the caches and the pool
       for (auto& m : methods) {
         if (!selected(m)) continue;
-        const double c0 = cpu_ms();
+        const double c0 = pool_cpu_ms();
         const auto t0 = std::chrono::steady_clock::now();
         m.run(g, out.data());
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        if (r > 0) m.ms.push_back(ms), m.cpu.push_back(cpu_ms() - c0);
+        if (r > 0) m.ms.push_back(ms), m.cpu.push_back(pool_cpu_ms() - c0);
       }
     std::printf("%dx%d, %d thread(s), %d rounds (%s) on %s\n", g.width, g.height, threads, rounds, view_arg.c_str(),
                 nnao::cpu_model().c_str());

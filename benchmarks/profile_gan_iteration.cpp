@@ -2,8 +2,8 @@
 // that `perf` can switch on after the warm-up, which bench_gan_iteration cannot).
 //   profile_gan_iteration [threads=2] [iterations=5] [size=256] [ngf=64] [levels=8]
 //       [precision=fp32|bf16]
-// prints the best and mean wall and process CPU time per iteration (CPU time summed over
-// the threads: robust when other jobs share the cores) and the allocator's peak.
+// prints the best and mean wall and CPU time per iteration (CPU time summed over
+// the pool's threads: robust when other jobs share the cores) and the allocator's peak.
 // With PERF_CTL set to a perf control FIFO it writes "enable" there after the warm-up:
 //   mkfifo /tmp/ctl && PERF_CTL=/tmp/ctl perf record -D -1 --control fifo:/tmp/ctl -g \
 //       build/benchmarks/profile_gan_iteration 1 4
@@ -22,11 +22,7 @@ using namespace nns;
 using namespace nns::gi;
 
 namespace {
-double cpu_seconds() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
+double cpu_seconds() { return pool_cpu_ms() * 1e-3; }
 double wall_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -65,7 +61,7 @@ int main(int argc, char** argv) {
     sum_wall += w, sum_cpu += cpu;
   }
   const auto& a = CachingAllocator::instance();
-  std::printf("threads %d, %s: wall best %.3f mean %.3f s; process CPU best %.3f mean %.3f s; "
+  std::printf("threads %d, %s: wall best %.3f mean %.3f s; CPU best %.3f mean %.3f s; "
               "allocator peak %.0f MiB\n",
               threads, precision_name(gemm_precision()), best_wall, sum_wall / iters, best_cpu, sum_cpu / iters,
               double(a.peak_bytes_in_use()) / 1048576.0);

@@ -11,10 +11,12 @@
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
+#include <ctime>
 #include <cstdint>
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <pthread.h>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -37,6 +39,21 @@ class ThreadPool {
   ThreadPool& operator=(const ThreadPool&) = delete;
 
   int threads() const { return n_; }
+
+  // CPU time the calling thread and every worker have used so far, in ms, read from each
+  // thread's own clock. The process clock (CLOCK_PROCESS_CPUTIME_ID) is no substitute:
+  // Linux adds another thread's running time to it only at that thread's next scheduler
+  // tick or switch (4 ms apart), so over a 1 ms call it misses the worker's share. Measured
+  // on 2 threads, GTAO-4 at 320x180 ran in 0.69 ms against 1.43 ms on 1 thread while the
+  // process clock said one thread was busy. Call it from outside the workers.
+  double cpu_ms() {
+    double ms = thread_cpu_ms(CLOCK_THREAD_CPUTIME_ID);
+    for (auto& t : workers_) {
+      clockid_t clock;
+      if (pthread_getcpuclockid(t.native_handle(), &clock) == 0) ms += thread_cpu_ms(clock);
+    }
+    return ms;
+  }
 
   void set_threads(int n) {
     if (n < 1) throw std::invalid_argument("threads must be >= 1, got " + std::to_string(n));
@@ -85,6 +102,11 @@ class ThreadPool {
   static bool& in_worker() {
     thread_local bool flag = false;
     return flag;
+  }
+  static double thread_cpu_ms(clockid_t clock) {
+    timespec t{};
+    clock_gettime(clock, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
   }
   static void pause() {
 #if defined(__x86_64__)
@@ -149,6 +171,8 @@ class ThreadPool {
 
 inline void set_num_threads(int n) { ThreadPool::global().set_threads(n); }
 inline int num_threads() { return ThreadPool::global().threads(); }
+// CPU ms used so far by this thread and the pool's workers (ThreadPool::cpu_ms).
+inline double pool_cpu_ms() { return ThreadPool::global().cpu_ms(); }
 
 // Splits [0, n) into one contiguous range per worker, each a multiple of `align`
 // (except the last), and calls f(begin, end). Work below `min_work` runs inline.

@@ -14,8 +14,9 @@
 // reprojected: classical_ao/temporal.h.
 //
 // Timing is the same for every method: the same frames, the same thread pool, the same
-// loop; each method's wall time and the process's CPU time are kept per view, and their
-// ratio (the threads a method really kept busy) is in timing.csv and the report.
+// loop; each method's wall time and the CPU time of the caller and the pool's workers
+// (pool_cpu_ms) are kept per view, and their ratio (the threads a method really kept
+// busy) is in timing.csv and the report.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -67,7 +68,7 @@ struct Score {  // pooled over pixels: squared error sum and count; SSIM summed 
 };
 
 struct MethodStats {
-  std::vector<double> ms, cpu_ms;  // wall and process CPU time (all threads) per view
+  std::vector<double> ms, cpu_ms;  // wall and CPU time (caller and workers, pool_cpu_ms) per view
   Score all;
   std::map<std::string, Score> by_scene, by_family;
   std::map<std::string, ao::TemporalStats> temporal_by_family;
@@ -75,14 +76,6 @@ struct MethodStats {
   ao::TemporalStats temporal;
   std::vector<float> previous;  // this method's AO on the previous view
 };
-
-// CPU time of the whole process (every worker thread): on a shared machine the wall
-// time of a 2-thread call also counts time spent waiting for a core.
-inline double process_cpu_ms() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
-}
 
 inline double median(std::vector<double> v) {
   if (v.empty()) return std::nan("");
@@ -269,11 +262,11 @@ struct ViewScoring {
 inline void timed_run(const Method& m, const ao::GBuffer& g, int repeat, float* out, double& ms, double& cpu) {
   ms = 1e300, cpu = 1e300;
   for (int k = 0; k < repeat; ++k) {
-    const double c0 = process_cpu_ms();
+    const double c0 = pool_cpu_ms();
     const auto t0 = std::chrono::steady_clock::now();
     m.run(g, out);
     ms = std::min(ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    cpu = std::min(cpu, process_cpu_ms() - c0);
+    cpu = std::min(cpu, pool_cpu_ms() - c0);
   }
 }
 
@@ -596,7 +589,8 @@ inline void write_report(const EvalAoOptions& o, const Evaluation& ev, const Eva
   r.text("Each method at its setting of lowest MSE over all views; flicker relative to the ground truth's on the "
          "family's camera-path frames. See results_by_family.csv.");
   r.table(write_family_table(o, ev));
-  r.text("Per scene: results_by_scene.csv. CPU ms (process CPU time over all threads, median over views): timing.csv.");
+  r.text("Per scene: results_by_scene.csv. CPU ms (the CPU time of every thread of the pool, each read from its own "
+         "clock, median over views): timing.csv.");
   r.heading("Temporal stability")
       .text("On camera-path frames (files `<scene>-pNN-fNNN.exr`), each frame reprojected to the one before it "
             "(worldToCamera; disocclusions and off-screen points skipped). flicker = mean |m_t - m_t-1| over the mapped "
