@@ -96,17 +96,19 @@ inline void upsample_reference(const GBuffer& full, const LowResGBuffer& lr, con
     for (int x = 0; x < full.width; ++x) out[int64_t(y) * full.width + x] = upsample_pixel(full, lr, low, x, y, e);
 }
 
-// The low-resolution planes the upsample reads, laid out by full-resolution column: for
-// low row ty and tap c (0: left, 1: right), row(ty, c)[X] = plane[ty * w + tx], tx the
-// clamped left or right neighbour of column X. Every value is read by 2s full-resolution
-// rows (s below the row and s above it), so copying it out once per frame turns the
-// upsample's four gathers per plane into contiguous loads of the same values (a 1/4
-// rung's upsample spent most of its time in those gathers).
-struct ExpandedTaps {
+// The two low-resolution rows a band of full-resolution rows reads, laid out by
+// full-resolution column: for row r (0: upper, 1: lower) and tap c (0: left, 1: right),
+// row(plane, r, c)[X] = plane[ty_r * w + tx], tx the clamped left or right neighbour of
+// column X. The upsample's four gathers per plane become contiguous loads of the same
+// values (a 1/4 rung's upsample spent most of its time in those gathers). The rows are
+// built per band by the worker that upsamples it, into that worker's buffer: built once
+// per frame for the whole frame, they were a serial 0.2 ms of page faults for a 1/4 rung
+// at 320x180, and the upsample as a whole did not get faster on 2 threads.
+struct TapRows {
   int width = 0;  // full-resolution columns
-  std::vector<float> z, low, nx, ny, nz;  // [(ty * 2 + c) * width + X]
-  const float* row(const std::vector<float>& plane, int ty, int c) const {
-    return plane.data() + (int64_t(ty) * 2 + c) * width;
+  std::vector<float> z, low, nx, ny, nz;  // [(r * 2 + c) * width + X]
+  const float* row(const std::vector<float>& plane, int r, int c) const {
+    return plane.data() + (int64_t(r) * 2 + c) * width;
   }
 };
 
@@ -117,29 +119,25 @@ inline int left_tap(int X, int s) {
   return int(std::floor(u));
 }
 
-inline ExpandedTaps expand_taps(const GBuffer& full, const LowResGBuffer& lr, const float* low, bool normals) {
-  const int W = full.width, w = lr.g.width, h = lr.g.height, s = lr.scale;
-  ExpandedTaps t;
+// Fills `t` with low rows ty0 (r = 0) and ty1 (r = 1); column[c * W + X] is the low
+// column of tap c of full-resolution column X.
+inline void fill_tap_rows(const LowResGBuffer& lr, const float* low, const int* column, int W, int ty0, int ty1,
+                          bool normals, TapRows& t) {
+  const size_t n = size_t(4) * size_t(W);
   t.width = W;
-  const size_t n = size_t(h) * 2 * size_t(W);
   t.z.resize(n), t.low.resize(n);
   if (normals) t.nx.resize(n), t.ny.resize(n), t.nz.resize(n);
-  std::vector<int> column(size_t(2) * size_t(W));  // the tap's low-resolution column
-  for (int X = 0; X < W; ++X)
-    for (int c = 0; c < 2; ++c) column[size_t(c) * size_t(W) + size_t(X)] = std::clamp(left_tap(X, s) + c, 0, w - 1);
-  parallel_for(h, [&](int64_t y0, int64_t y1) {
-    for (int64_t ty = y0; ty < y1; ++ty)
-      for (int c = 0; c < 2; ++c) {
-        const size_t out = (size_t(ty) * 2 + size_t(c)) * size_t(W);
-        const int* col = column.data() + size_t(c) * size_t(W);
-        for (int X = 0; X < W; ++X) {
-          const size_t j = size_t(ty) * size_t(w) + size_t(col[X]);
-          t.z[out + size_t(X)] = lr.z[j], t.low[out + size_t(X)] = low[j];
-          if (normals) t.nx[out + size_t(X)] = lr.nx[j], t.ny[out + size_t(X)] = lr.ny[j], t.nz[out + size_t(X)] = lr.nz[j];
-        }
+  const int w = lr.g.width;
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 2; ++c) {
+      const size_t out = (size_t(r) * 2 + size_t(c)) * size_t(W), row = size_t(r ? ty1 : ty0) * size_t(w);
+      const int* col = column + size_t(c) * size_t(W);
+      for (int X = 0; X < W; ++X) {
+        const size_t j = row + size_t(col[X]);
+        t.z[out + size_t(X)] = lr.z[j], t.low[out + size_t(X)] = low[j];
+        if (normals) t.nx[out + size_t(X)] = lr.nx[j], t.ny[out + size_t(X)] = lr.ny[j], t.nz[out + size_t(X)] = lr.nz[j];
       }
-  });
-  return t;
+    }
 }
 
 // upsample_pixel for 16 pixels of a row at once (the same expressions; exp through
@@ -147,44 +145,65 @@ inline ExpandedTaps expand_taps(const GBuffer& full, const LowResGBuffer& lr, co
 inline void upsample(const GBuffer& full, const LowResGBuffer& lr, const float* low, float* out,
                      const UpsampleEdges& e = {}) {
   using namespace simd;
-  const int s = lr.scale, h = lr.g.height;
+  const int s = lr.scale, h = lr.g.height, W = full.width, H = full.height;
   const float inv_dz = 1.0f / (e.depth * full.radius), half = float(s / 2), inv_s = 1.0f / float(s);
-  const ExpandedTaps taps = expand_taps(full, lr, low, e.normal_power > 0);
-  for_each_block(full, [&](int x0, int y, Mask valid) {
-    const int64_t i0 = int64_t(y) * full.width + x0;
-    const VF z = load(full.z + i0, valid, INFINITY);
-    const Mask live = valid & ~sky(z);
-    if (!live) {
-      store(out + i0, splat(1.0f), valid);
-      return;
+  const bool normals = e.normal_power > 0;  // power 0: every weight 1, three planes a tap not read
+  std::vector<int> column(size_t(2) * size_t(W));
+  for (int X = 0; X < W; ++X)
+    for (int c = 0; c < 2; ++c) column[size_t(c) * size_t(W) + size_t(X)] = std::clamp(left_tap(X, s) + c, 0, lr.g.width - 1);
+  // Bands: runs of full-resolution rows with the same upper low row floor(v).
+  std::vector<int> band_start;
+  for (int y = 0, previous = INT32_MIN; y < H; ++y) {
+    const int fv = int(std::floor((float(y) - half) * inv_s));
+    if (fv != previous) band_start.push_back(y), previous = fv;
+  }
+  band_start.push_back(H);
+  parallel_for_dynamic(int64_t(band_start.size()) - 1, 1, [&](int64_t b0, int64_t b1) {
+    thread_local TapRows taps;
+    for (int64_t b = b0; b < b1; ++b) {
+      const int y_begin = band_start[size_t(b)], y_end = band_start[size_t(b) + 1];
+      const float v0 = (float(y_begin) - half) * inv_s;
+      const int fv0 = int(std::floor(v0));
+      fill_tap_rows(lr, low, column.data(), W, std::clamp(fv0, 0, h - 1), std::clamp(fv0 + 1, 0, h - 1), normals, taps);
+      for (int y = y_begin; y < y_end; ++y)
+        for (int x0 = 0; x0 < W; x0 += kLanes) {
+          const Mask valid = Mask((1u << (W - x0 < kLanes ? W - x0 : kLanes)) - 1);
+          const int64_t i0 = int64_t(y) * W + x0;
+          const VF z = load(full.z + i0, valid, INFINITY);
+          const Mask live = valid & ~sky(z);
+          if (!live) {
+            store(out + i0, splat(1.0f), valid);
+            continue;
+          }
+          const VF nxc = load(full.nx + i0, live, 0.0f), nyc = load(full.ny + i0, live, 0.0f), nzc = load(full.nz + i0, live, 0.0f);
+          const VF u = (to_float(lane_index() + splat_i(x0)) - splat(half)) * splat(inv_s);
+          const float v = (float(y) - half) * inv_s, fv = std::floor(v), ay = v - fv;
+          const VF fu = floor(u), ax = u - fu;
+          VF s_sum = splat(0.0f), w_sum = splat(0.0f), nearest = splat(1.0f), nearest_dz = splat(INFINITY);
+          for (int t = 0; t < 4; ++t) {
+            const int r = t >> 1, c = t & 1;
+            const VF zj = load(taps.row(taps.z, r, c) + x0, live, INFINITY);
+            const Mask m = live & ~sky(zj);
+            if (!m) continue;
+            const VF bw = (c ? ax : splat(1.0f) - ax) * splat(r ? ay : 1 - ay);
+            const VF dz = select(m, (zj - z) * splat(inv_dz), splat(0.0f));
+            VF p = splat(1.0f);
+            if (normals) {
+              const VF nd = max(splat(0.0f), nxc * load(taps.row(taps.nx, r, c) + x0, m, 0.0f) +
+                                                 nyc * load(taps.row(taps.ny, r, c) + x0, m, 0.0f) +
+                                                 nzc * load(taps.row(taps.nz, r, c) + x0, m, 0.0f));
+              p = pow_by_squaring(nd, e.normal_power, splat(1.0f));
+            }
+            const VF lo = load(taps.row(taps.low, r, c) + x0, m, 0.0f);
+            const VF wt = select(m, bw * exp_nonpositive(-(dz * dz)) * p, splat(0.0f));
+            s_sum = s_sum + wt * lo, w_sum = w_sum + wt;
+            const Mask closer = m & lt(abs(dz), nearest_dz);
+            nearest_dz = select(closer, abs(dz), nearest_dz), nearest = select(closer, lo, nearest);
+          }
+          const VF res = select(gt(w_sum, splat(1e-6f)), s_sum / w_sum, nearest);
+          store(out + i0, select(live, res, splat(1.0f)), valid);
+        }
     }
-    const VF nxc = load(full.nx + i0, live, 0.0f), nyc = load(full.ny + i0, live, 0.0f), nzc = load(full.nz + i0, live, 0.0f);
-    const VF u = (to_float(lane_index() + splat_i(x0)) - splat(half)) * splat(inv_s);
-    const float v = (float(y) - half) * inv_s, fv = std::floor(v), ay = v - fv;
-    const VF fu = floor(u), ax = u - fu;
-    VF s_sum = splat(0.0f), w_sum = splat(0.0f), nearest = splat(1.0f), nearest_dz = splat(INFINITY);
-    for (int t = 0; t < 4; ++t) {
-      const int ty = std::clamp(int(fv) + (t >> 1), 0, h - 1), c = t & 1;
-      const VF zj = load(taps.row(taps.z, ty, c) + x0, live, INFINITY);
-      const Mask m = live & ~sky(zj);
-      if (!m) continue;
-      const VF bw = (c ? ax : splat(1.0f) - ax) * splat((t >> 1) ? ay : 1 - ay);
-      const VF dz = select(m, (zj - z) * splat(inv_dz), splat(0.0f));
-      VF p = splat(1.0f);
-      if (e.normal_power > 0) {  // power 0: every weight 1, and three planes a tap not read
-        const VF nd = max(splat(0.0f), nxc * load(taps.row(taps.nx, ty, c) + x0, m, 0.0f) +
-                                           nyc * load(taps.row(taps.ny, ty, c) + x0, m, 0.0f) +
-                                           nzc * load(taps.row(taps.nz, ty, c) + x0, m, 0.0f));
-        p = pow_by_squaring(nd, e.normal_power, splat(1.0f));
-      }
-      const VF lo = load(taps.row(taps.low, ty, c) + x0, m, 0.0f);
-      const VF wt = select(m, bw * exp_nonpositive(-(dz * dz)) * p, splat(0.0f));
-      s_sum = s_sum + wt * lo, w_sum = w_sum + wt;
-      const Mask closer = m & lt(abs(dz), nearest_dz);
-      nearest_dz = select(closer, abs(dz), nearest_dz), nearest = select(closer, lo, nearest);
-    }
-    const VF res = select(gt(w_sum, splat(1e-6f)), s_sum / w_sum, nearest);
-    store(out + i0, select(live, res, splat(1.0f)), valid);
   });
 }
 
