@@ -12,7 +12,8 @@
 // contracted into FMAs by GCC on the same vector statements in the three; where GCC
 // inlines a helper in one backend and not in another, the fusion can differ by an ulp
 // (screen_space.backends_agree measures it: tests/screen_space/backends/ao_outputs.cpp).
-// Preconditions: clamp(a, lo, hi) with lo <= hi; scale2(a, n) with n integral.
+// Preconditions: clamp(a, lo, hi) with lo <= hi; scale2(a, n) with n integral;
+// scale2_normal(a, n) with n integral in [-126, 127] (the same result, fewer steps).
 // NNSHADE_SIMD16_GENERIC=1 forces the generic backend (to compare a build with it).
 //
 // Lane l of a block is pixel x0 + l of one row, x0 a multiple of 16: the 4x4 noise
@@ -57,7 +58,8 @@ inline VF exp_nonpositive(VF x) {
   p = p * r + splat(0.5f);
   p = p * r + splat(1.0f);
   p = p * r + splat(1.0f);
-  return select(lt(x, splat(-87.0f)), splat(0.0f), scale2(p, n));
+  // n = round(max(x, -87) log2 e) lies in [-126, 0]: 2^n is a normal float.
+  return select(lt(x, splat(-87.0f)), splat(0.0f), scale2_normal(p, n));
 }
 
 // normalize() (gbuffer.h) on 16 vectors in place, with its (0, 0, 1) for a zero vector.

@@ -133,6 +133,12 @@ inline VF gather(const float* base, VI idx, Mask m, float fill) {
           _mm256_mask_i32gather_ps(f, base, idx.hi, _mm256_castsi256_ps(avx2::lanes_hi(m)), 4)};
 }
 inline VF scale2(VF a, VF n) { return {avx2::scale2(a.lo, n.lo), avx2::scale2(a.hi, n.hi)}; }
+// scale2 for n in [-126, 127]: 2^n is a normal float, and the one multiply by it rounds
+// once, as ldexp does (also to a subnormal result), so the steps above are not needed.
+inline VF scale2_normal(VF a, VF n) {
+  return {_mm256_mul_ps(a.lo, avx2::pow2(_mm256_cvttps_epi32(n.lo))),
+          _mm256_mul_ps(a.hi, avx2::pow2(_mm256_cvttps_epi32(n.hi)))};
+}
 // PReLU with beta (the NNAO head): x > 0 ? beta x : alpha x.
 inline VF prelu(VF x, VF alpha, VF beta) {
   const __m256 zero = _mm256_setzero_ps();

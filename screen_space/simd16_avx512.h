@@ -58,6 +58,7 @@ inline VF gather(const float* base, VI idx, Mask m, float fill) {
 // a * 2^n rounded once, as std::ldexp, for integral n (non-integral n: scalef floors it,
 // ldexp(a, int(n)) truncates).
 inline VF scale2(VF a, VF n) { return {_mm512_scalef_ps(a.v, n.v)}; }
+inline VF scale2_normal(VF a, VF n) { return scale2(a, n); }  // n in [-126, 127]
 // PReLU with beta (the NNAO head): x > 0 ? beta x : alpha x.
 inline VF prelu(VF x, VF alpha, VF beta) {
   return {_mm512_mask_blend_ps(_mm512_cmp_ps_mask(x.v, _mm512_setzero_ps(), _CMP_GT_OQ), _mm512_mul_ps(alpha.v, x.v),

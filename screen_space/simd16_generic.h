@@ -85,6 +85,7 @@ inline VF gather(const float* base, VI idx, Mask m, float fill) {
   VF r; NNS_LANES r.v[l] = (m >> l & 1) ? base[idx.v[l]] : fill; return r;
 }
 inline VF scale2(VF a, VF n) { NNS_LANES a.v[l] = std::ldexp(a.v[l], int(n.v[l])); return a; }
+inline VF scale2_normal(VF a, VF n) { return scale2(a, n); }  // n in [-126, 127]
 inline VF prelu(VF x, VF alpha, VF beta) { return {x.v > 0 ? beta.v * x.v : alpha.v * x.v}; }
 #undef NNS_LANES
 

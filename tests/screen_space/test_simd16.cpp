@@ -250,6 +250,21 @@ TEST(Simd16, Scale2IsLdexpAlsoForSubnormalAndOverflowingResults) {
                 "scale2");
 }
 
+TEST(Simd16, Scale2NormalIsLdexpForExponentsOfNormalPowers) {
+  // n over [-126, 127], where 2^n is a normal float: one multiply, also to a subnormal
+  // or an overflowing result; a from the specials and random bit patterns.
+  Pairs p;
+  std::mt19937 rng(7);
+  const auto s = special_floats();
+  for (int n = -126; n <= 127; ++n) {
+    for (float a : s) p.a.push_back(a), p.b.push_back(float(n));
+    for (int k = 0; k < 48; ++k) p.a.push_back(std::bit_cast<float>(uint32_t(rng()))), p.b.push_back(float(n));
+  }
+  while (p.a.size() % kLanes) p.a.push_back(1.0f), p.b.push_back(0.0f);
+  expect_binary(p, [](VF a, VF n) { return scale2_normal(a, n); },
+                [](float a, float n) { return std::ldexp(a, int(n)); }, "scale2_normal");
+}
+
 TEST(Simd16, PreluPicksByTheSignOfX) {
   const Pairs p = float_pairs(7);
   for (size_t i = 0; i < p.a.size(); i += kLanes) {
