@@ -97,18 +97,20 @@ inline void upsample_reference(const GBuffer& full, const LowResGBuffer& lr, con
 }
 
 // The two low-resolution rows a band of full-resolution rows reads, laid out by
-// full-resolution column: for row r (0: upper, 1: lower) and tap c (0: left, 1: right),
-// row(plane, r, c)[X] = plane[ty_r * w + tx], tx the clamped left or right neighbour of
-// column X. The upsample's four gathers per plane become contiguous loads of the same
-// values (a 1/4 rung's upsample spent most of its time in those gathers). The rows are
-// built per band by the worker that upsamples it, into that worker's buffer: built once
-// per frame for the whole frame, they were a serial 0.2 ms of page faults for a 1/4 rung
-// at 320x180, and the upsample as a whole did not get faster on 2 threads.
+// full-resolution column: row r (0: upper, 1: lower) holds E_r[X] = plane[ty_r * w + tx],
+// tx = clamp(left_tap(X), 0, w - 1), for X in [0, W + s). Tap c (0: left, 1: right) of
+// column X is E_r[X + c s], since left_tap(X + s) = left_tap(X) + 1 (exact for s = 2, 4).
+// The upsample's four gathers per plane become contiguous loads of the same values (a
+// 1/4 rung's upsample spent most of its time in those gathers). Each worker builds the
+// rows of the bands it upsamples in its own buffer, keeping a row the next band reuses:
+// built once per frame for the whole frame, they were a serial 0.2 ms of page faults for
+// a 1/4 rung at 320x180, and the upsample as a whole did not get faster on 2 threads.
 struct TapRows {
-  int width = 0;  // full-resolution columns
-  std::vector<float> z, low, nx, ny, nz;  // [(r * 2 + c) * width + X]
+  int width = 0, scale = 1;  // full-resolution columns; a row's stride is width + scale
+  int low_row[2] = {-1, -1};  // the low-resolution row each of the two holds (-1: none)
+  std::vector<float> z, low, nx, ny, nz;  // [r * (width + scale) + X]
   const float* row(const std::vector<float>& plane, int r, int c) const {
-    return plane.data() + (int64_t(r) * 2 + c) * width;
+    return plane.data() + int64_t(r) * (width + scale) + c * scale;
   }
 };
 
@@ -119,25 +121,37 @@ inline int left_tap(int X, int s) {
   return int(std::floor(u));
 }
 
-// Fills `t` with low rows ty0 (r = 0) and ty1 (r = 1); column[c * W + X] is the low
-// column of tap c of full-resolution column X.
+// Makes `t` hold low rows ty0 (r = 0) and ty1 (r = 1) of `low` and the G-buffer planes;
+// column[X] = clamp(left_tap(X), 0, w - 1) for X in [0, W + s). The caller sets
+// t.low_row to -1 before the first band of a frame; after that, a lower row that is the
+// next band's upper row moves up instead of being read again.
 inline void fill_tap_rows(const LowResGBuffer& lr, const float* low, const int* column, int W, int ty0, int ty1,
                           bool normals, TapRows& t) {
-  const size_t n = size_t(4) * size_t(W);
-  t.width = W;
+  const int stride = W + lr.scale, w = lr.g.width;
+  const size_t n = size_t(2) * size_t(stride);
+  t.width = W, t.scale = lr.scale;
   t.z.resize(n), t.low.resize(n);
   if (normals) t.nx.resize(n), t.ny.resize(n), t.nz.resize(n);
-  const int w = lr.g.width;
-  for (int r = 0; r < 2; ++r)
-    for (int c = 0; c < 2; ++c) {
-      const size_t out = (size_t(r) * 2 + size_t(c)) * size_t(W), row = size_t(r ? ty1 : ty0) * size_t(w);
-      const int* col = column + size_t(c) * size_t(W);
-      for (int X = 0; X < W; ++X) {
-        const size_t j = row + size_t(col[X]);
-        t.z[out + size_t(X)] = lr.z[j], t.low[out + size_t(X)] = low[j];
-        if (normals) t.nx[out + size_t(X)] = lr.nx[j], t.ny[out + size_t(X)] = lr.ny[j], t.nz[out + size_t(X)] = lr.nz[j];
-      }
+  auto fill = [&](int r, int ty) {
+    const size_t out = size_t(r) * size_t(stride), row = size_t(ty) * size_t(w);
+    for (int X = 0; X < stride; ++X) {
+      const size_t j = row + size_t(column[X]);
+      t.z[out + size_t(X)] = lr.z[j], t.low[out + size_t(X)] = low[j];
+      if (normals) t.nx[out + size_t(X)] = lr.nx[j], t.ny[out + size_t(X)] = lr.ny[j], t.nz[out + size_t(X)] = lr.nz[j];
     }
+    t.low_row[r] = ty;
+  };
+  auto move_lower_up = [&](std::vector<float>& plane) {
+    std::copy(plane.begin() + stride, plane.begin() + 2 * stride, plane.begin());
+  };
+  if (t.low_row[1] == ty0 && ty0 >= 0) {  // the previous band's lower row is this band's upper one
+    move_lower_up(t.z), move_lower_up(t.low);
+    if (normals) move_lower_up(t.nx), move_lower_up(t.ny), move_lower_up(t.nz);
+    t.low_row[0] = ty0;
+  } else {
+    fill(0, ty0);
+  }
+  fill(1, ty1);
 }
 
 // upsample_pixel for 16 pixels of a row at once (the same expressions; exp through
@@ -207,9 +221,8 @@ inline void upsample(const GBuffer& full, const LowResGBuffer& lr, const float* 
                      const UpsampleEdges& e = {}) {
   const int s = lr.scale, h = lr.g.height, W = full.width, H = full.height;
   const float half = float(s / 2), inv_s = 1.0f / float(s);
-  std::vector<int> column(size_t(2) * size_t(W));
-  for (int X = 0; X < W; ++X)
-    for (int c = 0; c < 2; ++c) column[size_t(c) * size_t(W) + size_t(X)] = std::clamp(left_tap(X, s) + c, 0, lr.g.width - 1);
+  std::vector<int> column(size_t(W + s));
+  for (int X = 0; X < W + s; ++X) column[size_t(X)] = std::clamp(left_tap(X, s), 0, lr.g.width - 1);
   // Bands: runs of full-resolution rows with the same upper low row floor(v).
   std::vector<int> band_start;
   for (int y = 0, previous = INT32_MIN; y < H; ++y) {
@@ -217,8 +230,10 @@ inline void upsample(const GBuffer& full, const LowResGBuffer& lr, const float* 
     if (fv != previous) band_start.push_back(y), previous = fv;
   }
   band_start.push_back(H);
-  parallel_for_dynamic(int64_t(band_start.size()) - 1, 1, [&](int64_t b0, int64_t b1) {
+  // Two bands a piece: the second reuses the first's lower row.
+  parallel_for_dynamic(int64_t(band_start.size()) - 1, 2, [&](int64_t b0, int64_t b1) {
     thread_local TapRows taps;
+    taps.low_row[0] = taps.low_row[1] = -1;  // rows of another frame, or of another piece
     for (int64_t b = b0; b < b1; ++b) {
       const int y_begin = band_start[size_t(b)], y_end = band_start[size_t(b) + 1];
       const int fv = int(std::floor((float(y_begin) - half) * inv_s));

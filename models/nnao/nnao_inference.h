@@ -172,6 +172,7 @@ void exact_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, con
 inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out, const BlurEdges& e = {}) {
   using namespace ao::simd;
   const float inv_dz = 1.0f / (e.depth * g.radius);
+  const bool normals = e.normal_power > 0;  // power 0: the term is 1, its three planes not read
   float spatial[5];
   for (int k = -2; k <= 2; ++k) spatial[k + 2] = std::exp(-float(k * k) / (2 * 1.5f * 1.5f));
   std::vector<float> tmp(size_t(g.pixels()));
@@ -181,7 +182,8 @@ inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out, co
       const int64_t i0 = int64_t(y) * W + x0;
       const VF z = load(g.z + i0, valid, INFINITY);
       const Mask centre_sky = sky(z);
-      const VF nx = load(g.nx + i0, valid, 0.0f), ny = load(g.ny + i0, valid, 0.0f), nz = load(g.nz + i0, valid, 0.0f);
+      VF nx = splat(0.0f), ny = splat(0.0f), nz = splat(0.0f);
+      if (normals) nx = load(g.nx + i0, valid, 0.0f), ny = load(g.ny + i0, valid, 0.0f), nz = load(g.nz + i0, valid, 0.0f);
       VF s = splat(0.0f), ws = splat(0.0f);
       for (int k = -2; k <= 2; ++k) {
         Mask m = valid;
@@ -198,9 +200,12 @@ inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out, co
         const VF zj = load(g.z + j0, m, INFINITY);
         m &= ~sky(zj);
         if (!m) continue;
-        const VF dz = select(m, (zj - z) * splat(inv_dz), splat(0.0f));
-        VF nd = max(splat(0.0f), nx * load(g.nx + j0, m, 0.0f) + ny * load(g.ny + j0, m, 0.0f) + nz * load(g.nz + j0, m, 0.0f));
-        nd = pow_by_squaring(nd, e.normal_power, splat(1.0f));
+        const VF dz = (zj - z) * splat(inv_dz);  // lanes outside m reach nothing: wk selects 0 there
+        VF nd = splat(1.0f);
+        if (normals) {
+          nd = max(splat(0.0f), nx * load(g.nx + j0, m, 0.0f) + ny * load(g.ny + j0, m, 0.0f) + nz * load(g.nz + j0, m, 0.0f));
+          nd = pow_by_squaring(nd, e.normal_power, splat(1.0f));
+        }
         const VF wk = select(m, splat(spatial[k + 2]) * exp_nonpositive(-(dz * dz)) * nd, splat(0.0f));
         s = s + wk * load(src + j0, m, 0.0f);
         ws = ws + wk;
