@@ -103,6 +103,42 @@ std::vector<std::string> wrapped(const std::string& name, size_t chars) {
   return lines;
 }
 
+// Point labels (10 px text): the first of six spots around the point (right or left of
+// it, above or below, then further out) whose box overlaps no label placed before and
+// stays inside the plot; the first spot when none does. Points of one curve close in time
+// (an NNAO ladder's cheapest rungs) otherwise wrote their labels over each other.
+constexpr double kLabelCharWidth = 5.6;
+struct LabelBox {
+  double x0, y0, x1, y1;
+};
+struct LabelSpot {
+  double x, y;  // the text's anchor and baseline
+  bool end;     // anchored at its end (left of the point)
+};
+LabelSpot place_label(std::vector<LabelBox>& placed, double px, double py, size_t chars, double L, double R, double T,
+                      double B) {
+  const double w = kLabelCharWidth * double(chars);
+  const LabelSpot spots[] = {{px + 5, py - 5, false}, {px + 5, py + 14, false}, {px - 5, py - 5, true},
+                             {px - 5, py + 14, true}, {px + 5, py - 17, false}, {px + 5, py + 26, false}};
+  auto box = [&](const LabelSpot& s) {
+    return s.end ? LabelBox{s.x - w, s.y - 9, s.x, s.y + 2} : LabelBox{s.x, s.y - 9, s.x + w, s.y + 2};
+  };
+  auto free = [&](const LabelBox& b) {
+    if (b.x0 < L || b.x1 > R || b.y0 < T || b.y1 > B) return false;
+    for (const LabelBox& o : placed)
+      if (b.x0 < o.x1 && o.x0 < b.x1 && b.y0 < o.y1 && o.y0 < b.y1) return false;
+    return true;
+  };
+  LabelSpot chosen = spots[0];
+  for (const LabelSpot& s : spots)
+    if (free(box(s))) {
+      chosen = s;
+      break;
+    }
+  placed.push_back(box(chosen));
+  return chosen;
+}
+
 bool usable(double x, double y, const ChartOptions& o) {
   return std::isfinite(x) && std::isfinite(y) && (!o.log_x || x > 0) && (!o.log_y || y > 0);
 }
@@ -148,6 +184,7 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
     << "<text transform=\"translate(22," << num((T + B) / 2)
     << ") rotate(-90)\" text-anchor=\"middle\">" << html_escape(o.y_label)
     << (o.log_y ? " (log scale)" : "") << "</text>\n";
+  std::vector<LabelBox> labels;  // the point labels placed so far
   for (size_t k = 0; k < series.size(); ++k) {
     const auto& se = series[k];
     const char* c = kColours[size_t(se.colour >= 0 ? se.colour : int(k)) % 10];
@@ -159,9 +196,11 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
       pts += num(px) + "," + num(py) + " ";
       s << "<circle cx=\"" << num(px) << "\" cy=\"" << num(py) << "\" r=\"3.5\" fill=\"" << c
         << "\"/>\n";
-      if (i < se.point_labels.size() && !se.point_labels[i].empty())
-        s << "<text x=\"" << num(px + 5) << "\" y=\"" << num(py - 5) << "\" font-size=\"10\" fill=\""
-          << c << "\">" << html_escape(se.point_labels[i]) << "</text>\n";
+      if (i < se.point_labels.size() && !se.point_labels[i].empty()) {
+        const LabelSpot at = place_label(labels, px, py, se.point_labels[i].size(), L, R, T, B);
+        s << "<text x=\"" << num(at.x) << "\" y=\"" << num(at.y) << "\"" << (at.end ? " text-anchor=\"end\"" : "")
+          << " font-size=\"10\" fill=\"" << c << "\">" << html_escape(se.point_labels[i]) << "</text>\n";
+      }
     }
     s << "<polyline points=\"" << pts << "\" fill=\"none\" stroke=\"" << c << dash
       << "\" stroke-width=\"2\"/>\n";

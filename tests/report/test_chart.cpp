@@ -99,3 +99,37 @@ TEST(Chart, ALongLegendNameWrapsInsideTheImage) {
   EXPECT_EQ(svg.find(name), std::string::npos) << "one line of " << name.size() << " characters: " << svg;
   EXPECT_NE(svg.find("<tspan"), std::string::npos);
 }
+
+// Two points of one curve close in time and error (an NNAO ladder's cheapest rungs):
+// their labels' boxes (10 px text, 5.6 px a character) do not overlap.
+TEST(Chart, LabelsOfNearbyPointsDoNotOverlap) {
+  ChartOptions o;
+  o.log_x = true;
+  const std::string a = "d4s4h4-quarter-b2-n0", b = "d8s4h8-quarter-b2-n0";
+  const std::string svg = line_chart_svg({{"NNAO-exact", {0.40, 0.46, 10}, {0.0130, 0.0126, 0.0108}, {a, b, "full"}},
+                                          {"SSAO", {0.47, 1.6}, {0.042, 0.036}, {"4", "32"}}},
+                                         o);
+  struct Text {
+    double x, y;
+    bool end;
+  };
+  auto find_text = [&](const std::string& label) {
+    const size_t at = svg.find(">" + label + "<");
+    EXPECT_NE(at, std::string::npos) << label;
+    const size_t open = svg.rfind("<text", at);
+    Text t{};
+    std::sscanf(svg.c_str() + svg.find("x=\"", open) + 3, "%lf", &t.x);
+    std::sscanf(svg.c_str() + svg.find("y=\"", open) + 3, "%lf", &t.y);
+    t.end = svg.substr(open, at - open).find("text-anchor=\"end\"") != std::string::npos;
+    return t;
+  };
+  const Text ta = find_text(a), tb = find_text(b);
+  auto box = [](const Text& t, size_t chars, double& x0, double& x1) {
+    const double w = 5.6 * double(chars);
+    x0 = t.end ? t.x - w : t.x, x1 = t.end ? t.x : t.x + w;
+  };
+  double ax0, ax1, bx0, bx1;
+  box(ta, a.size(), ax0, ax1), box(tb, b.size(), bx0, bx1);
+  const bool x_overlap = ax0 < bx1 && bx0 < ax1, y_overlap = std::abs(ta.y - tb.y) < 11;
+  EXPECT_FALSE(x_overlap && y_overlap) << "labels at (" << ta.x << ", " << ta.y << ") and (" << tb.x << ", " << tb.y << ")";
+}
