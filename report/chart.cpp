@@ -103,8 +103,8 @@ std::vector<std::string> wrapped(const std::string& name, size_t chars) {
   return lines;
 }
 
-// Point labels (10 px text): the first of six spots around the point (right or left of
-// it, above or below, then further out) whose box overlaps no label placed before and
+// Point labels (10 px text): the first of eight spots around the point (right or left
+// of it, above or below, then further out) whose box overlaps no label placed before and
 // stays inside the plot; the first spot when none does. Points of one curve close in time
 // (an NNAO ladder's cheapest rungs) otherwise wrote their labels over each other.
 constexpr double kLabelCharWidth = 5.6;
@@ -118,8 +118,9 @@ struct LabelSpot {
 LabelSpot place_label(std::vector<LabelBox>& placed, double px, double py, size_t chars, double L, double R, double T,
                       double B) {
   const double w = kLabelCharWidth * double(chars);
-  const LabelSpot spots[] = {{px + 5, py - 5, false}, {px + 5, py + 14, false}, {px - 5, py - 5, true},
-                             {px - 5, py + 14, true}, {px + 5, py - 17, false}, {px + 5, py + 26, false}};
+  const LabelSpot spots[] = {{px + 5, py - 5, false},  {px + 5, py + 14, false}, {px - 5, py - 5, true},
+                             {px - 5, py + 14, true},   {px + 5, py - 17, false}, {px + 5, py + 26, false},
+                             {px + 5, py - 29, false},  {px + 5, py + 38, false}};
   auto box = [&](const LabelSpot& s) {
     return s.end ? LabelBox{s.x - w, s.y - 9, s.x, s.y + 2} : LabelBox{s.x, s.y - 9, s.x + w, s.y + 2};
   };

@@ -456,8 +456,10 @@ inline ChartNotes write_charts(const EvalAoOptions& o, const Evaluation& ev) {
     if (ev.list.accumulated[m] < 0) continue;
     const std::string& ta = methods[size_t(ev.list.accumulated[m])].name;
     const int colour = int(std::find(order.begin(), order.end(), methods[m].name) - order.begin());
+    // Dashed in the method's colour, without point labels: its settings are the solid
+    // curve's, and a ladder's names printed twice crowded the chart.
     for (auto* s : {&series, &flicker_series})
-      if (s->count(ta)) (*s)[ta].colour = colour, (*s)[ta].dashed = true;
+      if (s->count(ta)) (*s)[ta].colour = colour, (*s)[ta].dashed = true, (*s)[ta].point_labels.clear();
   }
   std::vector<data::ChartSeries> chart, flicker_chart;
   for (auto& n : order) {
