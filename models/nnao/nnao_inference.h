@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <string>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "screen_space/ao_common.h"
@@ -175,7 +176,8 @@ inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out, co
   const bool normals = e.normal_power > 0;  // power 0: the term is 1, its three planes not read
   float spatial[5];
   for (int k = -2; k <= 2; ++k) spatial[k + 2] = std::exp(-float(k * k) / (2 * 1.5f * 1.5f));
-  std::vector<float> tmp(size_t(g.pixels()));
+  // Every pixel of tmp is written before it is read: no zeroing (a serial memset).
+  const std::unique_ptr<float[]> tmp(new float[size_t(g.pixels())]);
   const int W = g.width;
   auto pass = [&](const float* src, float* dst, bool horizontal) {
     for_each_block(g, [&](int x0, int y, Mask valid) {
@@ -214,19 +216,22 @@ inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out, co
       store(dst + i0, select(centre_sky, splat(1.0f), res), valid);
     });
   };
-  pass(in, tmp.data(), true);
-  pass(tmp.data(), out, false);
+  pass(in, tmp.get(), true);
+  pass(tmp.get(), out, false);
 }
 
 // A horizon model's march and network, then its blur passes, at the G-buffer's resolution.
 inline void infer_horizon_blurred(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
-  std::vector<float> raw(size_t(g.pixels()));
-  infer_horizon(m, g, raw.data());
-  for (int p = 1; p < m.blur_passes; ++p) {
-    bilateral_blur(g, raw.data(), out, m.blur_edges);
-    std::copy(out, out + g.pixels(), raw.data());
+  // Each pass reads one buffer and writes the other, the last one writing `out` (no
+  // copies between passes: serial, they held the second thread back).
+  const std::unique_ptr<float[]> a(new float[size_t(g.pixels())]), b(new float[size_t(g.pixels())]);
+  float* src = a.get();
+  infer_horizon(m, g, src);
+  for (int p = 1; p <= m.blur_passes; ++p) {
+    float* dst = p == m.blur_passes ? out : (src == a.get() ? b.get() : a.get());
+    bilateral_blur(g, src, dst, m.blur_edges);
+    src = dst;
   }
-  bilateral_blur(g, raw.data(), out, m.blur_edges);
 }
 
 inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
