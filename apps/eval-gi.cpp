@@ -12,7 +12,7 @@
 #include "apps/args.h"
 #include "core/folder_lock.h"
 #include "core/thread_pool.h"
-#include "runs/gi/gi_evaluate.h"
+#include "runs/gi/eval_gi.h"
 
 using namespace nns;
 

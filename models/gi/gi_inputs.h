@@ -49,7 +49,7 @@ struct GiNormalisation {
 struct GiInputConfig {
   GiMode mode = GiMode::surround;
   bool coordconv = true;
-  int size = 0;  // face size the views are reduced to (0: as stored), gi_data.h
+  int size = 0;  // face size the views are reduced to (0: as stored), gi_samples.h
   GiNormalisation norm;
   // Share of train/'s scenes carved out as the validation split (data/validation_split.h)
   // before anything was fitted; stored in G.blob so eval-gi carves the same scenes.
@@ -67,7 +67,7 @@ struct GiSample {
   // The front view, linear HDR, (3, h, w): for shading, references and metrics.
   Tensor<float> albedo, emission, direct_env, target_linear;  // target_linear: as target
   std::vector<uint8_t> geometry;  // h * w, 1 where there is geometry (not sky)
-  // Share of the frame's direct light on the front face (gi_data.h); NaN for a single
+  // Share of the frame's direct light on the front face (gi_samples.h); NaN for a single
   // view, where the surroundings are unknown.
   float front_direct_share = NAN;
   // The front view's Z and N.X/Y/Z with its fovY and worldToCamera (no lighting): what

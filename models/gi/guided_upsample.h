@@ -7,7 +7,7 @@
 //     light_full = direct_env_full + upsample(light_low - direct_env_low).
 //
 // The low-resolution view is the box filter of the full one by an integer factor k
-// (gi_data.h's downsample_view): its pixel (x, y) averages the full pixels
+// (gi_samples.h's downsample_view): its pixel (x, y) averages the full pixels
 // [k x, k x + k) x [k y, k y + k), so it stands at full-resolution coordinate
 // (x + 1/2) k - 1/2. A full pixel X takes its four nearest low pixels with bilinear
 // weights times exp(-(dz / (depth z))^2) max(0, n.n')^normal_power, dz the depth

@@ -5,7 +5,7 @@
 // pixel minus the inputs' base (0 for the grid kind, so its target is AO itself).
 //
 // The features are computed once, view by view, into rows of a file with no name
-// (runs/ao/point_file.h) in the output folder, so a training step only gathers rows (no
+// (runs/ao/row_file.h) in the output folder, so a training step only gathers rows (no
 // feature work, no allocation per step) and the memory does not grow with the number of
 // views. A row is w*w*4 features in IEEE half precision (binary16, 11-bit significand:
 // relative rounding error <= 2^-11, 2 bytes per feature: w = 31 needs 7.7 KB per point
@@ -23,7 +23,7 @@
 #include "data/view.h"
 #include "models/nnao/nnao_inputs.h"
 #include "screen_space/low_resolution.h"
-#include "runs/ao/point_file.h"
+#include "runs/ao/row_file.h"
 
 namespace nns::nnao {
 

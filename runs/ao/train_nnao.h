@@ -4,7 +4,7 @@
 // per epoch, loss = MSE + gamma * sum|theta| (eq. 2, gamma = 0.01), Adam.
 //
 // The points of both splits live in unnamed files in the output folder, not in memory
-// (runs/ao/point_file.h): the memory is the shuffle buffers (--shuffle-buffer-mb, two of
+// (runs/ao/row_file.h): the memory is the shuffle buffers (--shuffle-buffer-mb, two of
 // them) whatever the number of views. The epoch's order is a chunked shuffle (chunks of
 // --shuffle-chunk points in a shuffled order, loaded a buffer at a time, rows shuffled
 // within the buffer); a buffer that holds every point gives the global shuffle.
@@ -118,7 +118,7 @@ struct TrainOptions {
   uint64_t seed = 1;
   // bf16: the products of the network take bf16 inputs (fp32 sums, weights, Adam, loss).
   Precision precision = Precision::fp32;
-  // The chunked shuffle (point_file.h): points per chunk read in one piece, and the MiB
+  // The chunked shuffle (row_file.h): points per chunk read in one piece, and the MiB
   // of each of the two buffers (a buffer holds whole chunks, at least one).
   int shuffle_chunk = 256;
   double shuffle_buffer_mb = 512;

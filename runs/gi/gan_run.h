@@ -30,7 +30,7 @@
 #include "runs/gi/gan_trainer.h"
 #include "runs/gi/gi_augment.h"
 #include "runs/gi/gi_previews.h"
-#include "runs/gi/gi_train_data.h"
+#include "runs/gi/gi_training_frames.h"
 #include "runs/training_loop.h"
 
 namespace nns::gi {

@@ -19,8 +19,8 @@
 #include "data/validation_split.h"
 #include "report/chart.h"
 #include "runs/gi/gan_run.h"
-#include "runs/gi/gi_data.h"
-#include "runs/gi/gi_evaluate.h"
+#include "runs/gi/gi_samples.h"
+#include "runs/gi/eval_gi.h"
 
 namespace nns::gi {
 

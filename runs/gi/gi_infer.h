@@ -8,7 +8,7 @@
 // takes its front.exr and says so. Each view must meet the dataset contract of a
 // surround face (docs/dataset-format.md: Z, N.*, albedo.*, direct.*, emission/env
 // optional, no ground truth needed) and is box-filtered to the model's face size by an
-// integer factor exactly as training and eval-gi do (gi_data.h), so the prediction is
+// integer factor exactly as training and eval-gi do (gi_samples.h), so the prediction is
 // eval-gi's prediction for the same frame. Instead of view EXRs, the frame can be a
 // user's own images (--channel), one file per input or several inputs from one file: for
 // a front-mode model one view (data/image_read.h: depth=FILE ...), for a surround model
@@ -44,7 +44,7 @@
 #include "data/image_read.h"
 #include "data/validate.h"
 #include "models/gi/gi_model_io.h"
-#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_samples.h"
 #include "runs/gi/gi_previews.h"
 
 namespace nns::gi {
@@ -109,7 +109,7 @@ inline void check_input(const data::View& v) {
   throw std::runtime_error(msg);
 }
 
-// The integer box reduction of gi_data.h's reduction_for, with a message that names the
+// The integer box reduction of gi_samples.h's reduction_for, with a message that names the
 // sizes (gi-infer has no --size flag: the size is the model's).
 inline int reduction_to_model(const data::View& v, int size, const std::string& model) {
   if (size <= 0) return 1;  // a model trained on views as stored

@@ -17,7 +17,7 @@
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "report/image_write.h"
-#include "runs/gi/gi_eval.h"
+#include "runs/gi/gi_scores.h"
 #include "runs/metrics_log.h"
 #include "models/gi/gi_inputs.h"
 

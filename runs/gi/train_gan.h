@@ -2,7 +2,7 @@
 // train-gan's whole work behind one call, as train_nnao is train-nnao's: the data (the
 // splits, the normalisation fitted on the training scenes, the frames held in memory or
 // streamed), the run (gan_run.h), then G.blob evaluated on the test split and on the
-// held-out families (gi_evaluate.h).
+// held-out families (eval_gi.h).
 //
 //   TrainGanOptions o;            // the defaults below are the chosen model
 //   o.data_dir = "data/surround";
@@ -16,8 +16,8 @@
 #include "data/validation_split.h"
 #include "runs/distributed/world.h"
 #include "runs/gi/gan_run.h"
-#include "runs/gi/gi_data.h"
-#include "runs/gi/gi_evaluate.h"
+#include "runs/gi/gi_samples.h"
+#include "runs/gi/eval_gi.h"
 #include "runs/run_report.h"
 
 namespace nns::gi {

@@ -20,7 +20,7 @@
 #include "data/exr_io.h"
 #include "models/gi/gi_model_io.h"
 #include "report/image_write.h"
-#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_samples.h"
 #include "tests/support/run_command.h"
 #include "tests/support/synthetic_gi_dataset.h"
 

@@ -203,7 +203,7 @@ TEST_F(TrainNnao, KilledAtRandomMomentsAndResumedEndsBitwiseEqual) {
     EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
 }
 
-// The points stream from unnamed files through the chunked shuffle (runs/ao/point_file.h).
+// The points stream from unnamed files through the chunked shuffle (runs/ao/row_file.h).
 // With chunks and buffers far smaller than the data (288 points at w 7: chunks of 16,
 // buffers of 0.02 MiB = 52 rows, so 3 chunks: 6 groups per epoch) the run is the same
 // for 1 and 2 threads, a resume replays it bitwise, it trains (finite test MSE that

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "models/gi/crop.h"
-#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_samples.h"
 #include "models/gi/gi_inputs.h"
 #include "tests/support/gradcheck.h"
 

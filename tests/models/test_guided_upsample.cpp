@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_samples.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <cstring>
 
 #include "runs/gi/gi_augment.h"
-#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_samples.h"
 #include "tests/support/synthetic_gi_dataset.h"
 
 using namespace nns;

@@ -1,4 +1,4 @@
-// eval-gi's temporal stability (runs/gi/gi_eval.h, gi_evaluate.h): on a rendered camera
+// eval-gi's temporal stability (runs/gi/gi_scores.h, eval_gi.h): on a rendered camera
 // path, frames are reprojected onto the one before, so a prediction equal to the truth
 // flickers exactly as much as the truth (ratio 1, temporal error 0), per-pixel noise
 // raises both, and frames that are not consecutive on one path are never paired.
@@ -9,7 +9,7 @@
 
 #include "core/rng.h"
 #include "render/dataset_writer.h"
-#include "runs/gi/gi_evaluate.h"
+#include "runs/gi/eval_gi.h"
 
 namespace fs = std::filesystem;
 using namespace nns;

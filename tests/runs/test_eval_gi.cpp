@@ -2,7 +2,7 @@
 // PSNR infinite for direct+env, a constant ambient loses there by construction).
 #include <gtest/gtest.h>
 
-#include "runs/gi/gi_evaluate.h"
+#include "runs/gi/eval_gi.h"
 
 using namespace nns;
 using namespace nns::gi;

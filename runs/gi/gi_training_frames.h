@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "runs/gi/gi_data.h"
+#include "runs/gi/gi_samples.h"
 
 namespace nns::gi {
 

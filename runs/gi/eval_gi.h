@@ -1,14 +1,14 @@
 #pragma once
 // eval-gi: scores trained generators and the two references that need no learning on
 // one split of a dataset — test, validation or holdout (the thesis's Table 5.3 metrics,
-// gi_eval.h):
+// gi_scores.h):
 //   direct+env          the light a rasterizer has: no indirect light at all
 //   direct+env+ambient  plus a constant per-channel ambient term, the mean indirect
 //                       light of the scenes trained on (least squares in linear HDR)
 // Files in OUT: results.csv (all test frames), results_offscreen.csv (the frames whose
 // directly lit surfaces are off the front view), frames.csv (every frame of every
 // model), results_by_family.csv, results_by_distance.csv (error by distance to the nearest
-// depth jump or crease, gi_eval.h), report.md and report.html, speed_vs_ssim.svg/.png,
+// depth jump or crease, gi_scores.h), report.md and report.html, speed_vs_ssim.svg/.png,
 // speed_vs_mse_linear.svg/.png and speed_vs_flip.svg/.png,
 // previews/<model>_<frame>_{prediction,truth,error}.png.
 #include <algorithm>
@@ -24,8 +24,8 @@
 #include "core/atomic_file.h"
 #include "report/chart.h"
 #include "data/validation_split.h"
-#include "runs/gi/gi_data.h"
-#include "runs/gi/gi_eval.h"
+#include "runs/gi/gi_samples.h"
+#include "runs/gi/gi_scores.h"
 #include "models/gi/gi_model_io.h"
 #include "models/gi/guided_upsample.h"
 #include "runs/gi/gi_previews.h"
@@ -60,7 +60,7 @@ struct EvalRow {
   int64_t frames = 0, offscreen_frames = 0;
   std::map<std::string, MetricsMean> by_family;  // scene family -> its frames' metrics
   DistanceBands bands;                           // all frames, by distance to a surface break
-  // Reprojected along camera paths (gi_eval.h): the row's flicker, the ground truth's on
+  // Reprojected along camera paths (gi_scores.h): the row's flicker, the ground truth's on
   // the same pairs, and the temporal error; NaN without camera paths.
   double flicker = NAN, flicker_truth = NAN, temporal_error = NAN;
   int64_t flicker_pairs = 0;
@@ -232,7 +232,7 @@ inline data::Table family_table(const std::vector<EvalRow>& rows) {
   return t;
 }
 
-// Per row and distance band (gi_eval.h's DistanceBands): the band's share of the
+// Per row and distance band (gi_scores.h's DistanceBands): the band's share of the
 // geometry pixels, its mapped MSE and its mean FLIP.
 inline std::string distance_csv(const std::vector<EvalRow>& rows) {
   std::string s = "model,mode,band,pixels,share,mse,flip\n";

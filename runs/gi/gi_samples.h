@@ -1,6 +1,6 @@
 #pragma once
 // Loading a split of a G-buffer dataset into GiSamples (gi_inputs.h): all of it, or one
-// item at a time (gi_train_data.h streams training frames that do not fit in memory).
+// item at a time (gi_training_frames.h streams training frames that do not fit in memory).
 //
 //  * --mode front takes single views, or the `front` face of surround frames;
 //  * --mode surround takes surround frames and merges their six faces into the global

@@ -1,4 +1,4 @@
-// The on-disk training points (runs/ao/point_file.h, runs/ao/nnao_points.h): the
+// The on-disk training points (runs/ao/row_file.h, runs/ao/nnao_points.h): the
 // chunked shuffle visits every row once per epoch through buffers no larger than asked,
 // a buffer holding everything reproduces the global Fisher-Yates draw for draw, the file
 // leaves no name behind, and the streamed statistics do not depend on the blocks.
@@ -16,7 +16,7 @@
 
 #include "core/rng.h"
 #include "runs/ao/nnao_points.h"
-#include "runs/ao/point_file.h"
+#include "runs/ao/row_file.h"
 
 namespace fs = std::filesystem;
 using nns::Rng;
