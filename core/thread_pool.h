@@ -41,11 +41,11 @@ class ThreadPool {
   int threads() const { return n_; }
 
   // CPU time the calling thread and every worker have used so far, in ms, read from each
-  // thread's own clock. The process clock (CLOCK_PROCESS_CPUTIME_ID) is no substitute:
-  // Linux adds another thread's running time to it only at that thread's next scheduler
-  // tick or switch (4 ms apart), so over a 1 ms call it misses the worker's share. Measured
-  // on 2 threads, GTAO-4 at 320x180 ran in 0.69 ms against 1.43 ms on 1 thread while the
-  // process clock said one thread was busy. Call it from outside the workers.
+  // thread's own clock. The process clock (CLOCK_PROCESS_CPUTIME_ID) was no substitute:
+  // Linux adds another running thread's time to it only when the scheduler accounts it,
+  // and eval-ao timed through it reported one thread busy for methods that ran twice as
+  // fast on 2 threads (GTAO-4 at 320x180: 1.43 ms on 1 thread, 0.69 ms on 2). Call it
+  // from outside the workers.
   double cpu_ms() {
     double ms = thread_cpu_ms(CLOCK_THREAD_CPUTIME_ID);
     for (auto& t : workers_) {

@@ -163,13 +163,22 @@ inline void fill_tap_rows(const LowResGBuffer& lr, const float* low, const int* 
 // tap's mask reaches the sums only through a weight selected to 0 and the nearest-depth
 // choice only through that mask; and the nearest-depth fallback is computed only for a
 // block where some pixel's weights all vanished.
+struct UpsampleFrame {  // what every block of a frame shares
+  int scale;
+  float inv_dz, half, inv_s;  // 1 / (depth term's scale x radius), s/2 and 1/s
+  bool normals;               // power 0: every weight 1, three planes a tap not read
+  UpsampleFrame(const GBuffer& full, int s, const UpsampleEdges& e)
+      : scale(s), inv_dz(1.0f / (e.depth * full.radius)), half(float(s / 2)), inv_s(1.0f / float(s)),
+        normals(e.normal_power > 0) {}
+};
+
 // One block of 16 pixels of full-resolution row y, from x0, with the band's tap rows.
-inline void upsample_block(const GBuffer& full, const TapRows& taps, const UpsampleEdges& e, int scale, int x0, int y,
-                           float* out) {
+inline void upsample_block(const GBuffer& full, const TapRows& taps, const UpsampleEdges& e, const UpsampleFrame& f,
+                           int x0, int y, float* out) {
   using namespace simd;
   const int W = full.width;
-  const float inv_dz = 1.0f / (e.depth * full.radius), half = float(scale / 2), inv_s = 1.0f / float(scale);
-  const bool normals = e.normal_power > 0;  // power 0: every weight 1, three planes a tap not read
+  const float inv_dz = f.inv_dz, half = f.half, inv_s = f.inv_s;
+  const bool normals = f.normals;
   const Mask valid = Mask((1u << (W - x0 < kLanes ? W - x0 : kLanes)) - 1);
   const int64_t i0 = int64_t(y) * W + x0;
   const bool full_block = x0 + kLanes <= W;
@@ -222,27 +231,26 @@ inline void upsample_block(const GBuffer& full, const TapRows& taps, const Upsam
 inline void upsample(const GBuffer& full, const LowResGBuffer& lr, const float* low, float* out,
                      const UpsampleEdges& e = {}) {
   const int s = lr.scale, h = lr.g.height, W = full.width, H = full.height;
-  const float half = float(s / 2), inv_s = 1.0f / float(s);
+  const UpsampleFrame frame(full, s, e);
   std::vector<int> column(size_t(W + s));
   for (int X = 0; X < W + s; ++X) column[size_t(X)] = std::clamp(left_tap(X, s), 0, lr.g.width - 1);
   // Bands: runs of full-resolution rows with the same upper low row floor(v).
-  std::vector<int> band_start;
-  for (int y = 0, previous = INT32_MIN; y < H; ++y) {
-    const int fv = int(std::floor((float(y) - half) * inv_s));
-    if (fv != previous) band_start.push_back(y), previous = fv;
+  std::vector<int> band_start, band_row;
+  for (int y = 0; y < H; ++y) {
+    const int fv = int(std::floor((float(y) - frame.half) * frame.inv_s));
+    if (band_row.empty() || fv != band_row.back()) band_start.push_back(y), band_row.push_back(fv);
   }
   band_start.push_back(H);
   // Two bands a piece: the second reuses the first's lower row.
-  parallel_for_dynamic(int64_t(band_start.size()) - 1, 2, [&](int64_t b0, int64_t b1) {
+  parallel_for_dynamic(int64_t(band_row.size()), 2, [&](int64_t b0, int64_t b1) {
     thread_local TapRows taps;
     taps.low_row[0] = taps.low_row[1] = -1;  // rows of another frame, or of another piece
     for (int64_t b = b0; b < b1; ++b) {
-      const int y_begin = band_start[size_t(b)], y_end = band_start[size_t(b) + 1];
-      const int fv = int(std::floor((float(y_begin) - half) * inv_s));
-      fill_tap_rows(lr, low, column.data(), W, std::clamp(fv, 0, h - 1), std::clamp(fv + 1, 0, h - 1), e.normal_power > 0,
+      const int fv = band_row[size_t(b)];
+      fill_tap_rows(lr, low, column.data(), W, std::clamp(fv, 0, h - 1), std::clamp(fv + 1, 0, h - 1), frame.normals,
                     taps);
-      for (int y = y_begin; y < y_end; ++y)
-        for (int x0 = 0; x0 < W; x0 += simd::kLanes) upsample_block(full, taps, e, s, x0, y, out);
+      for (int y = band_start[size_t(b)]; y < band_start[size_t(b) + 1]; ++y)
+        for (int x0 = 0; x0 < W; x0 += simd::kLanes) upsample_block(full, taps, e, frame, x0, y, out);
     }
   });
 }
