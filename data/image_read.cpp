@@ -2,6 +2,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "data/exr_header_check.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -56,6 +58,14 @@ Image read_image(const std::string& path) {
   if (format.empty())
     throw std::runtime_error(path + ": not a PNG, TIFF, Radiance HDR or OpenEXR file name (.png, .tif, .tiff, "
                              ".hdr, .exr)");
+  // OpenEXR allocates each header attribute at the size the file declares before reading
+  // it (a 200-byte file can ask for 1.7 GB): the project's bounded header pass goes first,
+  // as it does for the dataset reader. Its side limit is raised to read_image's own.
+  if (format == "openexr") {
+    ExrHeaderLimits limits;
+    limits.max_side = kMaxImageSide;
+    check_exr_header(path, limits);
+  }
   auto in = OIIO::ImageInput::create(format, /*do_open=*/false, &config);
   if (!in) throw std::runtime_error(path + ": OpenImageIO has no " + format + " reader (" + OIIO::geterror() + ")");
   OIIO::ImageSpec opened;
@@ -71,7 +81,7 @@ Image read_image(const std::string& path) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw std::runtime_error(path + ": empty image (" + std::to_string(spec.width) + "x" +
                              std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) + " channels)");
-  if (spec.width > 65536 || spec.height > 65536 || values > kMaxImageValues)
+  if (spec.width > kMaxImageSide || spec.height > kMaxImageSide || values > kMaxImageValues)
     throw std::runtime_error(path + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
                              std::to_string(spec.nchannels) + " channels is larger than the " +
                              std::to_string(kMaxImageValues) + " values read at most");

@@ -45,6 +45,8 @@ struct Image {
 
 // The largest image read, in values (width * height * channels): 2^27 floats, 512 MiB.
 inline constexpr long long kMaxImageValues = 1ll << 27;
+// ...and the longest side.
+inline constexpr int kMaxImageSide = 65536;
 
 // Throws "<file>: <problem>": unreadable, truncated, not one of the four formats, deep,
 // too large.

@@ -222,3 +222,22 @@ TEST_F(ImageRead, TruncatedFilesAreRefused) {
     }
   }
 }
+
+// OpenEXR allocates a header attribute at its declared size before reading it: a file of
+// a few dozen bytes declaring a 1.7 GB attribute is refused by the bounded header pass,
+// before OpenImageIO opens it (found by fuzz_image, whose 2 GB limit it overran).
+TEST_F(ImageRead, AnExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrAllocatesIt) {
+  std::string bytes("\x76\x2f\x31\x01\x02\x00\x00\x00", 8);
+  bytes += std::string("capDate\0someType\0", 17);
+  const int32_t declared = 1768712291;
+  bytes.append(reinterpret_cast<const char*>(&declared), 4);
+  bytes += "only a few bytes follow";
+  const std::string p = path("huge-attribute.exr");
+  std::ofstream(p, std::ios::binary) << bytes;
+  try {
+    read_image(p);
+    ADD_FAILURE() << "read";
+  } catch (const std::runtime_error& e) {
+    expect_contains(e.what(), {p + ": malformed EXR header", "declares 1768712291 bytes"});
+  }
+}
