@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     bool scalar = args.get_flag("--scalar", "run the scalar per-pixel reference loops instead of the vectorised ones (to measure the speed-up)");
     args.done();
     set_num_threads(threads);
-    if (data_dir.empty()) data_dir = data::ensure_default_dataset("nnao", threads);
+    if (data_dir.empty()) data_dir = render::ensure_default_dataset("nnao", threads);
     o.data_dir = data_dir, o.model = model, o.out = out, o.methods = methods_flag, o.nnao_samples = nnao_samples;
     o.threads = threads, o.previews = previews, o.max_views = max_views, o.repeat = repeat;
     o.params_file = params_file, o.scalar = scalar;

@@ -24,7 +24,7 @@ namespace {
 // time; "" when none fits.
 std::string pick_from_ladder(const std::string& ladder, double budget_ms, int w, int h, std::string view_file, int threads) {
   if (view_file.empty()) {
-    const data::DatasetListing d = data::list_dataset(data::ensure_default_dataset("nnao", threads));
+    const data::DatasetListing d = data::list_dataset(render::ensure_default_dataset("nnao", threads));
     view_file = d.test.views.empty() ? d.train.views.at(0) : d.test.views[0];
   }
   const data::View view = data::read_view(view_file);

@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     remove_stale_temporaries_of(out);
     if (!png.empty()) remove_stale_temporaries_of(png);
     data::write_view(out, o);
-    if (!png.empty()) data::write_png_gray(png, ao_plane.data(), o.width, o.height);
+    if (!png.empty()) report::write_png_gray(png, ao_plane.data(), o.width, o.height);
     std::printf("%s: %dx%d, %s, %.2f ms\n", out.c_str(), o.width, o.height,
                 samples ? ("shader-style " + std::to_string(samples) + " samples").c_str() : "exact", ms);
     return 0;

@@ -44,9 +44,9 @@ int main(int argc, char** argv) {
       "procedural scene families (default: surround-v4 and v5 all, surround-v3 generations 1-3, nnao-v2 and "
       "surround-v2 generations 1-2, other presets the first eight; generation 3 is corridor, courtyard, multiroom, "
       "generation 4 cloister, basilica: ";
-  for (auto& f : data::scene_families()) families_help += f.name + (&f == &data::scene_families().back() ? ")" : ", ");
+  for (auto& f : render::scene_families()) families_help += f.name + (&f == &render::scene_families().back() ? ")" : ", ");
   cli::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
-  data::DatasetJob job;
+  render::DatasetJob job;
   job.out = args.get_path("--out", "", "output dataset folder (required)");
   job.preset = args.get_choice("--preset", "nnao",
                                {"nnao", "nnao-v2", "gi", "surround", "surround-v2", "surround-v3", "surround-v4",
@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
   args.done();
   if (job.out.empty()) args.error("--out is required"), args.done();
 
-  const bool surround = data::is_surround_preset(job.preset);
+  const bool surround = render::is_surround_preset(job.preset);
   int w = job.preset == "gi" ? 256 : surround ? 64 : 320;
   int h = job.preset == "gi" ? 144 : surround ? 64 : 180;
   if (!size.empty() && !parse_size(size, w, h)) args.error("--size: expected WxH, got '" + size + "'");
@@ -100,11 +100,11 @@ int main(int argc, char** argv) {
     FolderLock lock;
     if (dist::writer()) {
       lock = prepare_output_folder(job.out, "render-dataset");
-      data::prepare_render_folder(job.out, replace);
+      render::prepare_render_folder(job.out, replace);
     }
     dist::barrier();
     set_num_threads(threads);
-    data::DatasetReport r = data::render_dataset(job);
+    render::DatasetReport r = render::render_dataset(job);
     std::vector<double> sums = {double(r.train_views), double(r.test_views), double(r.holdout_views), double(r.rays),
                                 r.render_seconds, r.cpu_seconds};
     dist::sum_over_ranks(sums);  // the report counts every rank's views

@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
     double val_fraction = a.get_double("--validation-fraction", 0.15, "share of train/'s scenes every point is scored on", 0.01, 0.9);
     a.done();
     set_num_threads(threads);
-    if (data_dir.empty()) data_dir = data::ensure_default_dataset("surround", threads);
+    if (data_dir.empty()) data_dir = render::ensure_default_dataset("surround", threads);
     data::require_valid_dataset(data_dir, data::Purpose::gi);
     FolderLock lock = prepare_output_folder(out, "sweep-gan");
     run_gan_sweep({data_dir, out, mode, points_s, loss, arch, residual, sizes, ngfs, levels, epochs, max_frames,

@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     a.done();
     dist::announce_accumulate("train-gan", o.accumulate);
     set_num_threads(threads);
-    if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return data::ensure_default_dataset("surround", threads); });
+    if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return render::ensure_default_dataset("surround", threads); });
     return train_gan(o).exit_code;
   }));
 }

@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
     dist::announce_accumulate("train-nnao", o.accumulate);
     o.quiet = !dist::writer();
     set_num_threads(threads);
-    if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return data::ensure_default_dataset("nnao", threads); });
+    if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return render::ensure_default_dataset("nnao", threads); });
     if (ladder) {
       nnao::train_ladder(o, ladder_rungs);
       return 0;

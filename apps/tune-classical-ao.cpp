@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     args.done();
     set_num_threads(threads);
-    if (data_dir.empty()) data_dir = data::ensure_default_dataset("nnao", threads);
+    if (data_dir.empty()) data_dir = render::ensure_default_dataset("nnao", threads);
     const data::DatasetListing d = data::list_dataset(data_dir);
     // Never the test split: a flat folder has no split to keep apart, so it is refused.
     if (d.flat) throw std::invalid_argument(data_dir + ": no train/ split (tuning must not see the test views)");

@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = dir + "/s" + ext[data[0] % 3];
   fuzz::write_bytes(path, data + 1, size - 1);
   try {
-    data::Scene s = data::load_mesh_scene(path);
+    render::Scene s = render::load_mesh_scene(path);
     for (auto& t : s.triangles)
       for (uint32_t v : t.v)
         if (v >= s.positions.size()) fuzz::finding("a triangle refers past the vertices");

@@ -162,22 +162,22 @@ int main(int argc, char** argv) {
           "{\"step\":30,\"epoch\":3,\"train_loss\":0.001,\"test_m");
   // image: first byte 0 = PNG, 1 = TIFF, 2 = HDR, 3 = EXR (fuzz_image.cpp), the file by
   // the one image writer: what --channel reads, in each type the formats store.
-  auto image = [&](const std::string& name, char format, std::vector<std::string> channels, data::PixelType t) {
+  auto image = [&](const std::string& name, char format, std::vector<std::string> channels, report::PixelType t) {
     const std::string tmp = (dir / ("seed_tmp_" + name)).string();
     std::vector<float> px(size_t(6 * 4) * channels.size());
     for (size_t i = 0; i < px.size(); ++i) px[i] = 0.05f + 0.9f * float((i * 37) % 23) / 22.0f;
-    data::write_image(tmp, 6, 4, channels, px.data(), t);
+    report::write_image(tmp, 6, 4, channels, px.data(), t);
     put(dir / "image" / name, std::string(1, format) + read_file(tmp));
     fs::remove(tmp);
   };
-  image("rgb8.png", 0, {"R", "G", "B"}, data::PixelType::u8);
-  image("grey16.png", 0, {"Y"}, data::PixelType::u16);
-  image("rgba8.png", 0, {"R", "G", "B", "A"}, data::PixelType::u8);
-  image("float.tif", 1, {"R", "G", "B"}, data::PixelType::f32);
-  image("grey16.tif", 1, {"Y"}, data::PixelType::u16);
-  image("light.hdr", 2, {"R", "G", "B"}, data::PixelType::f32);
-  image("names.exr", 3, {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, data::PixelType::f32);
-  image("half.exr", 3, {"Z"}, data::PixelType::f16);
+  image("rgb8.png", 0, {"R", "G", "B"}, report::PixelType::u8);
+  image("grey16.png", 0, {"Y"}, report::PixelType::u16);
+  image("rgba8.png", 0, {"R", "G", "B", "A"}, report::PixelType::u8);
+  image("float.tif", 1, {"R", "G", "B"}, report::PixelType::f32);
+  image("grey16.tif", 1, {"Y"}, report::PixelType::u16);
+  image("light.hdr", 2, {"R", "G", "B"}, report::PixelType::f32);
+  image("names.exr", 3, {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, report::PixelType::f32);
+  image("half.exr", 3, {"Z"}, report::PixelType::f16);
   // classical_params: the file tune-classical-ao writes (classical_ao/params.h).
   {
     ao::ClassicalParams p;

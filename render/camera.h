@@ -8,7 +8,7 @@
 #include "render/sampling.h"
 #include "render/vec3.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct Camera {
   Vec3 eye;
@@ -57,4 +57,4 @@ struct Camera {
   }
 };
 
-}  // namespace nns::data
+}  // namespace nns::render

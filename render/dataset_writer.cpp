@@ -25,7 +25,7 @@
 #include "render/scenes/scene_variation.h"
 #include "render/scenes/texture_variation.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace fs = std::filesystem;
 
@@ -334,9 +334,9 @@ void render_one(const DatasetJob& job, const SceneTask& task, const Scene& scene
   if (is_surround_preset(job.preset)) {
     auto faces = render_surround(rt, cam, w, settings, id, false, &st.stats);
     fs::create_directories(dir / name);
-    for (int i = 0; i < 6; ++i) write_view((dir / name / (cube_face_names()[size_t(i)] + ".exr")).string(), faces[size_t(i)]);
+    for (int i = 0; i < 6; ++i) data::write_view((dir / name / (cube_face_names()[size_t(i)] + ".exr")).string(), faces[size_t(i)]);
   } else {
-    write_view((dir / (name + ".exr")).string(), render_view(rt, cam, settings, id, nullptr, &st.stats));
+    data::write_view((dir / (name + ".exr")).string(), render_view(rt, cam, settings, id, nullptr, &st.stats));
   }
   (task.split == "train" ? st.report.train_views : task.split == "test" ? st.report.test_views : st.report.holdout_views)++;
   ++st.done;
@@ -435,4 +435,4 @@ DatasetReport render_dataset(DatasetJob job) {
   return report;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

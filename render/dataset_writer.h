@@ -11,7 +11,7 @@
 
 #include "render/integrator.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct DatasetJob {
   std::string out;                     // dataset folder (created)
@@ -111,4 +111,4 @@ int rendered_views_in(const std::string& out);
 // beside the new ones), unless `replace`, which removes those views and metadata.txt.
 void prepare_render_folder(const std::string& out, bool replace);
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -11,7 +11,7 @@
 
 #include "core/thread_pool.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace fs = std::filesystem;
 
@@ -139,4 +139,4 @@ std::string ensure_rendered_dataset(DatasetJob job, const std::string& root_dir,
   return final_dir.string();
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -12,7 +12,7 @@
 
 #include "render/dataset_writer.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // Bumped whenever the renderer, the scenes or the sizes below change the pixels; the
 // cache folder is default-<preset>-v<version>. nnao is at 4 (nnao-v2 families, holdout/,
@@ -38,4 +38,4 @@ std::string ensure_default_dataset(const std::string& preset, int threads);
 // marker, else renders `job` to root/name.partial-<pid> and renames it into place.
 std::string ensure_rendered_dataset(DatasetJob job, const std::string& root, const std::string& name, int threads);
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -6,7 +6,7 @@
 
 #include "render/sampling.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 // Packet k of P = ceil(spp / 16) of the shifted Hammersley set of `spp` cosine-weighted
@@ -331,4 +331,4 @@ void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces,
   indirect = ind.mean(spp);
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

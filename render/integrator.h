@@ -8,7 +8,7 @@
 #include "core/rng.h"
 #include "render/ray_tracer.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct RenderSettings {
   int ao_spp = 256;      // AO rays per pixel (cosine-weighted, stratified)
@@ -65,4 +65,4 @@ Vec3 light_sample(const RayTracer& rt, Vec3 p, Vec3 n, Rng& rng, LightVisibility
 void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces, Rng& rng, Vec3& env,
                       Vec3& indirect, float roulette = 0);
 
-}  // namespace nns::data
+}  // namespace nns::render

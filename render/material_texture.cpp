@@ -5,7 +5,7 @@
 
 #include "render/noise.h"
 
-namespace nns::data {
+namespace nns::render {
 
 const char* texture_kind_name(TextureKind k) {
   switch (k) {
@@ -185,4 +185,4 @@ Vec3 textured_albedo(const MaterialTexture& t, Vec3 base, Vec3 p, Vec3 n) {
   return vmin(vmax(a, Vec3(0)), Vec3(kMaxTexturedAlbedo));
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -15,7 +15,7 @@
 
 #include "render/vec3.h"
 
-namespace nns::data {
+namespace nns::render {
 
 enum class TextureKind : uint32_t {
   none,    // the base albedo everywhere (every preset before surround-v4)
@@ -52,4 +52,4 @@ inline constexpr float kMaxTexturedAlbedo = 0.95f;
 // does not depend on the normal's sign, so every ray that reaches p agrees).
 Vec3 textured_albedo(const MaterialTexture& t, Vec3 base, Vec3 p, Vec3 n);
 
-}  // namespace nns::data
+}  // namespace nns::render

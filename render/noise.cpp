@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace nns::data {
+namespace nns::render {
 
 float value_noise(uint64_t seed, float x, float y, float z) {
   // The hash of cell (i, j, k) is seed ^ i*A ^ j*B ^ k*C: the six products of the
@@ -39,4 +39,4 @@ float fbm(uint64_t seed, Vec3 p, int octaves, float lacunarity, float gain) {
   return sum / norm;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -6,7 +6,7 @@
 
 #include "render/vec3.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // Value noise on an integer lattice with a hash of (seed, cell), trilinear with
 // smoothstep weights, in [-1, 1); fbm sums `octaves` of it, each `lacunarity` times
@@ -23,4 +23,4 @@ inline float hash_unit(uint64_t seed, int64_t a, int64_t b, int64_t c = 0) {
   return float(h >> 40) * 0x1.0p-24f;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

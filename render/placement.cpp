@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace nns::data {
+namespace nns::render {
 
 ProbeResult probe_view(const RayTracer& rt, const Camera& cam) {
   Camera probe = cam;
@@ -127,4 +127,4 @@ std::vector<Camera> camera_path(const RayTracer& rt, int width, int height, floa
   return pan;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

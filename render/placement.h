@@ -9,7 +9,7 @@
 #include "render/camera.h"
 #include "render/ray_tracer.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct PlacementRules {
   float max_sky_fraction = 0.3f;     // of probe pixels
@@ -42,4 +42,4 @@ Camera place_camera(const RayTracer& rt, int width, int height, float fov_y_deg,
 std::vector<Camera> camera_path(const RayTracer& rt, int width, int height, float fov_y_deg, int frames, Rng& rng,
                                 const PlacementRules& rules = {});
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 thread_local uint64_t t_rays = 0;
@@ -153,4 +153,4 @@ uint32_t RayTracer::occluded16(Vec3 o, const Vec3* dirs, int count, float tfar) 
   return bits;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -8,7 +8,7 @@
 struct RTCDeviceTy;
 struct RTCSceneTy;
 
-namespace nns::data {
+namespace nns::render {
 
 struct Hit {
   float t = 0;              // distance along the (unit) ray direction
@@ -50,4 +50,4 @@ class RayTracer {
   RTCSceneTy* rtc_scene_ = nullptr;
 };
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -7,7 +7,7 @@
 
 #include "core/thread_pool.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 struct Planes {
@@ -20,13 +20,13 @@ void put(float* const* rgb, size_t i, Vec3 v) {
   rgb[0][i] = v.x, rgb[1][i] = v.y, rgb[2][i] = v.z;
 }
 
-void rgb_planes(View& v, const char* name, float** out) {
+void rgb_planes(data::View& v, const char* name, float** out) {
   static const char* suffix[3] = {".R", ".G", ".B"};
   for (int c = 0; c < 3; ++c) out[c] = v.add_channel(std::string(name) + suffix[c]).data();
 }
 }  // namespace
 
-View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s, uint64_t view_id,
+data::View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s, uint64_t view_id,
                  const Camera* normal_frame, RenderStats* stats) {
   if (cam.width <= 0 || cam.height <= 0) throw std::invalid_argument("render_view: empty image size");
   if (s.lighting && s.indirect && s.bounces < 1) throw std::invalid_argument("render_view: bounces must be >= 1");
@@ -34,7 +34,7 @@ View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s
   const Scene& sc = rt.scene();
   const Camera& nframe = normal_frame ? *normal_frame : cam;
 
-  View v;
+  data::View v;
   v.width = cam.width;
   v.height = cam.height;
   v.fov_y_deg = cam.fov_y_deg;
@@ -102,4 +102,4 @@ View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s
   return v;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

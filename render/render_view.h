@@ -9,7 +9,7 @@
 #include "render/integrator.h"
 #include "data/view.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct RenderStats {
   uint64_t rays = 0;
@@ -19,7 +19,7 @@ struct RenderStats {
 // `normal_frame` (optional) is the camera whose space the normals are written in;
 // surround faces pass the front camera. Sky pixels get Z = inf, N = 0, AO = 1 and the
 // sky's radiance as `emission` (so albedo*(...)+emission is the image everywhere).
-View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& settings, uint64_t view_id,
+data::View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& settings, uint64_t view_id,
                  const Camera* normal_frame = nullptr, RenderStats* stats = nullptr);
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -11,7 +11,7 @@
 
 #include "render/vec3.h"
 
-namespace nns::data {
+namespace nns::render {
 
 inline constexpr float kPi = 3.14159265358979323846f;
 
@@ -60,4 +60,4 @@ inline Vec3 uniform_cone(float u1, float u2, float cos_max) {
   return {s * std::cos(phi), s * std::sin(phi), c};
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

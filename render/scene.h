@@ -13,7 +13,7 @@
 #include "render/material_texture.h"
 #include "render/vec3.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct Material {
   Vec3 albedo{0.7f, 0.7f, 0.7f};  // diffuse reflectance in [0, 1): the base under any texture
@@ -106,4 +106,4 @@ struct Scene {
   }
 };
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace nns::data {
+namespace nns::render {
 
 std::array<Camera, 6> cube_face_cameras(const Camera& f, int size) {
   const Vec3 R = f.right, U = f.up, B = f.back;
@@ -28,10 +28,10 @@ std::array<Camera, 6> cube_face_cameras(const Camera& f, int size) {
   return cams;
 }
 
-std::array<View, 6> render_surround(const RayTracer& rt, const Camera& front, int size, const RenderSettings& s,
+std::array<data::View, 6> render_surround(const RayTracer& rt, const Camera& front, int size, const RenderSettings& s,
                                     uint64_t frame_id, bool gi_on_all_faces, RenderStats* stats) {
   auto cams = cube_face_cameras(front, size);
-  std::array<View, 6> views;
+  std::array<data::View, 6> views;
   for (int i = 0; i < 6; ++i) {
     RenderSettings fs = s;
     if (i != 0 && !gi_on_all_faces) {
@@ -45,4 +45,4 @@ std::array<View, 6> render_surround(const RayTracer& rt, const Camera& front, in
   return views;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -9,7 +9,7 @@
 
 #include "render/render_view.h"
 
-namespace nns::data {
+namespace nns::render {
 
 inline const std::array<std::string, 6>& cube_face_names() {
   static const std::array<std::string, 6> names = {"front", "back", "left", "right", "up", "down"};
@@ -22,7 +22,7 @@ std::array<Camera, 6> cube_face_cameras(const Camera& front, int size);
 // Renders the six faces. Every face gets the G-buffer, AO, direct, emission and env
 // (a surround-aware network must see the sunlit patch behind the camera); the
 // path-traced `indirect` target only `front`, unless gi_on_all_faces (5x the time).
-std::array<View, 6> render_surround(const RayTracer& rt, const Camera& front, int size, const RenderSettings& s,
+std::array<data::View, 6> render_surround(const RayTracer& rt, const Camera& front, int size, const RenderSettings& s,
                                     uint64_t frame_id, bool gi_on_all_faces = false, RenderStats* stats = nullptr);
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace nns::data {
+namespace nns::render {
 
 struct Vec3 {
   float x = 0, y = 0, z = 0;
@@ -46,4 +46,4 @@ struct Accum3 {
   Vec3 mean(double n) const { return n > 0 ? Vec3(float(r / n), float(g / n), float(b / n)) : Vec3(); }
 };
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -17,7 +17,7 @@
 #include "report/html_report.h"
 #include "report/image_write.h"
 
-namespace nns::data {
+namespace nns::report {
 namespace {
 
 const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
@@ -275,4 +275,4 @@ std::string write_chart(const std::string& svg_path, const std::vector<ChartSeri
   return svg_to_png(svg, options.width, options.height, png);
 }
 
-}  // namespace nns::data
+}  // namespace nns::report

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace nns::data {
+namespace nns::report {
 
 struct ChartSeries {
   std::string name;
@@ -30,4 +30,4 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
 std::string write_chart(const std::string& svg_path, const std::vector<ChartSeries>& series,
                         const ChartOptions& options);
 
-}  // namespace nns::data
+}  // namespace nns::report

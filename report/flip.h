@@ -29,7 +29,7 @@
 
 #include "report/image_metrics.h"
 
-namespace nns::data {
+namespace nns::report {
 
 // Pixels per degree for a monitor `width_m` wide with `resolution` pixels across, seen from
 // `distance_m` (paper §4.1): p = d * (r / w) * pi / 180.
@@ -307,4 +307,4 @@ inline double masked_flip(const float* reference, const float* test, const uint8
   return masked_mean(map.data(), mask, int64_t(w) * h);
 }
 
-}  // namespace nns::data
+}  // namespace nns::report

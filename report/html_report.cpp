@@ -6,7 +6,7 @@
 
 #include "core/atomic_file.h"
 
-namespace nns::data {
+namespace nns::report {
 
 std::string html_escape(std::string_view s) {
   std::string o;
@@ -105,7 +105,7 @@ std::string Report::markdown() const {
         for (auto& item : b.s) s += "- " + item + "\n";
         s += "\n";
         break;
-      case Kind::table: s += data::markdown(b.table) + "\n"; break;
+      case Kind::table: s += report::markdown(b.table) + "\n"; break;
       case Kind::chart:
         s += "![" + b.s[1] + "](" + url_path(b.s[0]) + ")\n" + (b.s[2].empty() ? "" : "(" + b.s[2] + ")\n") + "\n";
         break;
@@ -113,7 +113,7 @@ std::string Report::markdown() const {
         Table t{{"image", "numbers", b.comparison.title}, {}};
         for (auto& im : b.comparison.images)
           t.rows.push_back({im.label, im.numbers, "![" + im.label + "](" + url_path(im.file) + ")"});
-        s += data::markdown(t) + "\n";
+        s += report::markdown(t) + "\n";
         break;
       }
     }
@@ -239,4 +239,4 @@ void Report::write(const std::string& dir) const {
   write_file_atomic((d / "report.html").string(), html());
 }
 
-}  // namespace nns::data
+}  // namespace nns::report

@@ -20,7 +20,7 @@
 #include <string_view>
 #include <vector>
 
-namespace nns::data {
+namespace nns::report {
 
 // Text for HTML (element content and quoted attributes): & < > " ' become entities.
 std::string html_escape(std::string_view s);
@@ -76,4 +76,4 @@ class Report {
   std::vector<Block> blocks_;
 };
 
-}  // namespace nns::data
+}  // namespace nns::report

@@ -11,7 +11,7 @@
 
 #include "core/kernels/ssim.h"
 
-namespace nns::data {
+namespace nns::report {
 
 // Mean squared error over the selected pixels; NaN when the mask selects none.
 inline double masked_mse(const float* a, const float* b, const uint8_t* mask, int64_t n) {
@@ -72,4 +72,4 @@ inline double masked_gradient_error(const float* a, const float* b, const uint8_
   return count ? s / double(count) : std::numeric_limits<double>::quiet_NaN();
 }
 
-}  // namespace nns::data
+}  // namespace nns::report

@@ -8,7 +8,7 @@
 
 #include "core/atomic_file.h"
 
-namespace nns::data {
+namespace nns::report {
 namespace {
 
 constexpr uint8_t kNonFinite[3] = {255, 0, 255};
@@ -128,4 +128,4 @@ void write_png_heatmap(const std::string& path, const float* v, int w, int h, fl
   write_png_rgb8(path, rgb.data(), w, h);
 }
 
-}  // namespace nns::data
+}  // namespace nns::report

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace nns::data {
+namespace nns::report {
 
 // Tone map for HDR lighting: c' = exposure * c; Reinhard c'/(1+c') (keeps highlights
 // from clipping); then the sRGB transfer curve (IEC 61966-2-1) for display. With
@@ -52,4 +52,4 @@ void write_image(const std::string& path, int width, int height, const std::vect
 void heatmap_colour(float t, uint8_t rgb[3]);   // t in [0,1]
 uint8_t srgb_encode(float linear);               // [0,1] linear -> 0..255 sRGB
 
-}  // namespace nns::data
+}  // namespace nns::report

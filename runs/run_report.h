@@ -19,13 +19,13 @@ namespace nns::runs {
 
 // The run's metrics, one row per epoch (its last record), at most `max_rows` rows evenly
 // spaced over the epochs (the last always shown): a 200-epoch run stays one screen.
-inline data::Table epoch_table(const std::vector<MetricsRecord>& records, size_t max_rows = 25) {
+inline report::Table epoch_table(const std::vector<MetricsRecord>& records, size_t max_rows = 25) {
   std::vector<const MetricsRecord*> last;  // per epoch
   for (auto& r : records) {
     if (!last.empty() && last.back()->epoch == r.epoch) last.back() = &r;
     else last.push_back(&r);
   }
-  data::Table t{{"epoch", "step"}, {}};
+  report::Table t{{"epoch", "step"}, {}};
   if (last.empty()) return t;
   for (auto& [k, v] : last.back()->values) t.header.push_back(k);
   const size_t n = last.size(), shown = std::min(n, max_rows);
@@ -70,25 +70,25 @@ struct RunOutcome {
 };
 
 // `add` puts the trainer's own blocks (charts, sample images) after the outcome.
-inline data::Report training_report(const RunOutcome& o, const std::vector<MetricsRecord>& records,
-                                    const std::vector<std::pair<std::string, std::string>>& config, const std::function<void(data::Report&)>& add) {
-  data::Report r(o.app + " run");
+inline report::Report training_report(const RunOutcome& o, const std::vector<MetricsRecord>& records,
+                                    const std::vector<std::pair<std::string, std::string>>& config, const std::function<void(report::Report&)>& add) {
+  report::Report r(o.app + " run");
   const std::string done = count_of(o.epochs_done, "epoch") + ", " + count_of(o.steps, "step");
   r.text(o.stop_message.empty() ? "**Finished**: " + done + "."
                                 : "**Stopped** after " + done + ": " + o.stop_message + ".");
   if (add) add(r);
-  data::Table figures{{"figure", "value"}, {}};
+  report::Table figures{{"figure", "value"}, {}};
   for (auto& [k, v] : o.figures) {
     char b[32];
     std::snprintf(b, sizeof b, "%.6g", v);
     figures.rows.push_back({k, std::isfinite(v) ? b : "–"});
   }
   r.heading("Figures").text("As in summary.json.").table(figures);
-  const data::Table epochs = epoch_table(records);
+  const report::Table epochs = epoch_table(records);
   r.heading("Metrics per epoch").text("The last record of each epoch (every record: metrics.jsonl).");
   if (epochs.rows.empty()) r.text("No epoch finished.");
   else r.table(epochs);
-  data::Table c{{"setting", "value"}, {}};
+  report::Table c{{"setting", "value"}, {}};
   for (auto& [k, v] : config) c.rows.push_back({k, readable_value(v)});
   r.heading("Configuration").text("What the checkpoint records; a --resume must match it.").table(c);
   return r;

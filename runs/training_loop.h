@@ -144,7 +144,7 @@ class TrainingLoop {
   // summary.json and the report, with the exchange's figures when there was one.
   // Returns the exit status: 0 finished, 3 stopped on a non-finite value.
   int finish(const std::string& stop_message, std::vector<std::pair<std::string, double>> figures,
-             const std::function<void(data::Report&)>& add_to_report = {}) {
+             const std::function<void(report::Report&)>& add_to_report = {}) {
     if (sync_) dist::add_sync_figures(*sync_, figures);
     return run_.finish(stop_message, figures, add_to_report);
   }

@@ -154,7 +154,7 @@ class TrainingRun {
   // add_to_report puts the trainer's charts and images on the page. Returns the exit
   // status: 0 finished, 3 stopped on a non-finite value.
   int finish(const std::string& stop_message, const std::vector<std::pair<std::string, double>>& figures,
-             const std::function<void(data::Report&)>& add_to_report = {}) {
+             const std::function<void(report::Report&)>& add_to_report = {}) {
     const bool finished = stop_message.empty();
     if (!writes_files()) return finished ? 0 : 3;
     std::string js = "{\"finished\":" + std::string(finished ? "true" : "false") +

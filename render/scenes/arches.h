@@ -3,7 +3,7 @@
 // families_architecture.cpp): round columns, arch pieces and barrel vaults.
 #include "render/scenes/family_kit.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // A round column standing on `base`: a square plinth, a half-round base moulding, a
 // shaft of radius r with entasis, a capital flaring to a square abacus (1.4 r half-size)
@@ -20,4 +20,4 @@ void add_arch_piece(Scene& s, Vec3 origin, Vec3 eu, Vec3 ev, Vec3 depth, float s
 void add_barrel_vault(Scene& s, Vec3 start, Vec3 axis, float len, float r, float th, int steps, uint32_t m,
                       const SceneStyle& st);
 
-}  // namespace nns::data
+}  // namespace nns::render

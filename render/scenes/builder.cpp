@@ -4,7 +4,7 @@
 
 #include "render/sampling.h"
 
-namespace nns::data {
+namespace nns::render {
 
 void add_quad(Scene& s, Vec3 p, Vec3 e1, Vec3 e2, uint32_t material) {
   uint32_t b = uint32_t(s.positions.size());
@@ -65,4 +65,4 @@ void add_beam(Scene& s, Vec3 a, Vec3 b, float thickness, uint32_t material) {
   add_parallelepiped(s, a + axis, f.t * (thickness * 0.5f), f.b * (thickness * 0.5f), axis, material);
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

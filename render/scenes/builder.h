@@ -5,7 +5,7 @@
 
 #include "render/scene.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // Parallelogram p, p+e1, p+e1+e2, p+e2.
 void add_quad(Scene& s, Vec3 p, Vec3 e1, Vec3 e2, uint32_t material);
@@ -19,4 +19,4 @@ void add_cylinder(Scene& s, Vec3 base, float radius, float height, int sides, ui
 // railings, poles at any angle).
 void add_beam(Scene& s, Vec3 a, Vec3 b, float thickness, uint32_t material);
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace nns::data {
+namespace nns::render {
 
 const std::vector<SceneFamily>& scene_families() {
   static const std::vector<SceneFamily> all = {
@@ -61,4 +61,4 @@ Scene make_family_scene(const std::string& family, int instance, uint64_t seed) 
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -9,7 +9,7 @@
 
 #include "render/scene.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct SceneFamily {
   std::string name;
@@ -63,4 +63,4 @@ Scene make_multiroom(uint64_t seed);
 Scene make_cloister(uint64_t seed);
 Scene make_basilica(uint64_t seed);
 
-}  // namespace nns::data
+}  // namespace nns::render

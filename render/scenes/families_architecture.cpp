@@ -4,7 +4,7 @@
 #include "render/scenes/arches.h"
 #include "render/scenes/family_kit.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // Columns, arches and barrel vaults (declared in arches.h: the generation-4 halls use
 // them too).
@@ -179,9 +179,9 @@ Scene make_vaults(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 // A parked car along z: a rounded body, a rounded cabin, four round wheels.
@@ -282,4 +282,4 @@ Scene make_street(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

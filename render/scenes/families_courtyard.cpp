@@ -7,7 +7,7 @@
 #include "render/scenes/family_kit.h"
 #include "render/scenes/wing_frame.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 struct Materials {
@@ -142,4 +142,4 @@ Scene make_courtyard(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -7,7 +7,7 @@
 #include "render/scenes/family_kit.h"
 #include "render/scenes/wing_frame.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 // A door in the wall plane u = `u` of a wing (facing -u, towards the walk): a dark
@@ -255,4 +255,4 @@ Scene make_basilica(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

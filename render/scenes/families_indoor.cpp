@@ -3,7 +3,7 @@
 #include "render/scenes/families.h"
 #include "render/scenes/family_kit.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 // Furniture and clutter on the floor of [-hx, hx] x [-hz, hz]: tables with things on
@@ -123,4 +123,4 @@ Scene make_window_room(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -4,7 +4,7 @@
 #include "render/scenes/families.h"
 #include "render/scenes/family_kit.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // A living room: sofas and armchairs of bevelled boxes and cushions, round tables with
 // turned objects on them, chairs on round legs, bookshelves of uneven books, a rug,
@@ -214,4 +214,4 @@ Scene make_stairwell(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

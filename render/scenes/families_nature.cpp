@@ -3,7 +3,7 @@
 #include "render/scenes/families.h"
 #include "render/scenes/family_kit.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 // A leaf: a thin diamond (two triangles) around `c`, random orientation, one-sided
@@ -180,4 +180,4 @@ Scene make_cave(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

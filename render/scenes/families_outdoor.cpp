@@ -5,7 +5,7 @@
 #include "render/scenes/families.h"
 #include "render/scenes/family_util.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 void add_ground(Scene& s, Rng& rng, float half) {
@@ -256,4 +256,4 @@ Scene make_offscreen(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -6,7 +6,7 @@
 #include "render/scenes/family_kit.h"
 #include "render/scenes/floor_plan.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 // Windows along an outside wall: the span cut into pieces of about 3 m, each with
@@ -283,4 +283,4 @@ Scene make_multiroom(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -3,7 +3,7 @@
 #include "render/scenes/families.h"
 #include "render/scenes/family_kit.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // Round solids of every size (0.2-3 m) on a plaza: spheres resting on the ground (a
 // contact point AO must darken), standing and lying tori, capsules, cones, domes,
@@ -147,4 +147,4 @@ Scene make_pipes(uint64_t seed) {
   return s;
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

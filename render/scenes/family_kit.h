@@ -9,7 +9,7 @@
 #include "render/scenes/family_util.h"
 #include "render/scenes/mesh_builder.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // What real scenes vary and a family should not fix: whether curved parts carry
 // interpolated normals (3 scenes in 4; the rest are faceted like low-poly assets),
@@ -188,4 +188,4 @@ inline float add_random_object(Scene& s, Rng& rng, float x, float z, float floor
   }
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

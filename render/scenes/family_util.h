@@ -6,7 +6,7 @@
 #include "render/sampling.h"
 #include "render/scenes/builder.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // A muted random colour: albedo in [lo, hi] per channel, around a random hue.
 inline Material random_material(Rng& rng, float lo = 0.2f, float hi = 0.85f) {
@@ -67,4 +67,4 @@ inline void add_table(Scene& s, Vec3 c, float w, float d, float h, float yaw, ui
   }
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

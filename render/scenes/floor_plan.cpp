@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 // The four edges of a space, as spans on their lines.
@@ -84,4 +84,4 @@ void build_plan(Scene& s, const FloorPlan& p, uint32_t wall, uint32_t floor, uin
   }
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

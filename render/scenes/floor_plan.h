@@ -10,7 +10,7 @@
 
 #include "render/scenes/family_util.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct PlanRect {
   float x0, z0, x1, z1;  // a space's edges = its walls' centre lines
@@ -59,4 +59,4 @@ inline PlanRect interior(const FloorPlan& p, size_t i, float margin = 0) {
   return {r.x0 + m, r.z0 + m, r.x1 - m, r.z1 - m};
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -7,7 +7,7 @@
 #include "render/sampling.h"
 #include "render/scenes/builder.h"
 
-namespace nns::data {
+namespace nns::render {
 
 void smooth_normals(Scene& s, uint32_t first_vertex, size_t first_triangle) {
   pad_normals(s);
@@ -257,4 +257,4 @@ void add_groin_vault(Scene& s, Vec3 c, float R, int steps, uint32_t m, bool smoo
     }
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

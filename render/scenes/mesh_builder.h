@@ -16,7 +16,7 @@
 #include "render/noise.h"  // value_noise, fbm: displacement
 #include "render/scene.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // A point of a lathe profile: distance from the axis and height along it.
 struct ProfilePoint {
@@ -83,4 +83,4 @@ void smooth_normals(Scene& s, uint32_t first_vertex, size_t first_triangle);
 // Pads Scene::normals with zero (flat) normals up to the current vertex count.
 inline void pad_normals(Scene& s) { s.normals.resize(s.positions.size()); }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -14,7 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 std::runtime_error error(const std::string& path, const std::string& what) {
@@ -268,4 +268,4 @@ void check_unique_scene_names(const std::vector<std::string>& paths) {
   }
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -13,7 +13,7 @@
 
 #include "render/scene.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // Throws "<file>: <problem>" for unreadable, unsupported or empty files, and for
 // vertices that are not finite (after the glTF node transforms).
@@ -27,4 +27,4 @@ std::string mesh_scene_name(const std::string& path);
 // both files.
 void check_unique_scene_names(const std::vector<std::string>& paths);
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -5,7 +5,7 @@
 
 #include "render/sampling.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 
@@ -78,4 +78,4 @@ void vary_materials_and_lights(Scene& s, Rng& rng, const LightingVariation& v) {
   }
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

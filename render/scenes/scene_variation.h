@@ -8,7 +8,7 @@
 #include "core/rng.h"
 #include "render/scene.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct LightingVariation {
   // Albedo: grey-ish in [grey_min, grey_max] (real walls, floors, stone: 0.05-0.85),
@@ -35,4 +35,4 @@ struct LightingVariation {
 // Redraws materials and lights of `s` from `rng` (docs/renderer.md, "surround-v2").
 void vary_materials_and_lights(Scene& s, Rng& rng, const LightingVariation& v = {});
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -4,7 +4,7 @@
 
 #include "render/sampling.h"
 
-namespace nns::data {
+namespace nns::render {
 
 namespace {
 float log_uniform(Rng& rng, float lo, float hi) {
@@ -77,4 +77,4 @@ void vary_textures(Scene& s, Rng& rng, const TextureVariation& v) {
   }
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -8,7 +8,7 @@
 #include "core/rng.h"
 #include "render/scene.h"
 
-namespace nns::data {
+namespace nns::render {
 
 struct TextureVariation {
   float share = 0.75f;  // materials that get a texture
@@ -25,4 +25,4 @@ void vary_textures(Scene& s, Rng& rng, const TextureVariation& v = {});
 // One texture of kind `k` with its kind's ranges of scale, aspect, joints (exposed for tests).
 MaterialTexture draw_texture(TextureKind k, Rng& rng, const TextureVariation& v = {});
 
-}  // namespace nns::data
+}  // namespace nns::render

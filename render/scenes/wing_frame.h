@@ -6,7 +6,7 @@
 
 #include "render/scenes/family_util.h"
 
-namespace nns::data {
+namespace nns::render {
 
 // A wing's frame: u across it (0 on the courtyard facade's centre line, growing away
 // from the court), v along it; wing k is turned k quarter turns about +y. Boxes stay
@@ -52,4 +52,4 @@ inline Vec3 wing_v(const Wing& w) {
   return d[w.k & 3];
 }
 
-}  // namespace nns::data
+}  // namespace nns::render

@@ -64,12 +64,12 @@ inline const ParetoRow* find_row(const std::vector<ParetoRow>& rows, const std::
 
 // The report's section: the classical settings, each with the NNAO setting that beats it
 // at no more time (its time and errors beside), and the front in order of time.
-inline void add_pareto_section(data::Report& r, const std::vector<ParetoRow>& rows) {
+inline void add_pareto_section(report::Report& r, const std::vector<ParetoRow>& rows) {
   int classical = 0, beaten = 0;
   bool any_nnao = false;
   for (auto& q : rows) any_nnao |= q.is_nnao();
   if (!any_nnao) return;
-  data::Table t{{"classical setting", "ms", "MSE", "SSIM", "beaten at no more time by", "its ms", "its MSE", "its SSIM"}, {}};
+  report::Table t{{"classical setting", "ms", "MSE", "SSIM", "beaten at no more time by", "its ms", "its MSE", "its SSIM"}, {}};
   for (auto& q : rows) {
     if (q.is_nnao()) continue;
     ++classical;
@@ -85,7 +85,7 @@ inline void add_pareto_section(data::Report& r, const std::vector<ParetoRow>& ro
          "threads, with lower MSE and higher SSIM (the fastest such NNAO setting is named). pareto.csv lists every "
          "setting and whether it is on the front (no other setting at least as fast and at least as accurate in MSE).");
   r.table(t);
-  data::Table f{{"on the front", "ms", "MSE", "SSIM"}, {}};
+  report::Table f{{"on the front", "ms", "MSE", "SSIM"}, {}};
   std::vector<const ParetoRow*> front;
   for (auto& q : rows)
     if (q.on_front) front.push_back(&q);

@@ -57,12 +57,12 @@ inline std::string fmt(double v, int prec = 6) {
 
 // before_view(view_file) runs before the methods on a view (shader-style NNAO's jitter
 // seed follows the frame number). Error heat-maps saturate at 0.5 (white).
-inline std::vector<data::Comparison> write_ao_previews(const std::vector<std::string>& views, int count,
+inline std::vector<report::Comparison> write_ao_previews(const std::vector<std::string>& views, int count,
                                                       const std::vector<Method>& methods,
                                                       const std::string& out,
                                                       const std::function<void(const std::string&)>& before_view) {
   namespace fs = std::filesystem;
-  std::vector<data::Comparison> comparisons;
+  std::vector<report::Comparison> comparisons;
   const size_t n = std::min(views.size(), size_t(std::max(count, 0)));
   for (size_t k = 0; k < n; ++k) {
     const size_t v = k * views.size() / n;
@@ -73,9 +73,9 @@ inline std::vector<data::Comparison> write_ao_previews(const std::vector<std::st
     for (int64_t i = 0; i < g.pixels(); ++i) mask[size_t(i)] = !g.sky(i);
     const std::string stem =
         fs::path(views[v]).parent_path().filename().string() + "_" + fs::path(views[v]).stem().string();
-    data::Comparison c{view.scene + " — " + fs::path(views[v]).filename().string(), {}};
+    report::Comparison c{view.scene + " — " + fs::path(views[v]).filename().string(), {}};
     c.images.push_back({"ray-traced AO (ground truth)", "previews/" + stem + "_ground_truth.png", ""});
-    data::write_png_gray((fs::path(out) / c.images.back().file).string(), gt.data(), g.width, g.height);
+    report::write_png_gray((fs::path(out) / c.images.back().file).string(), gt.data(), g.width, g.height);
     before_view(views[v]);
     std::vector<float> result(size_t(g.pixels())), err(result.size());
     for (auto& m : methods) {
@@ -83,10 +83,10 @@ inline std::vector<data::Comparison> write_ao_previews(const std::vector<std::st
       for (size_t i = 0; i < err.size(); ++i) err[i] = mask[i] ? std::abs(result[i] - gt[i]) : 0.0f;
       const std::string base = "previews/" + stem + "_" + safe(m.name) + "_" + safe(m.label());
       const std::string numbers =
-          "MSE " + fmt(data::masked_mse(result.data(), gt.data(), mask.data(), g.pixels()), 4) + ", SSIM " +
-          fmt(data::masked_ssim(result.data(), gt.data(), mask.data(), g.width, g.height), 4);
-      data::write_png_gray((fs::path(out) / (base + ".png")).string(), result.data(), g.width, g.height);
-      data::write_png_heatmap((fs::path(out) / (base + "_error.png")).string(), err.data(), g.width, g.height, 0.5f);
+          "MSE " + fmt(report::masked_mse(result.data(), gt.data(), mask.data(), g.pixels()), 4) + ", SSIM " +
+          fmt(report::masked_ssim(result.data(), gt.data(), mask.data(), g.width, g.height), 4);
+      report::write_png_gray((fs::path(out) / (base + ".png")).string(), result.data(), g.width, g.height);
+      report::write_png_heatmap((fs::path(out) / (base + "_error.png")).string(), err.data(), g.width, g.height, 0.5f);
       const std::string label = m.name + ", " + (m.setting.empty() ? std::to_string(m.samples) + " samples" : m.setting);
       c.images.push_back({label, base + ".png", numbers});
       c.images.push_back({label + ": error", base + "_error.png", numbers + "; |AO - truth| black 0, white 0.5"});

@@ -241,15 +241,15 @@ struct ViewScoring {
   // flicker against the previous frame, and the frame kept for the next.
   void score(MethodStats& st, const std::vector<float>& res) const {
     const std::string family = data::scene_family_of(view.scene);
-    const double mse = data::masked_mse(res.data(), gt.data(), mask.data(), g.pixels());
-    const double ssim = data::masked_ssim(res.data(), gt.data(), mask.data(), g.width, g.height);
+    const double mse = report::masked_mse(res.data(), gt.data(), mask.data(), g.pixels());
+    const double ssim = report::masked_ssim(res.data(), gt.data(), mask.data(), g.width, g.height);
     if (px > 0) {
       st.all.add(mse, px, ssim);
       st.by_scene[view.scene].add(mse, px, ssim);
       st.by_family[family].add(mse, px, ssim);
     }
     for (size_t b = 0; b < bands.masks.size(); ++b)
-      if (band_pixels[b]) st.bands[b].add(data::masked_mse(res.data(), gt.data(), bands.masks[b].data(), g.pixels()), band_pixels[b], 0);
+      if (band_pixels[b]) st.bands[b].add(report::masked_mse(res.data(), gt.data(), bands.masks[b].data(), g.pixels()), band_pixels[b], 0);
     if (same_path && !st.previous.empty()) {
       st.temporal.add_pair(to_prev, res.data(), st.previous.data(), gt.data(), prev_gt);
       st.temporal_by_family[family].add_pair(to_prev, res.data(), st.previous.data(), gt.data(), prev_gt);
@@ -371,9 +371,9 @@ inline std::string write_tables(const EvalAoOptions& o, const Evaluation& ev) {
     const auto& st = ev.stats[m];
     const std::string nm = methods[m].name, ns = std::to_string(methods[m].samples);
     const double ms = median(st.ms), mse = st.all.mse();
-    csv += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(mse) + "," + fmt(st.all.ssim()) + "," + fmt(data::psnr_from_mse(mse), 5) + "," + methods[m].setting + "\n";
+    csv += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(mse) + "," + fmt(st.all.ssim()) + "," + fmt(report::psnr_from_mse(mse), 5) + "," + methods[m].setting + "\n";
     for (auto& [scene, sc] : st.by_scene)
-      by_scene += nm + "," + ns + "," + scene + "," + std::to_string(sc.views) + "," + fmt(sc.mse()) + "," + fmt(sc.ssim()) + "," + fmt(data::psnr_from_mse(sc.mse()), 5) + "\n";
+      by_scene += nm + "," + ns + "," + scene + "," + std::to_string(sc.views) + "," + fmt(sc.mse()) + "," + fmt(sc.ssim()) + "," + fmt(report::psnr_from_mse(sc.mse()), 5) + "\n";
     for (size_t b = 0; b < st.bands.size(); ++b)
       band_csv += nm + "," + ns + "," + ev.band_names[b] + "," + std::to_string(st.bands[b].pixels) + "," + fmt(st.bands[b].mse()) + "\n";
     if (st.temporal.pairs) {
@@ -393,10 +393,10 @@ inline std::string write_tables(const EvalAoOptions& o, const Evaluation& ev) {
 }
 
 // results_by_family.csv and its table for the report: each method at its best setting.
-inline data::Table write_family_table(const EvalAoOptions& o, const Evaluation& ev) {
+inline report::Table write_family_table(const EvalAoOptions& o, const Evaluation& ev) {
   const auto best = best_settings(ev);
   std::string by_family = "family,method,samples,views,mse,ssim,flicker,ground_truth_flicker\n";
-  data::Table table{{"family", "method", "samples", "MSE", "SSIM", "flicker (x ground truth)"}, {}};
+  report::Table table{{"family", "method", "samples", "MSE", "SSIM", "flicker (x ground truth)"}, {}};
   std::set<std::string> families;
   for (auto& st : ev.stats)
     for (auto& [fam, sc] : st.by_family) families.insert(fam);
@@ -429,7 +429,7 @@ struct ChartNotes {
 
 inline ChartNotes write_charts(const EvalAoOptions& o, const Evaluation& ev) {
   const auto& methods = ev.list.methods;
-  std::map<std::string, data::ChartSeries> series, flicker_series;
+  std::map<std::string, report::ChartSeries> series, flicker_series;
   const std::vector<std::string> order = method_order(ev);
   // Each method's points in order of time, so that a curve (an NNAO ladder too) reads
   // left to right.
@@ -461,27 +461,27 @@ inline ChartNotes write_charts(const EvalAoOptions& o, const Evaluation& ev) {
     for (auto* s : {&series, &flicker_series})
       if (s->count(ta)) (*s)[ta].colour = colour, (*s)[ta].dashed = true, (*s)[ta].point_labels.clear();
   }
-  std::vector<data::ChartSeries> chart, flicker_chart;
+  std::vector<report::ChartSeries> chart, flicker_chart;
   for (auto& n : order) {
     chart.push_back(series[n]);
     if (flicker_series.count(n)) flicker_chart.push_back(flicker_series[n]);
   }
-  data::ChartOptions co;
+  report::ChartOptions co;
   co.title = "AO: error against time (" + std::to_string(ev.width) + "x" + std::to_string(ev.height) + ", " + std::to_string(o.threads) + " threads)";
   co.x_label = "ms per frame (median over views)";
   co.y_label = "MSE vs ray-traced AO (non-sky pixels)";
   co.log_x = true;
   ChartNotes notes;
-  notes.accuracy = data::write_chart((fs::path(o.out) / "speed_vs_accuracy.svg").string(), chart, co);
+  notes.accuracy = report::write_chart((fs::path(o.out) / "speed_vs_accuracy.svg").string(), chart, co);
   if (!notes.accuracy.empty()) std::fprintf(stderr, "eval-ao: note: %s\n", notes.accuracy.c_str());
   // The second chart: flicker (relative to the ground truth's, 1 = as stable as the
   // truth) against the same time axis, for the methods measured on camera paths.
   if (!flicker_chart.empty()) {
     notes.has_flicker = true;
-    data::ChartOptions fo = co;
+    report::ChartOptions fo = co;
     fo.title = "AO: flicker against time (camera paths, reprojected)";
     fo.y_label = "flicker / ground truth's flicker";
-    notes.flicker = data::write_chart((fs::path(o.out) / "flicker_vs_time.svg").string(), flicker_chart, fo);
+    notes.flicker = report::write_chart((fs::path(o.out) / "flicker_vs_time.svg").string(), flicker_chart, fo);
     if (!notes.flicker.empty()) std::fprintf(stderr, "eval-ao: note: %s\n", notes.flicker.c_str());
   }
   return notes;
@@ -550,7 +550,7 @@ inline void write_report(const EvalAoOptions& o, const Evaluation& ev, const Eva
     const bool on_path = !camera_path_of(view_file, frame).empty();
     in.pattern_seed = o.vary_pattern && on_path ? uint32_t(frame) : 0u;
   });
-  data::Report r("AO evaluation");
+  report::Report r("AO evaluation");
   r.text("Data: " + views.note + " — " + std::to_string(views.files.size()) + " views at " + std::to_string(ev.width) + "x" +
          std::to_string(ev.height) + ", " + std::to_string(o.threads) + " threads, classical parameters: " +
          (o.params_file.empty() ? std::string("built-in") : o.params_file) +
@@ -565,12 +565,12 @@ inline void write_report(const EvalAoOptions& o, const Evaluation& ev, const Eva
   }
   r.heading("Speed against accuracy");
   r.chart("speed_vs_accuracy.svg", "speed vs accuracy", notes.accuracy);
-  data::Table results{{"method", "setting", "ms/frame", "CPU ms/frame", "threads used", "MSE", "SSIM", "PSNR"}, {}};
+  report::Table results{{"method", "setting", "ms/frame", "CPU ms/frame", "threads used", "MSE", "SSIM", "PSNR"}, {}};
   for (size_t m = 0; m < methods.size(); ++m) {
     const double ms = median(ev.stats[m].ms), cpu = median(ev.stats[m].cpu_ms);
     results.rows.push_back({methods[m].name, methods[m].label(), fmt(ms, 4), fmt(cpu, 4), fmt(cpu / ms, 3),
                             fmt(ev.stats[m].all.mse(), 4), fmt(ev.stats[m].all.ssim(), 4),
-                            fmt(data::psnr_from_mse(ev.stats[m].all.mse()), 4)});
+                            fmt(report::psnr_from_mse(ev.stats[m].all.mse()), 4)});
   }
   r.table(results);
   add_pareto_section(r, front);
@@ -581,7 +581,7 @@ inline void write_report(const EvalAoOptions& o, const Evaluation& ev, const Eva
   r.heading("Failure bands (MSE)")
       .text("halo: within 3 px of a depth discontinuity; border: within 8% of the width of the screen edge; thin: "
             "surfaces under 6 px across. See failure_bands.csv.");
-  data::Table band_table{{"method", "setting"}, {}};
+  report::Table band_table{{"method", "setting"}, {}};
   for (auto& b : ev.band_names) band_table.header.push_back(b);
   for (size_t m = 0; m < methods.size(); ++m) {
     band_table.rows.push_back({methods[m].name, methods[m].label()});
@@ -601,7 +601,7 @@ inline void write_report(const EvalAoOptions& o, const Evaluation& ev, const Eva
     r.text("Ground truth flicker " + fmt(ev.gt_temporal.flicker(), 4) + " over " + std::to_string(ev.gt_temporal.pairs) +
            " frame pairs (" + fmt(100 * ev.gt_temporal.coverage(), 3) + "% of pixels mapped).");
     if (notes.has_flicker) r.chart("flicker_vs_time.svg", "flicker vs time", notes.flicker);
-    data::Table t_table{{"method", "setting", "flicker", "relative to ground truth", "temporal error"}, {}};
+    report::Table t_table{{"method", "setting", "flicker", "relative to ground truth", "temporal error"}, {}};
     for (size_t m = 0; m < methods.size(); ++m) {
       const auto& t = ev.stats[m].temporal;
       if (t.pairs)

@@ -71,13 +71,13 @@ inline void write_filter_images(const NnaoWeights& m, const std::string& dir) {
       rgb[c].resize(p[0].size());
       for (size_t i = 0; i < p[0].size(); ++i) rgb[c][i] = 0.5f + 0.5f * p[size_t(c)][i] / mn;
     }
-    data::write_png_gray(base + "_depth.png", p[3].data(), w, w, -md, md);
+    report::write_png_gray(base + "_depth.png", p[3].data(), w, w, -md, md);
     // Linear RGB through the sRGB curve would distort the sign around 0.5: write bytes.
     std::vector<uint8_t> rgb8(size_t(w) * w * 3);
     for (size_t i = 0; i < p[0].size(); ++i)
       for (int c = 0; c < 3; ++c)
         rgb8[i * 3 + size_t(c)] = uint8_t(std::lround(255 * std::min(1.0f, std::max(0.0f, rgb[c][i]))));
-    data::write_png_rgb8(base + ".png", rgb8.data(), w, w);
+    report::write_png_rgb8(base + ".png", rgb8.data(), w, w);
     for (int c = 0; c < 4; ++c)
       for (int j = 0; j < w; ++j)
         for (int i = 0; i < w; ++i)

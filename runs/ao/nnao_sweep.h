@@ -96,7 +96,7 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<i
         (!pick || std::pair(e.samples, e.parameters) < std::pair(pick->samples, pick->parameters)))
       pick = &e;
   std::string csv = size_name + ",hidden,samples,parameters,val_mse,test_mse,ms_per_frame\n";
-  std::map<int, data::ChartSeries> by_hidden;
+  std::map<int, report::ChartSeries> by_hidden;
   for (auto& e : entries) {
     char line[160];
     std::snprintf(line, sizeof line, "%d,%d,%d,%lld,%.6g,%.6g,%.4g\n", e.size, e.hidden, e.samples, (long long)e.parameters, e.val_mse, e.test_mse, e.ms_per_frame);
@@ -108,14 +108,14 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<i
     s.point_labels.push_back(tag + std::to_string(e.size));
   }
   write_file_atomic((dir / "sweep.csv").string(), csv);
-  std::vector<data::ChartSeries> series;
+  std::vector<report::ChartSeries> series;
   for (auto& [h, s] : by_hidden) series.push_back(s);
-  data::ChartOptions co;
+  report::ChartOptions co;
   co.title = "NNAO size ladder: validation error vs exact inference time";
   co.x_label = "ms per frame (exact inference, " + std::to_string(g.width) + "x" + std::to_string(g.height) + ")";
   co.y_label = "validation MSE";
   co.log_x = true;
-  data::write_chart((dir / "sweep.svg").string(), series, co);
+  report::write_chart((dir / "sweep.svg").string(), series, co);
   char setup[256];
   std::snprintf(setup, sizeof setup, "%d epochs each, gamma %g, %d training points per view, batch %d, seed %llu",
                 base.epochs, base.gamma, base.points_per_view, base.batch, (unsigned long long)base.seed);

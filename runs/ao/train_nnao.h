@@ -321,19 +321,19 @@ inline runs::RunSpec run_spec(const TrainOptions& o, const data::DatasetListing&
 // two units, so each on an axis of its own.
 inline void write_loss_chart(runs::TrainingRun& run) {
   const auto& log = run.metrics();
-  data::ChartOptions co;
+  report::ChartOptions co;
   co.title = "NNAO training loss";
   co.x_label = "epoch";
   co.y_label = "MSE + gamma |theta| (standardised)";
   co.log_y = true;
-  data::write_chart(run.path("loss.svg"), {{"train loss", log.series("epoch"), log.series("train_loss"), {}}}, co);
+  report::write_chart(run.path("loss.svg"), {{"train loss", log.series("epoch"), log.series("train_loss"), {}}}, co);
   co.title = "NNAO held-out error";
   co.y_label = "MSE (AO units)";
-  std::vector<data::ChartSeries> mse = {{"test MSE", log.series("epoch"), log.series("test_mse"), {}}};
+  std::vector<report::ChartSeries> mse = {{"test MSE", log.series("epoch"), log.series("test_mse"), {}}};
   const std::vector<double> val = log.series("val_mse");
   if (std::any_of(val.begin(), val.end(), [](double v) { return std::isfinite(v); }))
     mse.push_back({"validation MSE", log.series("epoch"), log.series("val_mse"), {}});
-  data::write_chart(run.path("mse.svg"), mse, co);
+  report::write_chart(run.path("mse.svg"), mse, co);
 }
 
 // The options train_nnao refuses before it reads anything.
@@ -542,7 +542,7 @@ inline TrainResult finish_run(runs::TrainingLoop& loop, const NnaoTask& task, co
                                                          {"point_views_read_by_rank_0", double(p.share.views_built)},
                                                          {"epoch_seconds", res.epoch_seconds},
                                                          {"seconds", res.seconds}};
-  res.exit_code = loop.finish(lr.stop_message, figures, [&](data::Report& r) {
+  res.exit_code = loop.finish(lr.stop_message, figures, [&](report::Report& r) {
     if (fs::exists(run.path("loss.svg"))) r.chart("loss.svg", "train loss per epoch");
     if (fs::exists(run.path("mse.svg"))) r.chart("mse.svg", "test (and validation) MSE per epoch");
   });

@@ -189,8 +189,8 @@ inline std::string results_csv(const std::vector<EvalRow>& rows, bool offscreen)
 // flicker, no frame in a family).
 inline std::string cell(double v, const char* f) { return std::isfinite(v) ? detail::fmt(v, f) : "–"; }
 
-inline data::Table results_table(const std::vector<EvalRow>& rows, bool offscreen) {
-  data::Table t{{"model", "mode", "ms/frame", "MSE", "PSNR", "SSIM", "MSE (linear)", "frames", "flicker (x truth)",
+inline report::Table results_table(const std::vector<EvalRow>& rows, bool offscreen) {
+  report::Table t{{"model", "mode", "ms/frame", "MSE", "PSNR", "SSIM", "MSE (linear)", "frames", "flicker (x truth)",
                  "temporal error", "FLIP", "gradient error"}, {}};
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
@@ -217,8 +217,8 @@ inline std::string family_csv(const std::vector<EvalRow>& rows) {
   return s;
 }
 
-inline data::Table family_table(const std::vector<EvalRow>& rows) {
-  data::Table t{{"family", "frames"}, {}};
+inline report::Table family_table(const std::vector<EvalRow>& rows) {
+  report::Table t{{"family", "frames"}, {}};
   if (rows.empty()) return t;
   for (auto& r : rows) t.header.push_back(r.model + " SSIM / MSE lin");
   for (auto& [family, mm0] : rows.front().by_family) {
@@ -244,8 +244,8 @@ inline std::string distance_csv(const std::vector<EvalRow>& rows) {
   return s;
 }
 
-inline data::Table distance_table(const std::vector<EvalRow>& rows) {
-  data::Table t{{"model"}, {}};
+inline report::Table distance_table(const std::vector<EvalRow>& rows) {
+  report::Table t{{"model"}, {}};
   if (rows.empty()) return t;
   for (int b = 0; b < DistanceBands::kCount; ++b)
     t.header.push_back(DistanceBands::name(b) + " px (" + cell(100 * rows.front().bands.share(b), "%.0f") + "%)");
@@ -259,7 +259,7 @@ inline data::Table distance_table(const std::vector<EvalRow>& rows) {
 
 // Speed against accuracy, one point per row: ms per frame (log axis) against mapped SSIM
 // and against linear MSE, added to the report.
-inline void write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptions& o, data::Report& report) {
+inline void write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptions& o, report::Report& report) {
   struct Axis {
     const char* name;  // the file
     const char* title;
@@ -271,21 +271,21 @@ inline void write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptio
       {"speed_vs_mse_linear", "MSE (linear)", "MSE, linear HDR (lower is better)", &LightMetrics::mse_linear},
       {"speed_vs_flip", "FLIP (mapped)", "mean FLIP, mapped, 67 ppd (lower is better)", &LightMetrics::flip}};
   for (const Axis& axis : axes) {
-    std::vector<data::ChartSeries> series;
+    std::vector<report::ChartSeries> series;
     for (auto& r : rows) {
-      data::ChartSeries c;
+      report::ChartSeries c;
       c.name = r.model;
       c.x = {std::max(r.ms_per_frame, 1e-3)};
       c.y = {r.all.*axis.value};
       series.push_back(c);
     }
-    data::ChartOptions co;
+    report::ChartOptions co;
     co.title = std::string("GI, ") + o.split + " split: " + axis.title + " against time";
     co.x_label = "ms per frame (generator forward; references ~0)";
     co.y_label = axis.label;
     co.log_x = true;
     const std::string name = axis.name;
-    const std::string note = data::write_chart(o.out + "/" + name + ".svg", series, co);
+    const std::string note = report::write_chart(o.out + "/" + name + ".svg", series, co);
     report.chart(name + ".svg", co.title, note);
   }
 }
@@ -387,7 +387,7 @@ inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOption
   write_file_atomic(o.out + "/frames.csv", frames_csv);
   write_file_atomic(o.out + "/results_by_family.csv", family_csv(rows));
   write_file_atomic(o.out + "/results_by_distance.csv", distance_csv(rows));
-  data::Report report("eval-gi");
+  report::Report report("eval-gi");
   report.text("Data: `" + o.data + "`, split " + o.split + " (" + std::to_string(scored_frames) + " frames, of which " +
               std::to_string(unlit_frames) + " unlit ones set aside: no light on the front view), test-time BatchNorm: " +
               (o.bn_batch_stats ? "batch statistics" : "running statistics") + ", dropout: " +

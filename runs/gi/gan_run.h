@@ -259,7 +259,7 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   loop.finish(r.stop_message,
               {{"seconds", r.seconds}, {"d_wins_windows", double(r.d_wins_windows)},
                {"first_d_wins_step", double(r.first_d_wins_step)}, {"g_parameters", double(t.G.parameter_count())}},
-              [&](data::Report& report) {
+              [&](report::Report& report) {
                 if (std::filesystem::exists(run.path("loss.svg"))) report.chart("loss.svg", "D and G losses per step");
                 add_sample_comparisons(report, o.out, o.sample_every, t.step());
               });

@@ -200,14 +200,14 @@ inline std::string sweep_csv(const std::vector<SweepPoint>& points, const SweepP
 inline void write_sweep_charts(const GanSweepOptions& so, const std::vector<SweepPoint>& points,
                                const std::vector<int>& sizes) {
   for (int which = 0; which < 2; ++which) {
-    data::ChartOptions chart;
+    report::ChartOptions chart;
     chart.title = which == 0 ? "GI GAN sweep: SSIM vs inference time" : "GI GAN sweep: SSIM vs training time";
     chart.x_label = which == 0 ? "ms per frame (" + std::to_string(so.threads) + " thread(s))" : "training seconds";
     chart.y_label = "SSIM (mapped light, test split)";
     chart.log_x = true;
-    std::vector<data::ChartSeries> series;
+    std::vector<report::ChartSeries> series;
     for (int size : sizes) {
-      data::ChartSeries s;
+      report::ChartSeries s;
       s.name = "face " + std::to_string(size);
       for (auto& p : points)
         if (p.size == size) {
@@ -218,7 +218,7 @@ inline void write_sweep_charts(const GanSweepOptions& so, const std::vector<Swee
       if (!s.x.empty()) series.push_back(s);
     }
     std::string note =
-        data::write_chart(so.out + (which == 0 ? "/ssim_vs_ms.svg" : "/ssim_vs_train_time.svg"), series, chart);
+        report::write_chart(so.out + (which == 0 ? "/ssim_vs_ms.svg" : "/ssim_vs_train_time.svg"), series, chart);
     if (!note.empty()) std::fprintf(stderr, "sweep-gan: %s\n", note.c_str());
   }
 }

@@ -25,7 +25,7 @@ namespace nns::gi {
 
 inline void write_light_png(const std::string& path, const float* rgb, int w, int h, const HdrMapping& hdr) {
   const int64_t n = int64_t(w) * h;
-  data::write_png_rgb(path, rgb, rgb + n, rgb + 2 * n, w, h, {.exposure = 1.0f / hdr.scale});
+  report::write_png_rgb(path, rgb, rgb + n, rgb + 2 * n, w, h, {.exposure = 1.0f / hdr.scale});
 }
 
 // prefix_{prediction,truth,error}.png; the error is |mapped difference| averaged over
@@ -41,7 +41,7 @@ inline void write_eval_pngs(const std::string& prefix, const Tensor<float>& pred
       if (geometry[size_t(i)]) err[size_t(i)] += std::abs(hdr.to_unit(pred[c * n + i]) - hdr.to_unit(truth[c * n + i])) / 3;
   write_light_png(prefix + "_prediction.png", pred.data(), w, h, hdr);
   write_light_png(prefix + "_truth.png", truth.data(), w, h, hdr);
-  data::write_png_heatmap(prefix + "_error.png", err.data(), w, h, 0.25f);
+  report::write_png_heatmap(prefix + "_error.png", err.data(), w, h, 0.25f);
 }
 
 // prefix_{input,prediction,truth,error,shaded}.png: the input's lumination (direct +
@@ -77,10 +77,10 @@ struct EvalPreview {
 
 // One image comparison per frame, in the order the frames were scored: the truth, then
 // each row's prediction and its error heat-map, with the frame's numbers.
-inline void add_eval_previews(data::Report& report, const std::vector<EvalPreview>& previews) {
-  std::vector<data::Comparison> frames;
+inline void add_eval_previews(report::Report& report, const std::vector<EvalPreview>& previews) {
+  std::vector<report::Comparison> frames;
   for (auto& p : previews) {
-    auto c = std::find_if(frames.begin(), frames.end(), [&](const data::Comparison& f) { return f.title == p.frame; });
+    auto c = std::find_if(frames.begin(), frames.end(), [&](const report::Comparison& f) { return f.title == p.frame; });
     if (c == frames.end()) {
       frames.push_back({p.frame, {{"ray-traced light (truth)", p.prefix + "_truth.png", ""}}});
       c = frames.end() - 1;
@@ -102,7 +102,7 @@ inline void add_eval_previews(data::Report& report, const std::vector<EvalPrevie
 
 // train-gan's samples on its report: the first and the last step that wrote them (a
 // resumed run's earlier samples included), each a comparison of its five images.
-inline void add_sample_comparisons(data::Report& report, const std::string& out, int sample_every, int64_t steps) {
+inline void add_sample_comparisons(report::Report& report, const std::string& out, int sample_every, int64_t steps) {
   if (sample_every <= 0 || steps < sample_every) return;
   std::vector<int64_t> shown = {sample_every};
   if (steps / sample_every > 1) shown.push_back(steps / sample_every * sample_every);
@@ -175,7 +175,7 @@ inline int write_contact_sheet(const std::string& path, const data::SplitListing
   };
   const float k_light = median(false), k_ind = median(true);
   std::vector<uint8_t> img(size_t(W) * size_t(H) * 3, 40);
-  auto tone = [](float x) { x = std::max(x, 0.0f); return data::srgb_encode(x / (1 + x)); };
+  auto tone = [](float x) { x = std::max(x, 0.0f); return report::srgb_encode(x / (1 + x)); };
   for (int f = 0; f < n; ++f) {
     const data::View& v = views[size_t(f)];
     const int x0 = 2 * gap + (f % cols) * (3 * w + 4 * gap), y0 = gap + (f / cols) * (h + gap);
@@ -185,36 +185,36 @@ inline int write_contact_sheet(const std::string& path, const data::SplitListing
         for (int c = 0; c < 3; ++c) {
           const float a = v.channel(std::string("albedo.") + "RGB"[c])[i];
           const float e = v.has(std::string("emission.") + "RGB"[c]) ? v.channel(std::string("emission.") + "RGB"[c])[i] : 0.0f;
-          const uint8_t tiles[3] = {data::srgb_encode(std::clamp(a, 0.0f, 1.0f)), tone((a * light(v, c, i, false) + e) / k_light),
+          const uint8_t tiles[3] = {report::srgb_encode(std::clamp(a, 0.0f, 1.0f)), tone((a * light(v, c, i, false) + e) / k_light),
                                     tone(light(v, c, i, true) / k_ind)};
           for (int t = 0; t < 3; ++t)
             img[(size_t(y0 + y) * size_t(W) + size_t(x0 + t * (w + gap) + x)) * 3 + size_t(c)] = tiles[t];
         }
       }
   }
-  data::write_png_rgb8(path, img.data(), W, H);
+  report::write_png_rgb8(path, img.data(), W, H);
   return n;
 }
 
 // OUT/loss.svg and .png from the run's metrics log: the D loss, G's adversarial loss and
 // its reconstruction (L1 / DSSIM) term against the step.
 inline void write_loss_chart(const runs::MetricsLog& log, const std::string& svg_path) {
-  std::vector<data::ChartSeries> series;
+  std::vector<report::ChartSeries> series;
   const std::pair<const char*, const char*> keys[] = {
       {"d", "D loss"}, {"g_adv", "G adversarial"}, {"g_rec", "G reconstruction (L1 or DSSIM)"}};
   for (auto& [key, name] : keys) {
-    data::ChartSeries se{name, {}, {}, {}};
+    report::ChartSeries se{name, {}, {}, {}};
     for (auto& r : log.records())
       if (r.get(key) > 0) se.x.push_back(double(r.step)), se.y.push_back(r.get(key));
     if (!se.x.empty()) series.push_back(se);
   }
   if (series.empty()) return;
-  data::ChartOptions o;
+  report::ChartOptions o;
   o.title = "train-gan losses";
   o.x_label = "step";
   o.y_label = "loss";
   o.log_y = true;
-  data::write_chart(svg_path, series, o);
+  report::write_chart(svg_path, series, o);
 }
 
 }  // namespace nns::gi

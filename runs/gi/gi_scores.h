@@ -54,13 +54,13 @@ inline LightMetrics light_metrics(const Tensor<float>& pred, const Tensor<float>
       pu[size_t(i)] = hdr.to_unit(p), tu[size_t(i)] = hdr.to_unit(t);
       pl[size_t(i)] = p / peak, tl[size_t(i)] = t / peak;
     }
-    m.mse += data::masked_mse(pu.data(), tu.data(), mask, n) / 3;
-    m.ssim += data::masked_ssim(pu.data(), tu.data(), mask, w, h) / 3;
-    m.mse_linear += data::masked_mse(pl.data(), tl.data(), mask, n) * double(peak) * peak / 3;
-    m.ssim_linear += data::masked_ssim(pl.data(), tl.data(), mask, w, h) / 3;
+    m.mse += report::masked_mse(pu.data(), tu.data(), mask, n) / 3;
+    m.ssim += report::masked_ssim(pu.data(), tu.data(), mask, w, h) / 3;
+    m.mse_linear += report::masked_mse(pl.data(), tl.data(), mask, n) * double(peak) * peak / 3;
+    m.ssim_linear += report::masked_ssim(pl.data(), tl.data(), mask, w, h) / 3;
   }
-  m.psnr = data::psnr_from_mse(m.mse);
-  m.psnr_linear = data::psnr_from_mse(m.mse_linear, peak);
+  m.psnr = report::psnr_from_mse(m.mse);
+  m.psnr_linear = report::psnr_from_mse(m.mse_linear, peak);
   return m;
 }
 
@@ -136,11 +136,11 @@ inline std::vector<float> frame_detail(const std::vector<float>& pred, const std
   for (size_t c = 0; c < 3; ++c)
     for (size_t i = 0; i < n; ++i)
       if (!geometry[i]) composited[c * n + i] = truth[c * n + i];
-  std::vector<float> map = data::flip_map(truth.data(), composited.data(), w, h);
-  m.flip = data::masked_mean(map.data(), geometry.data(), int64_t(n));
+  std::vector<float> map = report::flip_map(truth.data(), composited.data(), w, h);
+  m.flip = report::masked_mean(map.data(), geometry.data(), int64_t(n));
   m.grad_error = 0;
   for (size_t c = 0; c < 3; ++c)
-    m.grad_error += data::masked_gradient_error(pred.data() + c * n, truth.data() + c * n, geometry.data(), w, h) / 3;
+    m.grad_error += report::masked_gradient_error(pred.data() + c * n, truth.data() + c * n, geometry.data(), w, h) / 3;
   return map;
 }
 

@@ -17,6 +17,7 @@
 #include "tests/support/run_command.h"
 
 using namespace nns::data;
+using namespace nns::report;
 namespace fs = std::filesystem;
 
 namespace {

@@ -130,12 +130,12 @@ class GiInfer : public ::testing::Test {
   // Planes of `v` as one image file (report/image_write.h), channels named `names`.
   static std::string write_planes(const View& v, const std::string& file, std::vector<std::string> names,
                                   std::vector<std::string> planes,
-                                  nns::data::PixelType type = nns::data::PixelType::f32) {
+                                  nns::report::PixelType type = nns::report::PixelType::f32) {
     const size_t n = size_t(v.width) * size_t(v.height), nc = names.size();
     std::vector<float> px(n * nc);
     for (size_t i = 0; i < n; ++i)
       for (size_t c = 0; c < nc; ++c) px[i * nc + c] = v.channel(planes[c])[i];
-    nns::data::write_image(file, v.width, v.height, names, px.data(), type);
+    nns::report::write_image(file, v.width, v.height, names, px.data(), type);
     return file;
   }
 
@@ -334,8 +334,8 @@ float srgb_encode_float(float x) {  // IEC 61966-2-1, the inverse of image_read'
 // `png16`, normals and albedo as 16-bit PNGs instead (normal (n+1)/2, albedo sRGB).
 std::string face_flags(const View& v, const std::string& face, const std::string& dir, bool png16,
                        const std::function<std::string(const View&, const std::string&, std::vector<std::string>,
-                                                       std::vector<std::string>, nns::data::PixelType)>& write) {
-  using nns::data::PixelType;
+                                                       std::vector<std::string>, nns::report::PixelType)>& write) {
+  using nns::report::PixelType;
   const std::string p = dir + "/" + face;
   std::string f;
   if (png16) {

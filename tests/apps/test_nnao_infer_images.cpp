@@ -29,7 +29,7 @@
 
 namespace fs = std::filesystem;
 using namespace nns;
-using nns::data::PixelType;
+using nns::report::PixelType;
 using nns::testing::run_app;
 
 namespace {
@@ -80,7 +80,7 @@ class NnaoInferImages : public ::testing::Test {
     std::vector<float> px(n * nc);
     for (size_t i = 0; i < n; ++i)
       for (size_t c = 0; c < nc; ++c) px[i * nc + c] = f(view().channel(planes[c % planes.size()])[i], c);
-    data::write_image(path(name), view().width, view().height, names, px.data(), type);
+    report::write_image(path(name), view().width, view().height, names, px.data(), type);
     return path(name);
   }
   static double max_diff(const std::vector<float>& a, const std::vector<float>& b) {
@@ -212,7 +212,7 @@ TEST_F(NnaoInferImages, RefusalsNameTheFileAndWriteNothing) {
   fs::resize_file(cut, fs::file_size(cut) / 2);
   const std::string small = path("small.exr");
   const float one[4] = {1, 1, 1, 1};
-  data::write_image(small, 2, 2, {"Z"}, one, PixelType::f32);
+  report::write_image(small, 2, 2, {"Z"}, one, PixelType::f32);
 
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
       {"--channel depth=" + d + " --channel normal=" + cut, {cut, "truncated or corrupt"}},

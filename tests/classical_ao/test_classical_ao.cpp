@@ -43,7 +43,7 @@ TEST(ClassicalAo, OpenPlaneIsUnoccluded) {
     for (int n : m.sample_counts) {
       std::vector<float> out(size_t(g.pixels()));
       m.run(g, n, out.data());
-      double mean = data::masked_mean(out.data(), mask.data(), g.pixels());
+      double mean = report::masked_mean(out.data(), mask.data(), g.pixels());
       // 4 samples quantise a pixel's AO to quarters; the 4x4 blur averages 16 pixels.
       EXPECT_GT(mean, n >= 8 ? 0.85 : 0.75) << m.name << " " << n;
     }

@@ -18,6 +18,7 @@
 
 namespace fs = std::filesystem;
 using namespace nns::data;
+using namespace nns::report;
 
 namespace {
 

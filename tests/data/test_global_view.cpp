@@ -13,6 +13,8 @@
 
 using namespace nns;
 using namespace nns::data;
+using namespace nns::report;
+using namespace nns::render;
 
 namespace {
 

@@ -16,6 +16,7 @@
 
 namespace fs = std::filesystem;
 using namespace nns::data;
+using namespace nns::report;
 
 namespace {
 

@@ -14,6 +14,7 @@
 #include "render/dataset_writer.h"
 
 using namespace nns::data;
+using namespace nns::render;
 namespace fs = std::filesystem;
 
 namespace {

@@ -12,15 +12,15 @@ namespace nns::test {
 
 inline const data::View& rendered_view() {
   static const data::View v = [] {
-    data::Scene s = data::make_family_scene("room", 1, 3);
-    data::RayTracer rt(s);
+    render::Scene s = render::make_family_scene("room", 1, 3);
+    render::RayTracer rt(s);
     Rng rng(5);
-    data::Camera cam = data::place_camera(rt, 160, 90, 60, rng);
-    data::RenderSettings rs;
+    render::Camera cam = render::place_camera(rt, 160, 90, 60, rng);
+    render::RenderSettings rs;
     rs.lighting = false;
     rs.ao_spp = 1;
     rs.seed = 2;
-    return data::render_view(rt, cam, rs, 1);
+    return render::render_view(rt, cam, rs, 1);
   }();
   return v;
 }

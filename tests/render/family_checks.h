@@ -15,6 +15,7 @@ namespace nns::testing {
 // is indirect light to learn, and occlusion.
 inline void expect_lit_view_with_indirect_light(const std::string& name) {
   using namespace nns::data;
+  using namespace nns::render;
   Scene s = make_family_scene(name, 0, 8);
   RayTracer rt(s);
   Rng rng(4);

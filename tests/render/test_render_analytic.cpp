@@ -11,6 +11,7 @@
 
 using namespace nns;
 using namespace nns::data;
+using namespace nns::render;
 
 namespace {
 // A hit at p with normal n, as the camera would produce it.

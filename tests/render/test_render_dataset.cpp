@@ -19,6 +19,7 @@
 
 using namespace nns;
 using namespace nns::data;
+using namespace nns::render;
 namespace fs = std::filesystem;
 
 namespace {

@@ -17,6 +17,7 @@
 
 using namespace nns;
 using namespace nns::data;
+using namespace nns::render;
 
 namespace {
 // Every edge of a closed surface is shared by exactly two triangles. Edges are keyed

@@ -21,6 +21,7 @@
 
 using namespace nns;
 using namespace nns::data;
+using namespace nns::render;
 namespace fs = std::filesystem;
 
 namespace {

@@ -11,7 +11,7 @@
 
 #include "render/dataset_writer.h"
 
-using namespace nns::data;
+using namespace nns::render;
 namespace fs = std::filesystem;
 
 TEST(RenderFolder, AFolderHoldingAnotherRendersViewsIsRefusedUnlessReplaced) {

@@ -17,6 +17,7 @@
 
 using namespace nns;
 using namespace nns::data;
+using namespace nns::render;
 
 TEST(SceneFamilies, DeterministicDistinctAndPlaceable) {
   for (const SceneFamily& f : scene_families()) {

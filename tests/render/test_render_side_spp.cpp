@@ -17,6 +17,7 @@
 
 using namespace nns;
 using namespace nns::data;
+using namespace nns::render;
 
 namespace {
 // A sunlit floor and a wall standing on it, under a gradient sky.

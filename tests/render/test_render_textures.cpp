@@ -19,6 +19,7 @@
 
 using namespace nns;
 using namespace nns::data;
+using namespace nns::render;
 
 namespace {
 const TextureKind kKinds[] = {TextureKind::noise, TextureKind::bricks, TextureKind::tiles, TextureKind::wood,

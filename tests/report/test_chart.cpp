@@ -8,7 +8,7 @@
 
 #include "report/chart.h"
 
-using namespace nns::data;
+using namespace nns::report;
 
 TEST(Chart, SvgHasLegendLabelsAndLogTicks) {
   std::vector<ChartSeries> s = {{"NNAO", {1, 10, 100}, {0.01, 0.005, 0.004}, {"64", "128", "256"}},

@@ -8,7 +8,7 @@
 #include "core/rng.h"
 #include "report/flip.h"
 
-using namespace nns::data;
+using namespace nns::report;
 
 namespace {
 

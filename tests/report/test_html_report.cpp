@@ -12,7 +12,7 @@
 #include "core/atomic_file.h"
 #include "report/html_report.h"
 
-using namespace nns::data;
+using namespace nns::report;
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include "core/rng.h"
 #include "report/image_metrics.h"
 
-using namespace nns::data;
+using namespace nns::report;
 
 TEST(ImageMetrics, MseAndPsnrHandComputed) {
   std::vector<float> a = {0, 0.5f, 1, 0.25f}, b = {0, 0.25f, 1, 1};

@@ -10,7 +10,7 @@
 #include "report/image_write.h"
 #include "support/image_bytes.h"
 
-using namespace nns::data;
+using namespace nns::report;
 namespace fs = std::filesystem;
 
 namespace {

@@ -18,7 +18,7 @@ using namespace nns::gi;
 namespace {
 
 std::vector<GiSample> rendered_path(const fs::path& dir) {
-  data::DatasetJob job;
+  render::DatasetJob job;
   job.out = dir.string();
   job.preset = "surround";
   job.families = {"room"};
@@ -29,7 +29,7 @@ std::vector<GiSample> rendered_path(const fs::path& dir) {
   job.width = job.height = 64;  // paths drift 2.5-5 cm a frame: at 16 px nothing moves a pixel
   job.settings.ao_spp = 4, job.settings.gi_spp = 16, job.settings.bounces = 2;
   job.progress = false;
-  data::render_dataset(job);
+  render::render_dataset(job);
   auto listing = data::list_dataset(dir.string());
   GiInputConfig cfg;
   return load_samples(listing.test, GiItemReader{GiMode::surround, 0}, cfg, size_t(-1), "", true);

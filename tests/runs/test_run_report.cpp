@@ -10,7 +10,7 @@ using namespace nns::runs;
 TEST(RunReport, OneRowPerEpochFromItsLastRecord) {
   std::vector<MetricsRecord> log = {{10, 1, {{"d", 0.5}, {"g", 2}}}, {20, 1, {{"d", 0.25}, {"g", 1}}},
                                     {30, 2, {{"d", 0.125}, {"g", NAN}}}};
-  const data::Table t = epoch_table(log);
+  const report::Table t = epoch_table(log);
   EXPECT_EQ(t.header, (std::vector<std::string>{"epoch", "step", "d", "g"}));
   ASSERT_EQ(t.rows.size(), 2u);
   EXPECT_EQ(t.rows[0], (std::vector<std::string>{"1", "20", "0.25", "1"}));
@@ -20,7 +20,7 @@ TEST(RunReport, OneRowPerEpochFromItsLastRecord) {
 TEST(RunReport, LongRunsAreThinnedEvenlyKeepingTheEnds) {
   std::vector<MetricsRecord> log;
   for (int e = 1; e <= 200; ++e) log.push_back({e * 10, e, {{"loss", 1.0 / e}}});
-  const data::Table t = epoch_table(log, 25);
+  const report::Table t = epoch_table(log, 25);
   ASSERT_EQ(t.rows.size(), 25u);
   EXPECT_EQ(t.rows.front()[0], "1");
   EXPECT_EQ(t.rows.back()[0], "200");
@@ -28,8 +28,8 @@ TEST(RunReport, LongRunsAreThinnedEvenlyKeepingTheEnds) {
 }
 
 TEST(RunReport, AStoppedRunSaysWhyAndTheTrainerAddsItsBlocks) {
-  const data::Report r = training_report({"train-gan", "NaN at step 5", 1, 5, {{"seconds", 1.5}}}, {},
-                                         {{"lr", "0.0002"}}, [](data::Report& rep) { rep.chart("loss.svg", "losses"); });
+  const report::Report r = training_report({"train-gan", "NaN at step 5", 1, 5, {{"seconds", 1.5}}}, {},
+                                         {{"lr", "0.0002"}}, [](report::Report& rep) { rep.chart("loss.svg", "losses"); });
   const std::string md = r.markdown();
   EXPECT_NE(md.find("**Stopped** after 1 epoch, 5 steps: NaN at step 5."), std::string::npos) << md;
   EXPECT_NE(md.find("![losses](loss.svg)"), std::string::npos) << md;
@@ -50,7 +50,7 @@ TEST(RunReport, ConfigurationValuesReadAsPeopleWriteThem) {
   EXPECT_EQ(readable_value("horizon"), "horizon");
   EXPECT_EQ(readable_value("/data/run 0.3"), "/data/run 0.3");
   EXPECT_EQ(readable_value(""), "");
-  const data::Report r = training_report({"train-nnao", "", 1, 8, {}}, {}, {{"gamma", "0.0001"}, {"dropout", "0.29999999999999999"}}, {});
+  const report::Report r = training_report({"train-nnao", "", 1, 8, {}}, {}, {{"gamma", "0.0001"}, {"dropout", "0.29999999999999999"}}, {});
   EXPECT_NE(r.markdown().find("| dropout | 0.3 |"), std::string::npos) << r.markdown();
   EXPECT_NE(r.markdown().find("**Finished**: 1 epoch, 8 steps."), std::string::npos) << r.markdown();
 }
