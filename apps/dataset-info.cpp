@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
     if (!sheet.empty()) {
       auto listing = nns::data::list_dataset(dir);
       const auto& split = sheet_split == "train" ? listing.train : sheet_split == "test" ? listing.test : listing.holdout;
-      int n = nns::gi::write_contact_sheet(sheet, split, sheet_family, sheet_frames, sheet_per_scene);
+      int n = nns::runs::write_contact_sheet(sheet, split, sheet_family, sheet_frames, sheet_per_scene);
       if (n == 0) throw std::runtime_error(dir + ": no " + sheet_split + " view or frame with indirect.*" +
                                            (sheet_family.empty() ? "" : " of family '" + sheet_family + "'") +
                                            " for --contact-sheet");

@@ -29,6 +29,6 @@ int main(int argc, char** argv) {
     a.done();
     set_num_threads(threads);
     FolderLock lock = prepare_output_folder(out, "demo");
-    return demo::run_edge_demo(threads, seed, epochs, width, out);
+    return runs::run_edge_demo(threads, seed, epochs, width, out);
   });
 }

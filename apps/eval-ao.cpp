@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   return cli::run_main("eval-ao", [&]() -> int {
     cli::Args args(argc, argv, "eval-ao",
                    "Time and score NNAO and the classical SSAO methods against ground-truth AO.");
-    ao_eval::EvalAoOptions o;
+    runs::EvalAoOptions o;
     std::string data_dir = args.get_string("--data", "", "dataset: a split folder, a flat folder, or a root with test/ (default: the built-in default nnao dataset)");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao (omit to run only the classical methods)");
     o.ladder = args.get_string("--ladder", "", "a trained NNAO ladder's folder (train-nnao --ladder): every rung as NNAO-exact, drawn as one curve (instead of --model)");
@@ -54,11 +54,11 @@ int main(int argc, char** argv) {
     o.params_file = params_file, o.scalar = scalar;
     const bool has_holdout = data::list_dataset(data_dir).has_holdout;
     FolderLock lock = prepare_output_folder(out, "eval-ao");  // OUT/holdout is inside it
-    if (split != "holdout") ao_eval::evaluate_ao(o);
+    if (split != "holdout") runs::evaluate_ao(o);
     if (split == "holdout" || (split == "both" && has_holdout)) {
       o.split = "holdout";
       if (split == "both") o.out += "/holdout";
-      ao_eval::evaluate_ao(o);
+      runs::evaluate_ao(o);
     }
     return 0;
   });

@@ -19,7 +19,7 @@ using namespace nns;
 int main(int argc, char** argv) {
   return cli::run_main("eval-gi", [&] {
     cli::Args a(argc, argv, "eval-gi", "Evaluate GI generators against ray-traced ground truth.");
-    gi::EvalOptions o;
+    runs::EvalOptions o;
     o.data = a.get_string("--data", "", "dataset folder (its test split is scored, its train split fits the ambient term)");
     o.models = a.get_list("--model", "a generator blob (G.blob) from train-gan");
     o.out = a.get_path("--out", "eval-gi-out", "output folder");
@@ -47,8 +47,8 @@ int main(int argc, char** argv) {
     if (max_frames > 0) o.max_frames = size_t(max_frames);
     set_num_threads(threads);
     FolderLock lock = prepare_output_folder(o.out, "eval-gi");
-    auto rows = gi::evaluate_gi(o);
-    std::printf("%s", gi::results_csv(rows, false).c_str());
+    auto rows = runs::evaluate_gi(o);
+    std::printf("%s", runs::results_csv(rows, false).c_str());
     std::printf("eval-gi: report %s/report.html (and report.md)\n", o.out.c_str());
     return 0;
   });

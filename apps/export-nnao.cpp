@@ -28,10 +28,10 @@ std::string pick_from_ladder(const std::string& ladder, double budget_ms, int w,
     view_file = d.test.views.empty() ? d.train.views.at(0) : d.test.views[0];
   }
   const data::View view = data::read_view(view_file);
-  const auto timed = nnao::time_ladder(ladder, view, w, h);
-  const nnao::TimedRung* pick = nnao::pick_rung(timed, budget_ms);
+  const auto timed = runs::time_ladder(ladder, view, w, h);
+  const runs::TimedRung* pick = runs::pick_rung(timed, budget_ms);
   std::printf("rungs of %s timed at %dx%d on %s (%d thread%s; %s), budget %.3g ms:\n", ladder.c_str(), w, h,
-              view_file.c_str(), threads, threads == 1 ? "" : "s", nnao::cpu_model().c_str(), budget_ms);
+              view_file.c_str(), threads, threads == 1 ? "" : "s", runs::cpu_model().c_str(), budget_ms);
   for (auto& t : timed)
     std::printf("  %-26s %8.3f ms%s\n", t.rung.name.c_str(), t.ms,
                 &t == pick ? "  <- picked" : (t.ms > budget_ms ? "  (over budget)" : ""));
@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
     auto m = nnao::NnaoWeights::load(model);
     FolderLock lock = prepare_output_folder(out, "export-nnao");
     std::string files;
-    for (const std::string& f : nnao::write_export(m, out, samples)) files += (files.empty() ? "" : ", ") + f;
+    for (const std::string& f : runs::write_export(m, out, samples)) files += (files.empty() ? "" : ", ") + f;
     std::printf("wrote %s into %s (%s)\n", files.c_str(), out.c_str(),
                 m.input.is_horizon() ? (std::to_string(m.input.samples()) + " depth samples per pixel, fixed by the model").c_str()
                                      : ("default " + std::to_string(samples) + " filter samples per pixel").c_str());

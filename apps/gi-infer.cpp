@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
                 "Views larger than the model's face size are box-filtered down by an integer\n"
                 "factor. Writes OUT.exr (light.*, indirect.* = light - direct - env, signed; shaded.* =\n"
                 "albedo * light + emission; Z), OUT_shaded.png and OUT_indirect.png; on error, nothing.");
-    gi::InferOptions o;
+    runs::InferOptions o;
     o.model = a.get_string("--model", "", "generator blob (G.blob) from train-gan");
     o.in = a.get_string("--in", "", "the frame: a view .exr or a folder of six faces (or --channel)");
     cli::ImageInputFlags images =
@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
     o.bn_batch_stats = bn == "batch";
     o.dropout_on = drop == "on";
     set_num_threads(threads);
-    gi::InferResult r = gi::infer_gi(o);
+    runs::InferResult r = runs::infer_gi(o);
     for (auto& note : r.notes) std::printf("gi-infer: %s\n", note.c_str());
     std::printf("gi-infer: %s model, %s %dx%d -> %dx%d (box filter %d), network %.1f ms\n", r.mode.c_str(),
                 r.front_file.c_str(), r.in_width, r.in_height, r.width, r.height, r.reduction, r.ms);

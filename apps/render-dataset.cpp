@@ -39,7 +39,7 @@ bool parse_size(const std::string& s, int& w, int& h) {
 
 int main(int argc, char** argv) {
   // mpirun -np N: view i is rendered by rank i % N, the dataset is the one-process one.
-  dist::Session mpi(argc, argv);
+  runs::Session mpi(argc, argv);
   std::string families_help =
       "procedural scene families (default: surround-v4 and v5 all, surround-v3 generations 1-3, nnao-v2 and "
       "surround-v2 generations 1-2, other presets the first eight; generation 3 is corridor, courtyard, multiroom, "
@@ -93,24 +93,24 @@ int main(int argc, char** argv) {
   args.done();
   job.width = w, job.height = h;
 
-  job.part = dist::rank(), job.parts = dist::size();
-  job.progress = dist::writer();
+  job.part = runs::rank(), job.parts = runs::size();
+  job.progress = runs::writer();
   return mpi.finish(cli::run_main("render-dataset", [&] {
     // Rank 0 locks and checks the folder before any rank writes a view into it.
     FolderLock lock;
-    if (dist::writer()) {
+    if (runs::writer()) {
       lock = prepare_output_folder(job.out, "render-dataset");
       render::prepare_render_folder(job.out, replace);
     }
-    dist::barrier();
+    runs::barrier();
     set_num_threads(threads);
     render::DatasetReport r = render::render_dataset(job);
     std::vector<double> sums = {double(r.train_views), double(r.test_views), double(r.holdout_views), double(r.rays),
                                 r.render_seconds, r.cpu_seconds};
-    dist::sum_over_ranks(sums);  // the report counts every rank's views
+    runs::sum_over_ranks(sums);  // the report counts every rank's views
     r.train_views = int(sums[0]), r.test_views = int(sums[1]), r.holdout_views = int(sums[2]);
     r.rays = uint64_t(sums[3]), r.render_seconds = sums[4], r.cpu_seconds = sums[5];
-    if (!dist::writer()) return 0;
+    if (!runs::writer()) return 0;
     int n = std::max(1, r.train_views + r.test_views + r.holdout_views);
     std::string held = r.holdout_views ? " + " + std::to_string(r.holdout_views) + " holdout" : "";
     std::string held_scenes = r.holdout_views ? " + " + std::to_string(r.holdout_scenes.size()) : "";

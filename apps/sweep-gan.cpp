@@ -18,6 +18,7 @@
 
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 
 int main(int argc, char** argv) {
   return cli::run_main("sweep-gan", [&] {

@@ -21,9 +21,10 @@
 
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 
 int main(int argc, char** argv) {
-  dist::Session mpi(argc, argv);
+  runs::Session mpi(argc, argv);
   return mpi.finish(cli::run_main("train-gan", [&] {
     cli::Args a(argc, argv, "train-gan",
                 "Train a pix2pix GAN (or an L1/DSSIM U-Net) to predict diffuse global illumination.");
@@ -53,7 +54,7 @@ int main(int argc, char** argv) {
     o.residual = a.get_choice("--residual", o.residual, {"off", "mapped", "linear"}, "predict a correction to the input light: none (pix2pix), in Tanh range, or the indirect light in linear light (docs/gan.md)");
     o.precision = parse_precision(a.get_choice("--precision", precision_name(o.precision), {"fp32", "bf16"}, "GEMM/convolution inputs: fp32, or bf16 with fp32 sums, master weights, Adam and BatchNorm (docs/gan.md)"));
     const int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
-    o.accumulate = a.get_int("--accumulate", dist::default_accumulate(o.accumulate), "samples per optimizer step, their gradients averaged in a fixed order "
+    o.accumulate = a.get_int("--accumulate", runs::default_accumulate(o.accumulate), "samples per optimizer step, their gradients averaged in a fixed order "
                              "(BatchNorm per image); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
     o.bucket_mb = a.get_double("--bucket-mb", o.bucket_mb, "MiB per gradient bucket sent between MPI ranks during backward "
                                "(0: one bucket, sent after backward)", 0, 1e6);
@@ -81,12 +82,12 @@ int main(int argc, char** argv) {
     o.stop_after_epochs = a.get_int("--debug-stop-after-epochs", o.stop_after_epochs, "testing only: stop after N epochs as if interrupted", -1, INT_MAX);
     if (o.dssim_weight < 0 && o.dssim_weight != -1) a.error("--dssim-weight must be >= 0");
     if (o.decay_epochs > o.epochs) a.error("--decay-epochs must be <= --epochs");
-    if (o.accumulate < dist::size())
-      a.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(dist::size()) + ")");
+    if (o.accumulate < runs::size())
+      a.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(runs::size()) + ")");
     a.done();
-    dist::announce_accumulate("train-gan", o.accumulate);
+    runs::announce_accumulate("train-gan", o.accumulate);
     set_num_threads(threads);
-    if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return render::ensure_default_dataset("surround", threads); });
+    if (o.data_dir.empty()) o.data_dir = runs::rank0_first([&] { return render::ensure_default_dataset("surround", threads); });
     return train_gan(o).exit_code;
   }));
 }

@@ -27,10 +27,10 @@
 using namespace nns;
 
 int main(int argc, char** argv) {
-  dist::Session mpi(argc, argv);
+  runs::Session mpi(argc, argv);
   return mpi.finish(cli::run_main("train-nnao", [&]() -> int {
     cli::Args args(argc, argv, "train-nnao", "Train NNAO (Holden et al. 2016) on EXR G-buffers.");
-    nnao::TrainOptions o;
+    runs::TrainOptions o;
     o.data_dir = args.get_string("--data", o.data_dir, "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
     o.out_dir = args.get_path("--out", o.out_dir, "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");
     // The presets are what the project's measurements chose (runs/ao/train_nnao.h,
@@ -38,12 +38,12 @@ int main(int argc, char** argv) {
     const std::string preset = args.get_choice("--preset", "default", {"default", "grid", "paper"},
                                                "default: horizon features 16x8 in 4 bands, hidden 16 (chosen on validation families); "
                                                "grid: the paper's w 31 grid, hidden 4, gamma 1e-4; paper: Holden et al.'s w 31, hidden 4, gamma 0.01");
-    const nnao::TrainOptions d = nnao::preset_options(preset);  // the flags' defaults
+    const runs::TrainOptions d = runs::preset_options(preset);  // the flags' defaults
     o.net.features = args.get_choice("--features", d.net.features, {"grid", "horizon"},
                                       "grid: the paper's w x w grid of normal/depth differences; horizon: horizon profiles (models/nnao/horizon_features.h)");
     o.epochs = args.get_int("--epochs", d.epochs, "training epochs (the paper: 100)", 0, 100000);
     o.batch = args.get_int("--batch", d.batch, "mini-batch size (the global batch under mpirun, whatever the rank count)", 1, 65536);
-    o.accumulate = args.get_int("--accumulate", dist::default_accumulate(d.accumulate), "micro-batches per step (of --batch / K points; their gradients averaged in a fixed order); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
+    o.accumulate = args.get_int("--accumulate", runs::default_accumulate(d.accumulate), "micro-batches per step (of --batch / K points; their gradients averaged in a fixed order); under mpirun spread over the ranks, so at least the rank count", 1, 65536);
     o.bucket_mb = args.get_double("--bucket-mb", d.bucket_mb, "MiB per gradient bucket sent between MPI ranks (0: one bucket, sent after backward)", 0, 1e6);
     o.lr = args.get_double("--lr", d.lr, "Adam learning rate", 1e-12, 1e9);
     o.net.window = args.get_int("--window", d.net.window, "grid features: grid size w (w x w samples)", 1, 63);
@@ -76,36 +76,36 @@ int main(int argc, char** argv) {
                                     "epochs per model in --sweep (grid 40: converged on the default data; horizon 8, as the preset; the sweep trains with the preset's or --gamma's gamma)", 1, 100000);
     if (o.batch % o.accumulate != 0)
       args.error("--accumulate must divide --batch" +
-                 (dist::size() > 1 ? " (under mpirun its default is the rank count, " + std::to_string(dist::size()) + ")"
+                 (runs::size() > 1 ? " (under mpirun its default is the rank count, " + std::to_string(runs::size()) + ")"
                                    : std::string()));
-    if (sweep && dist::size() > 1) args.error("--sweep runs in one process (not under mpirun)");
-    if (ladder && (sweep || dist::size() > 1)) args.error("--ladder runs in one process, without --sweep");
-    std::vector<nnao::Rung> ladder_rungs = nnao::default_ladder();
+    if (sweep && runs::size() > 1) args.error("--sweep runs in one process (not under mpirun)");
+    if (ladder && (sweep || runs::size() > 1)) args.error("--ladder runs in one process, without --sweep");
+    std::vector<runs::Rung> ladder_rungs = runs::default_ladder();
     if (!rungs.empty()) try {
-        ladder_rungs = nnao::parse_rungs(rungs);
+        ladder_rungs = runs::parse_rungs(rungs);
       } catch (const std::invalid_argument& e) {
         args.error(e.what());
       }
-    if (o.accumulate < dist::size()) args.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(dist::size()) + ")");
+    if (o.accumulate < runs::size()) args.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(runs::size()) + ")");
     args.done();
-    dist::announce_accumulate("train-nnao", o.accumulate);
-    o.quiet = !dist::writer();
+    runs::announce_accumulate("train-nnao", o.accumulate);
+    o.quiet = !runs::writer();
     set_num_threads(threads);
-    if (o.data_dir.empty()) o.data_dir = dist::rank0_first([&] { return render::ensure_default_dataset("nnao", threads); });
+    if (o.data_dir.empty()) o.data_dir = runs::rank0_first([&] { return render::ensure_default_dataset("nnao", threads); });
     if (ladder) {
-      nnao::train_ladder(o, ladder_rungs);
+      runs::train_ladder(o, ladder_rungs);
       return 0;
     }
     if (sweep) {
       o.epochs = sweep_epochs;
       // Choose on validation, never test.
       if (o.validation_fraction == 0 && o.validation_families.empty()) o.validation_fraction = 0.2;
-      nnao::run_sweep(o);
+      runs::run_sweep(o);
       return 0;
     }
-    nnao::TrainResult r = nnao::train_nnao(o);
+    runs::TrainResult r = runs::train_nnao(o);
     if (r.exit_code != 0) return r.exit_code;  // the run layer's non-finite stop, already reported
-    if (!dist::writer()) return 0;
+    if (!runs::writer()) return 0;
     char mse[48] = "not measured (no epoch ran)";
     if (std::isfinite(r.test_mse)) std::snprintf(mse, sizeof mse, "%.5f", r.test_mse);
     std::printf("trained on %lld points (%lld test), %lld steps, %.1f us/step (%.0f samples/s), test MSE %s, "

@@ -18,6 +18,7 @@
 
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 
 int main(int argc, char** argv) {
   const int steps = argc > 1 ? std::atoi(argv[1]) : 50;

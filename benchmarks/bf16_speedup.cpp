@@ -33,6 +33,7 @@
 
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 
 namespace {
 

@@ -52,7 +52,7 @@ data::View load_view(const std::string& arg) {
   if (std::sscanf(arg.c_str(), "%dx%d", &w, &h) == 2 && w > 0 && h > 0) return fixtures::synthetic_view(w, h, 1, 1);
   const auto at = arg.rfind('@');
   if (at != std::string::npos && std::sscanf(arg.c_str() + at + 1, "%dx%d", &w, &h) == 2 && w > 0 && h > 0)
-    return nnao::resize_nearest(data::read_view(arg.substr(0, at)), w, h);
+    return runs::resize_nearest(data::read_view(arg.substr(0, at)), w, h);
   return data::read_view(arg);
 }
 
@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
     set_num_threads(threads);
     std::vector<std::pair<std::string, nnao::NnaoWeights>> models;
     if (argc > 5 && std::filesystem::is_directory(argv[5])) {
-      for (const auto& r : nnao::read_ladder(argv[5])) models.emplace_back("NNAO " + r.name, nnao::NnaoWeights::load(r.blob));
+      for (const auto& r : runs::read_ladder(argv[5])) models.emplace_back("NNAO " + r.name, nnao::NnaoWeights::load(r.blob));
     } else if (argc > 5) {
       models.emplace_back("NNAO", nnao::NnaoWeights::from_blob(Blob::load(argv[5])));
     } else {
@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
         if (r > 0) m.ms.push_back(ms), m.cpu.push_back(pool_cpu_ms() - c0);
       }
     std::printf("%dx%d, %d thread(s), %d rounds (%s) on %s\n", g.width, g.height, threads, rounds, view_arg.c_str(),
-                nnao::cpu_model().c_str());
+                runs::cpu_model().c_str());
     std::printf("%-30s %9s %9s %9s %12s\n", "method", "best ms", "median ms", "CPU ms", "threads used");
     for (const auto& m : methods) {
       if (m.ms.empty()) continue;

@@ -20,6 +20,7 @@
 
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 
 namespace {
 double cpu_seconds() { return pool_cpu_ms() * 1e-3; }

@@ -30,7 +30,7 @@
 #include "optim/lr_schedule.h"
 #include "models/edge_net.h"
 
-namespace nns::demo {
+namespace nns::runs {
 
 
 constexpr int64_t kSize = 32;  // image height and width
@@ -149,4 +149,4 @@ inline int run_edge_demo(int threads, int seed, int epochs, int width, const std
   return 0;
 }
 
-}  // namespace nns::demo
+}  // namespace nns::runs

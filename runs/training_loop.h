@@ -55,7 +55,7 @@ class TrainingTask {
   // A whole step (one process, no accumulation): gradients, checks, update.
   virtual StepValues step(int64_t j) = 0;
   // Micro-batch m of step j (mine: this rank's micro-batches): its gradient alone.
-  virtual StepValues micro_batch(int64_t j, int m, const dist::MicroRange& mine) = 0;
+  virtual StepValues micro_batch(int64_t j, int m, const runs::MicroRange& mine) = 0;
   // After the exchange: check the mean values and gradients, then update.
   virtual void apply(const StepValues& mean) = 0;
   // After the update: running sums, log lines, samples. Returns the progress bar's
@@ -107,7 +107,7 @@ class TrainingLoop {
   TrainingRun& run() { return run_; }
 
   LoopResult train(TrainingTask& task, const LoopSettings& s) {
-    sync_ = std::make_unique<dist::GradSync>(task.trained_parameters(), task.rngs(), s.accumulate, s.bucket_mb);
+    sync_ = std::make_unique<runs::GradSync>(task.trained_parameters(), task.rngs(), s.accumulate, s.bucket_mb);
     sync_->set_buffers(task.buffers());
     const int64_t first = run_.epochs_done();
     Progress bar(s.progress_label, (s.epochs - first) * s.steps_per_epoch);
@@ -145,13 +145,13 @@ class TrainingLoop {
   // Returns the exit status: 0 finished, 3 stopped on a non-finite value.
   int finish(const std::string& stop_message, std::vector<std::pair<std::string, double>> figures,
              const std::function<void(report::Report&)>& add_to_report = {}) {
-    if (sync_) dist::add_sync_figures(*sync_, figures);
+    if (sync_) runs::add_sync_figures(*sync_, figures);
     return run_.finish(stop_message, figures, add_to_report);
   }
 
  private:
   StepValues accumulated_step(TrainingTask& task, int64_t j) {
-    const dist::MicroRange mine = sync_->mine();
+    const runs::MicroRange mine = sync_->mine();
     std::vector<StepValues> per_micro;
     for (int m = mine.begin; m < mine.end; ++m) {
       sync_->begin_micro(m);
@@ -170,7 +170,7 @@ class TrainingLoop {
   TrainingRun run_;
   int64_t& step_;
   bool quiet_;
-  std::unique_ptr<dist::GradSync> sync_;
+  std::unique_ptr<runs::GradSync> sync_;
 };
 
 }  // namespace nns::runs

@@ -111,11 +111,11 @@ class TrainingRun {
     }
     if (writes_files()) log_ = MetricsLog(path("metrics.jsonl"), spec_.resume ? step_ : -1);
     // Other ranks make their scratch files in the folder only after rank 0 has cleaned it.
-    dist::barrier();
+    runs::barrier();
   }
 
   // False on MPI ranks other than 0: they train in step but write nothing.
-  bool writes_files() const { return dist::writer(); }
+  bool writes_files() const { return runs::writer(); }
 
   int64_t epochs_done() const { return epochs_done_; }
   std::string path(const std::string& name) const { return (std::filesystem::path(spec_.out) / name).string(); }

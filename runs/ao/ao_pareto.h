@@ -13,7 +13,7 @@
 
 #include "report/html_report.h"
 
-namespace nns::ao_eval {
+namespace nns::runs {
 
 struct ParetoRow {
   std::string method, setting;
@@ -94,4 +94,4 @@ inline void add_pareto_section(report::Report& r, const std::vector<ParetoRow>& 
   r.table(f);
 }
 
-}  // namespace nns::ao_eval
+}  // namespace nns::runs

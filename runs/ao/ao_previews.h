@@ -20,7 +20,7 @@
 #include "classical_ao/temporal.h"
 #include "screen_space/gbuffer.h"
 
-namespace nns::ao_eval {
+namespace nns::runs {
 
 // The camera path a view belongs to and its frame number (-1, "" for a still view): a
 // flat view names its frame ("room-1-p00-f003.exr"), a surround frame's folder does
@@ -96,4 +96,4 @@ inline std::vector<report::Comparison> write_ao_previews(const std::vector<std::
   return comparisons;
 }
 
-}  // namespace nns::ao_eval
+}  // namespace nns::runs

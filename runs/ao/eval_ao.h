@@ -50,7 +50,7 @@
 #include "models/nnao/nnao_inference.h"
 #include "models/nnao/nnao_inference_reference.h"
 
-namespace nns::ao_eval {
+namespace nns::runs {
 
 namespace fs = std::filesystem;
 
@@ -621,7 +621,7 @@ inline MethodInputs load_method_inputs(const EvalAoOptions& o) {
   if (!o.model.empty() && !o.ladder.empty()) throw std::invalid_argument("--model and --ladder: give one of them");
   if (!o.model.empty()) in.models.push_back(nnao::NnaoWeights::load(o.model));
   if (!o.ladder.empty())
-    for (const auto& e : nnao::read_ladder(o.ladder)) {
+    for (const auto& e : runs::read_ladder(o.ladder)) {
       in.models.push_back(nnao::NnaoWeights::load(e.blob));
       in.model_settings.push_back(e.name);
     }
@@ -643,4 +643,4 @@ inline void evaluate_ao(const EvalAoOptions& o) {
               notes.accuracy.empty() ? " (+ .png)" : "", (fs::path(o.out) / "report.html").string().c_str());
 }
 
-}  // namespace nns::ao_eval
+}  // namespace nns::runs

@@ -21,7 +21,7 @@
 #include "models/nnao/nnao_inference.h"
 #include "runs/ao/nnao_ladder.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
 // The view's G-buffer planes at width x height, each pixel from the nearest source pixel.
 inline data::View resize_nearest(const data::View& v, int width, int height) {
@@ -67,11 +67,11 @@ inline std::vector<TimedRung> time_ladder(const std::string& dir, const data::Vi
   std::vector<float> out(size_t(g.pixels()));
   std::vector<TimedRung> timed;
   for (size_t k = 0; k < rungs.size(); ++k) {
-    const NnaoWeights m = NnaoWeights::load(rungs[k].blob);
+    const nnao::NnaoWeights m = nnao::NnaoWeights::load(rungs[k].blob);
     std::vector<double> ms;
     for (int r = 0; r <= rounds; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
-      infer_exact(m, g, out.data());
+      nnao::infer_exact(m, g, out.data());
       if (r > 0) ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     std::sort(ms.begin(), ms.end());
@@ -88,4 +88,4 @@ inline const TimedRung* pick_rung(const std::vector<TimedRung>& timed, double bu
   return pick;
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

@@ -27,10 +27,10 @@
 #include "runs/ao/nnao_glsl_horizon.h"
 #include "runs/ao/nnao_glsl_resolution.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
 // Filter k as four planes (w x w each): R, G, B, A = Nx, Ny, Nz, depth weights.
-inline std::vector<std::vector<float>> filter_planes(const NnaoWeights& m, int k) {
+inline std::vector<std::vector<float>> filter_planes(const nnao::NnaoWeights& m, int k) {
   const int w = m.input.window;
   std::vector<std::vector<float>> p(4, std::vector<float>(size_t(w) * w));
   for (int j = 0; j < w; ++j)
@@ -52,7 +52,7 @@ inline data::View filter_view(int width, int height, const std::vector<std::vect
 }
 
 // Writes filter<k>.exr/.png (+ filter<k>_depth.png) and nnao_filters.exr into dir.
-inline void write_filter_images(const NnaoWeights& m, const std::string& dir) {
+inline void write_filter_images(const nnao::NnaoWeights& m, const std::string& dir) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
   const int w = m.input.window, H = m.hidden;
@@ -88,14 +88,14 @@ inline void write_filter_images(const NnaoWeights& m, const std::string& dir) {
 
 // Writes the shaders (and a grid model's filter images) into dir; returns the files'
 // names. `samples` is a grid shader's default uSamples (a horizon model's march is fixed).
-inline std::vector<std::string> write_export(const NnaoWeights& m, const std::string& dir, int samples) {
+inline std::vector<std::string> write_export(const nnao::NnaoWeights& m, const std::string& dir, int samples) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
   std::vector<std::string> files = {"nnao.frag", "nnao_blur.frag"};
   if (m.input.is_horizon()) {
     write_file_atomic((fs::path(dir) / "nnao.frag").string(), glsl_horizon_pass(m));
   } else {
-    check_sample_count(samples, m.input);
+    nnao::check_sample_count(samples, m.input);
     write_filter_images(m, dir);
     write_file_atomic((fs::path(dir) / "nnao.frag").string(), glsl_grid_pass(m, samples));
     files.push_back("nnao_filters.exr");
@@ -103,7 +103,7 @@ inline std::vector<std::string> write_export(const NnaoWeights& m, const std::st
   }
   const bool horizon = m.input.is_horizon();  // the grid's blur keeps the first terms, one pair
   write_file_atomic((fs::path(dir) / "nnao_blur.frag").string(),
-                    glsl_blur_pass(horizon ? m.blur_passes : 1, horizon ? m.blur_edges : BlurEdges{}));
+                    glsl_blur_pass(horizon ? m.blur_passes : 1, horizon ? m.blur_edges : nnao::BlurEdges{}));
   if (horizon && m.downsample > 1) {  // the frame at 1/s, then back (nnao_glsl_resolution.h)
     write_file_atomic((fs::path(dir) / "nnao_downsample.frag").string(), glsl_downsample_pass(m.downsample));
     write_file_atomic((fs::path(dir) / "nnao_upsample.frag").string(), glsl_upsample_pass(m.downsample, m.blur_edges));
@@ -115,4 +115,4 @@ inline std::vector<std::string> write_export(const NnaoWeights& m, const std::st
   return files;
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

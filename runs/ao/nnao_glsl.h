@@ -12,7 +12,7 @@
 
 #include "models/nnao/nnao_weights.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
 // %.9g reads back as the same float; a trailing ".0" keeps integers floats in GLSL.
 inline std::string glsl_float(float v) {
@@ -76,7 +76,7 @@ vec2 viewXY(vec2 pix, float z) {
 
 // Layers 1..3 of the network and the de-standardisation (NnaoWeights::head), from
 // layer 0's sums: nnaoHead(h, scale, base) = clamp(net(h * scale + B0) + base, 0, 1).
-inline std::string glsl_head(const NnaoWeights& m) {
+inline std::string glsl_head(const nnao::NnaoWeights& m) {
   std::ostringstream s;
   s << "\nconst int H = " << m.hidden << ";  // hidden units\n" << glsl_array("B0", m.b0);
   for (int l = 0; l < 3; ++l)
@@ -109,4 +109,4 @@ float nnaoHead(float h[H], float scale, float base) {
   return s.str();
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

@@ -12,11 +12,11 @@
 
 #include "runs/ao/nnao_glsl.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
 // `pairs`: how many times the engine draws the (1, 0), (0, 1) pair, each on the last
 // one's result (NnaoWeights::blur_passes); written as NNAO_BLUR_PAIRS for the host.
-inline std::string glsl_blur_pass(int pairs = 1, const BlurEdges& e = {}) {
+inline std::string glsl_blur_pass(int pairs = 1, const nnao::BlurEdges& e = {}) {
   std::vector<float> spatial;  // the CPU's weights, computed the CPU's way
   for (int k = -2; k <= 2; ++k) spatial.push_back(std::exp(-float(k * k) / (2 * 1.5f * 1.5f)));
   std::ostringstream s;
@@ -58,4 +58,4 @@ void main() {
   return s.str();
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

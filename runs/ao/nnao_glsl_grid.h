@@ -10,9 +10,9 @@
 
 #include "runs/ao/nnao_glsl.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
-inline std::string glsl_grid_pass(const NnaoWeights& m, int default_samples) {
+inline std::string glsl_grid_pass(const nnao::NnaoWeights& m, int default_samples) {
   std::ostringstream s;
   s << glsl_preamble("NNAO pass of a grid model (Holden et al. 2016, shader-style inference)")
     << "uniform sampler2D uFilters;  // nnao_filters.exr as stored (row j = grid row j, not flipped): (H*W) x W\n"
@@ -80,4 +80,4 @@ void main() {
   return s.str();
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

@@ -15,10 +15,10 @@
 
 #include "runs/ao/nnao_glsl.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
-inline std::string glsl_horizon_pass(const NnaoWeights& m) {
-  const HorizonLayout& L = m.input.horizon;
+inline std::string glsl_horizon_pass(const nnao::NnaoWeights& m) {
+  const nnao::HorizonLayout& L = m.input.horizon;
   // The directions' rotations and the steps' squared fractions, computed in float as
   // the CPU computes them, so the shader marches through the same points.
   std::vector<float> cos_a, sin_a, f2;
@@ -103,4 +103,4 @@ void main() {
   return s.str();
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

@@ -13,7 +13,7 @@
 
 #include "runs/ao/nnao_glsl.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
 inline std::string glsl_downsample_pass(int scale) {
   std::ostringstream s;
@@ -41,7 +41,7 @@ void main() {
   return s.str();
 }
 
-inline std::string glsl_upsample_pass(int scale, const BlurEdges& e) {
+inline std::string glsl_upsample_pass(int scale, const nnao::BlurEdges& e) {
   std::ostringstream s;
   s << glsl_preamble("NNAO's guided upsample from 1/" + std::to_string(scale) + " resolution")
     << "#define NNAO_DOWNSAMPLE " << scale << "\n"
@@ -88,4 +88,4 @@ void main() {
   return s.str();
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

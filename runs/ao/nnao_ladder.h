@@ -21,7 +21,7 @@
 #include "core/atomic_file.h"
 #include "runs/ao/train_nnao.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
 struct Rung {
   int directions, steps, bands, hidden, downsample, blur_passes;
@@ -85,7 +85,7 @@ inline std::vector<Rung> parse_rungs(const std::string& text) {
     if (r.downsample != 1 && r.downsample != 2 && r.downsample != 4)
       throw std::invalid_argument("--ladder-rungs: '" + item + "': downsample must be 1, 2 or 4");
     // Refused here, not after the rungs before it have trained.
-    if (const std::string p = HorizonLayout{r.directions, r.steps, r.bands}.problem(); !p.empty())
+    if (const std::string p = nnao::HorizonLayout{r.directions, r.steps, r.bands}.problem(); !p.empty())
       throw std::invalid_argument("--ladder-rungs: '" + item + "': " + p);
     if (r.hidden < 1 || r.hidden > 64 || r.blur_passes < 1 || r.blur_passes > 16)
       throw std::invalid_argument("--ladder-rungs: '" + item + "': hidden must be 1..64 and blur passes 1..16");
@@ -162,4 +162,4 @@ inline std::vector<LadderEntry> read_ladder(const std::string& dir) {
   return rungs;
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

@@ -25,7 +25,7 @@
 #include "screen_space/low_resolution.h"
 #include "runs/ao/row_file.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
 // binary16 via the compiler's _Float16 (F16C's vcvtps2ph / vcvtph2ps where the target
 // has it). Conversion rounds to nearest even and saturates at +-65504, the largest
@@ -55,7 +55,7 @@ inline void set_row_target(char* row, int64_t features, float y) {
 
 // A split's points: rows (point_row_bytes) in a file that lives as long as this object.
 struct PointFile {
-  InputSpec input;
+  nnao::InputSpec input;
   int64_t features = 0;
   runs::RowFile rows;
   int64_t count() const { return rows.rows(); }
@@ -69,7 +69,7 @@ struct PointFile {
 // `downsample` s > 1: the points are pixels of the view's G-buffer at 1/s of its
 // resolution (screen_space/low_resolution.h), as the model will see frames at inference,
 // and each target is the full-resolution truth at the pixel that low pixel is.
-inline int64_t view_points(const data::View& v, const InputSpec& input, int per_view, float radius, Rng& rng,
+inline int64_t view_points(const data::View& v, const nnao::InputSpec& input, int per_view, float radius, Rng& rng,
                            std::vector<char>& rows, int downsample = 1) {
   const ao::GBuffer full = ao::gbuffer_from_view(v, radius);
   if (!v.has("AO"))
@@ -89,7 +89,7 @@ inline int64_t view_points(const data::View& v, const InputSpec& input, int per_
   }
   const ao::GBuffer& g = downsample > 1 ? lr.g : full;
   const std::vector<float>& ao = downsample > 1 ? ao_low : ao_full;
-  std::vector<int64_t> pix = non_sky_pixels(g);
+  std::vector<int64_t> pix = nnao::non_sky_pixels(g);
   const int64_t n = std::min<int64_t>(per_view, int64_t(pix.size()));
   // Partial Fisher-Yates: the first n entries become a uniform random subset.
   for (int64_t i = 0; i < n; ++i) std::swap(pix[size_t(i)], pix[size_t(i + int64_t(rng.below(pix.size() - size_t(i))))]);
@@ -188,4 +188,4 @@ inline void standardize_file(PointFile& pf, const Standardizer& s) {
   }
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

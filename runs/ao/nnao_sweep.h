@@ -27,7 +27,7 @@
 #include "models/nnao/nnao_inference.h"
 #include "runs/ao/train_nnao.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
 struct SweepEntry {
   int size, hidden;  // size: the grid's w, or the horizon's directions
@@ -76,11 +76,11 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<i
         return k ? m : std::nan("");
       };
       const double mse = last5("test_mse"), val = last5("val_mse");
-      NnaoWeights m = NnaoWeights::load((fs::path(o.out_dir) / "nnao.blob").string());
+      nnao::NnaoWeights m = nnao::NnaoWeights::load((fs::path(o.out_dir) / "nnao.blob").string());
       std::vector<double> ms;
       for (int k = 0; k < 3; ++k) {
         auto t0 = std::chrono::steady_clock::now();
-        infer_exact(m, g, out.data());
+        nnao::infer_exact(m, g, out.data());
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       }
       std::sort(ms.begin(), ms.end());
@@ -147,4 +147,4 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<i
   return entries;
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

@@ -53,7 +53,7 @@
 #include "runs/distributed/world.h"
 #include "runs/training_loop.h"
 
-namespace nns::nnao {
+namespace nns::runs {
 
 // Named settings of train-nnao, each chosen by measurements (docs/nnao.md):
 // `paper`: Holden et al. 2016 (grid w 31, hidden 4, dropout 0.5, gamma 0.01).
@@ -74,7 +74,7 @@ namespace nns::nnao {
 struct Preset {
   std::string features;
   int window;
-  HorizonLayout horizon;
+  nnao::HorizonLayout horizon;
   int hidden;
   double dropout, gamma;
   int epochs;
@@ -100,7 +100,7 @@ inline Preset preset(const std::string& name) {
 struct TrainOptions {
   std::string data_dir;  // train/ + test/ (or flat: split by scene)
   std::string out_dir = "nnao-out";
-  NnaoNetConfig net;
+  nnao::NnaoNetConfig net;
   int epochs = 20;
   int blur_passes = 1;  // horizon models: recorded in the blob for the exact inference
   double blur_depth = 0.1;     // and the blur's edge terms (nnao::BlurEdges)
@@ -184,7 +184,7 @@ inline PointFile build_points(const std::vector<std::string>& paths, const Train
   const int64_t R = point_row_bytes(pf.features);
   pf.rows = runs::RowFile(o.out_dir, name, R);
   Rng base(o.seed ^ (0x9E37ull * stream));
-  const size_t ranks = size_t(dist::size()), me = size_t(dist::rank());
+  const size_t ranks = size_t(runs::size()), me = size_t(runs::rank());
   // For the failing-owner test (tests/distributed): the view of this file name fails on
   // its owner alone, after the dataset check every rank passed.
   const char* fail = std::getenv("NNSHADE_TEST_FAIL_POINT_VIEW");
@@ -202,7 +202,7 @@ inline PointFile build_points(const std::vector<std::string>& paths, const Train
       ++share.views_built;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    for (size_t i = first; i < end; ++i) dist::broadcast_bytes(round[i - first], int(i - first));
+    for (size_t i = first; i < end; ++i) runs::broadcast_bytes(round[i - first], int(i - first));
     share.exchange_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (size_t i = first; i < end; ++i) {
       const std::vector<char>& rows = round[i - first];
@@ -216,7 +216,7 @@ inline PointFile build_points(const std::vector<std::string>& paths, const Train
 
 // Mean squared error in AO units over a standardised point file (eval mode, no graph),
 // read in order a block at a time.
-inline double evaluate_mse(NnaoNet<float>& net, const PointFile& pf, float target_std) {
+inline double evaluate_mse(nnao::NnaoNet<float>& net, const PointFile& pf, float target_std) {
   if (pf.count() == 0) return std::nan("");
   NoGradGuard ng;
   const bool was_training = net.is_training();
@@ -245,7 +245,7 @@ inline int64_t shuffle_buffer_rows(const TrainOptions& o) {
   return std::max<int64_t>(1, int64_t(std::min(rows, 1e15)));
 }
 
-inline void copy_standardizer(NnaoNet<float>& net, const Standardizer& s) {
+inline void copy_standardizer(nnao::NnaoNet<float>& net, const Standardizer& s) {
   std::copy(s.mean.begin(), s.mean.end(), net.feature_mean->data());
   std::copy(s.std.begin(), s.std.end(), net.feature_std->data());
   (*net.target_stats)[0] = s.target_mean;
@@ -368,7 +368,7 @@ struct NnaoModel {
     ck.add_module("net", net).add_optimizer("adam", opt).add_rng("data", data_rng);
   }
   Rng init_rng;
-  NnaoNet<float> net;
+  nnao::NnaoNet<float> net;
   Adam<float> opt;
   Rng data_rng;
   Checkpoint<float> ck;
@@ -387,7 +387,7 @@ struct NnaoPoints {
 // Built after the run layer has made the folder (they are written into it) and has
 // accepted or refused a --resume (a refusal costs no feature building). They are rebuilt
 // from the seed on every start, so a resume sees the same rows.
-inline NnaoPoints build_all_points(const TrainOptions& o, const data::TrainingSplits& s, NnaoNet<float>& net) {
+inline NnaoPoints build_all_points(const TrainOptions& o, const data::TrainingSplits& s, nnao::NnaoNet<float>& net) {
   auto say = [&](const std::string& line) {
     if (!o.quiet) std::fprintf(stderr, "%s\n", line.c_str());
   };
@@ -401,8 +401,8 @@ inline NnaoPoints build_all_points(const TrainOptions& o, const data::TrainingSp
   p.test = build_points(s.listing.test.views, o, o.test_points_per_view, 2, "test-points", nullptr, p.share);
   p.valid = build_points(s.validation.views, o, o.test_points_per_view, 3, "val-points", nullptr, p.share);
   p.views = int64_t(s.listing.train.views.size() + s.listing.test.views.size() + s.validation.views.size());
-  if (dist::size() > 1)
-    say("rank " + std::to_string(dist::rank()) + " built " + std::to_string(p.share.views_built) + " of " +
+  if (runs::size() > 1)
+    say("rank " + std::to_string(runs::rank()) + " built " + std::to_string(p.share.views_built) + " of " +
         std::to_string(p.views) + " views' points; " + std::to_string(p.share.exchange_seconds) +
         " s in the exchange (waiting for the other ranks included)");
   p.standardizer = sums.finish();
@@ -456,7 +456,7 @@ class NnaoTask : public runs::TrainingTask {
     update(loss);
     return {loss};
   }
-  runs::StepValues micro_batch(int64_t, int m, const dist::MicroRange&) override {
+  runs::StepValues micro_batch(int64_t, int m, const runs::MicroRange&) override {
     for (auto& prm : params_) prm.grad_buffer().zero();
     return {fast_.forward_backward(xb_.data() + m * mb_ * F_, yb_.data() + m * mb_, float(o_.gamma))};
   }
@@ -505,7 +505,7 @@ class NnaoTask : public runs::TrainingTask {
   const int64_t F_, B_, mb_;
   runs::ShuffledRows order_;
   std::vector<Var<float>> params_;
-  NnaoFastStep fast_;
+  nnao::NnaoFastStep fast_;
   std::vector<float> xb_, yb_;
   const int threads_;
   const std::string blob_path_;
@@ -566,4 +566,4 @@ inline TrainResult train_nnao(const TrainOptions& o) {
   return finish_run(loop, task, points, r, model.step, t_start);
 }
 
-}  // namespace nns::nnao
+}  // namespace nns::runs

@@ -51,7 +51,7 @@
 #include "core/rng.h"
 #include "runs/distributed/world.h"
 
-namespace nns::dist {
+namespace nns::runs {
 
 struct MicroRange {
   int begin = 0, end = 0;
@@ -404,4 +404,4 @@ inline void add_sync_figures(const GradSync& sync, std::vector<std::pair<std::st
   figures.emplace_back("exchange_overlap_us_per_step", t.overlap_seconds * per_step);
 }
 
-}  // namespace nns::dist
+}  // namespace nns::runs

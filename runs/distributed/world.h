@@ -7,7 +7,7 @@
 // Only standard MPI-3 calls (no Open MPI extensions), so the code builds against MPICH.
 //
 //   int main(int argc, char** argv) {
-//     dist::Session mpi(argc, argv);            // MPI_Init when launched by mpirun/srun
+//     runs::Session mpi(argc, argv);            // MPI_Init when launched by mpirun/srun
 //     return mpi.finish(cli::run_main(...));    // MPI_Finalize, or MPI_Abort on failure
 //   }
 #include <algorithm>
@@ -21,7 +21,7 @@
 #include <mpi.h>
 #endif
 
-namespace nns::dist {
+namespace nns::runs {
 
 struct WorldInfo {
   int rank = 0, size = 1;
@@ -157,4 +157,4 @@ class Session {
   }
 };
 
-}  // namespace nns::dist
+}  // namespace nns::runs

@@ -30,7 +30,7 @@
 #include "models/gi/guided_upsample.h"
 #include "runs/gi/gi_previews.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 struct EvalOptions {
   std::string data, out;
@@ -93,15 +93,15 @@ inline std::string safe_name(std::string s) {
 // Scores one way of predicting light on `samples`; predict(sample) returns linear light
 // (3, h, w). Appends per-frame lines to `frames_csv`.
 template <class Predict>
-EvalRow score(const std::string& model, const std::string& mode, std::vector<GiSample>& samples,
-              const HdrMapping& hdr, const EvalOptions& o, Predict&& predict, std::string& frames_csv) {
+EvalRow score(const std::string& model, const std::string& mode, std::vector<gi::GiSample>& samples,
+              const gi::HdrMapping& hdr, const EvalOptions& o, Predict&& predict, std::string& frames_csv) {
   EvalRow row;
   row.model = model, row.mode = mode;
   MetricsMean all, off;
   double ms = 0;
   ao::TemporalStats temporal, truth_temporal;
   std::vector<float> prev_pred, prev_truth;
-  const GiSample* prev = nullptr;
+  const gi::GiSample* prev = nullptr;
   int previews = 0;
   for (auto& s : samples) {
     auto t0 = std::chrono::steady_clock::now();
@@ -144,7 +144,7 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<GiS
 }
 
 // Whether a frame's front geometry receives no light at all (target 0 everywhere).
-inline bool unlit(const GiSample& s) {
+inline bool unlit(const gi::GiSample& s) {
   const int64_t n = int64_t(s.geometry.size());
   for (int c = 0; c < 3; ++c)
     for (int64_t i = 0; i < n; ++i)
@@ -153,7 +153,7 @@ inline bool unlit(const GiSample& s) {
 }
 
 // The mean indirect light (target - direct - env) per channel over training geometry.
-inline std::array<float, 3> fit_ambient(const std::vector<GiSample>& train) {
+inline std::array<float, 3> fit_ambient(const std::vector<gi::GiSample>& train) {
   std::array<double, 3> s{0, 0, 0};
   int64_t count = 0;
   for (auto& x : train) {
@@ -322,9 +322,9 @@ inline EvalSplits open_eval_splits(const EvalOptions& o, double validation_fract
 // from the camera's room: 12 of the default data's 180 holdout frames) has nothing to
 // predict: its PSNR is infinite for direct+env and SSIM is undefined, and a constant
 // ambient term loses there by construction. Such frames are set aside and counted.
-inline size_t set_aside_unlit(std::vector<GiSample>& frames, const EvalOptions& o) {
+inline size_t set_aside_unlit(std::vector<gi::GiSample>& frames, const EvalOptions& o) {
   const size_t before = frames.size();
-  frames.erase(std::remove_if(frames.begin(), frames.end(), [](const GiSample& s) { return unlit(s); }), frames.end());
+  frames.erase(std::remove_if(frames.begin(), frames.end(), [](const gi::GiSample& s) { return unlit(s); }), frames.end());
   const size_t unlit_frames = before - frames.size();
   if (unlit_frames && !o.quiet)
     std::fprintf(stderr, "eval-gi: %zu unlit %s frames set aside (no light on the front view)\n", unlit_frames,
@@ -336,15 +336,15 @@ inline size_t set_aside_unlit(std::vector<GiSample>& frames, const EvalOptions& 
 
 // The two references that learn nothing: direct + env, and that plus a constant ambient
 // fitted on the training scenes.
-inline void score_references(const EvalSplits& e, const GiItemReader& rd, const GiInputConfig& cfg,
-                             std::vector<GiSample>& frames, const HdrMapping& hdr, const EvalOptions& o,
+inline void score_references(const EvalSplits& e, const GiItemReader& rd, const gi::GiInputConfig& cfg,
+                             std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr, const EvalOptions& o,
                              std::vector<EvalRow>& rows, std::string& frames_csv) {
   auto train = load_samples(e.fit, rd, cfg, o.max_frames, "eval-gi ambient fit", o.quiet);
   const auto ambient = fit_ambient(train);
   train.clear();
-  rows.push_back(score("direct+env", "-", frames, hdr, o, [](const GiSample& s) { return s.direct_env.clone(); },
+  rows.push_back(score("direct+env", "-", frames, hdr, o, [](const gi::GiSample& s) { return s.direct_env.clone(); },
                        frames_csv));
-  rows.push_back(score("direct+env+ambient", "-", frames, hdr, o, [&](const GiSample& s) {
+  rows.push_back(score("direct+env+ambient", "-", frames, hdr, o, [&](const gi::GiSample& s) {
     Tensor<float> p = s.direct_env.clone();
     const int64_t n = int64_t(s.geometry.size());
     for (int c = 0; c < 3; ++c)
@@ -356,25 +356,25 @@ inline void score_references(const EvalSplits& e, const GiItemReader& rd, const 
 // One model's row. With --upsample-from, the model sees the frames box-filtered to that
 // face, and its indirect light (prediction - direct - env) is brought up to the scored
 // frames by the guided upsample; the direct and env light are the scored frames' own.
-inline EvalRow score_model(const std::string& path, LoadedGenerator& g, const EvalSplits& e,
-                           std::vector<GiSample>& frames, const HdrMapping& hdr, const EvalOptions& o,
+inline EvalRow score_model(const std::string& path, gi::LoadedGenerator& g, const EvalSplits& e,
+                           std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr, const EvalOptions& o,
                            std::string& frames_csv) {
-  const GiInputConfig& cfg = g.inputs;
+  const gi::GiInputConfig& cfg = g.inputs;
   NoGradGuard ng;
   if (o.upsample_from <= 0)
-    return score(detail::label_of(path), mode_name(cfg.mode), frames, hdr, o, [&](const GiSample& s) {
-      return predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
+    return score(detail::label_of(path), gi::mode_name(cfg.mode), frames, hdr, o, [&](const gi::GiSample& s) {
+      return gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
     }, frames_csv);
   const GiItemReader low_rd{cfg.mode, o.upsample_from};
-  std::vector<GiSample> low = load_samples(*e.scored, low_rd, cfg, o.max_frames, "eval-gi low", o.quiet);
+  std::vector<gi::GiSample> low = load_samples(*e.scored, low_rd, cfg, o.max_frames, "eval-gi low", o.quiet);
   std::map<std::string, size_t> low_of;
   for (size_t i = 0; i < low.size(); ++i) low_of[low[i].name] = i;
   const std::string label = detail::label_of(path) + " @" + std::to_string(o.upsample_from) + " guided";
-  return score(label, mode_name(cfg.mode), frames, hdr, o, [&](const GiSample& s) {
-    const GiSample& l = low.at(low_of.at(s.name));
-    Tensor<float> indirect = predict_linear(g, l, o.bn_batch_stats, o.dropout_on);
+  return score(label, gi::mode_name(cfg.mode), frames, hdr, o, [&](const gi::GiSample& s) {
+    const gi::GiSample& l = low.at(low_of.at(s.name));
+    Tensor<float> indirect = gi::predict_linear(g, l, o.bn_batch_stats, o.dropout_on);
     for (int64_t i = 0; i < indirect.numel(); ++i) indirect[i] -= l.direct_env[i];
-    Tensor<float> p = guided_upsample(indirect, l.front_geometry, s.front_geometry);
+    Tensor<float> p = gi::guided_upsample(indirect, l.front_geometry, s.front_geometry);
     for (int64_t i = 0; i < p.numel(); ++i) p[i] += s.direct_env[i];
     return p;
   }, frames_csv);
@@ -430,8 +430,8 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   if (o.models.empty()) throw std::invalid_argument("eval-gi: no --model given");
   std::filesystem::create_directories(o.out + "/previews");
   // Every model read once, before any frame: a bad blob stops the run at once.
-  std::vector<LoadedGenerator> generators;
-  for (const auto& path : o.models) generators.push_back(load_generator(path));
+  std::vector<gi::LoadedGenerator> generators;
+  for (const auto& path : o.models) generators.push_back(gi::load_generator(path));
   // The ambient term is fitted on the scenes the models trained on: train/ without the
   // validation scenes the first model's run carved out (the models of one table are
   // trained on the same data, so they share them).
@@ -443,9 +443,9 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   size_t unlit_frames = 0;
   // One mapping scores every row, or mapped-space numbers would not compare: the first
   // model's (models trained on the same split fit the same scale).
-  const HdrMapping hdr(generators.front().inputs.norm.hdr_scale);
+  const gi::HdrMapping hdr(generators.front().inputs.norm.hdr_scale);
   for (size_t m = 0; m < o.models.size(); ++m) {
-    const GiInputConfig& cfg = generators[m].inputs;
+    const gi::GiInputConfig& cfg = generators[m].inputs;
     const GiItemReader rd{cfg.mode, o.size > 0 ? o.size : cfg.size};
     auto frames = load_samples(*e.scored, rd, cfg, o.max_frames, "eval-gi " + detail::label_of(o.models[m]), o.quiet);
     unlit_frames = set_aside_unlit(frames, o);
@@ -457,4 +457,4 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   return rows;
 }
 
-}  // namespace nns::gi
+}  // namespace nns::runs

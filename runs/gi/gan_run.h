@@ -33,7 +33,7 @@
 #include "runs/gi/gi_training_frames.h"
 #include "runs/training_loop.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 // The files of a train-gan run in its output folder, named once.
 struct GanRunFiles {
@@ -141,10 +141,10 @@ class GanTask : public runs::TrainingTask {
     shown_ = &prepared(j, sample(j, j + 1));
     return values(t_.train_step(maybe_poisoned(*shown_, poison_)));
   }
-  runs::StepValues micro_batch(int64_t j, int m, const dist::MicroRange& mine) override {
+  runs::StepValues micro_batch(int64_t j, int m, const runs::MicroRange& mine) override {
     const int64_t q = j * K_ + m;
     const int64_t next = m + 1 < mine.end ? q + 1 : (j + 1 < steps_per_epoch() ? (j + 1) * K_ + mine.begin : -1);
-    const GiSample& s = prepared(q, sample(q, next));
+    const gi::GiSample& s = prepared(q, sample(q, next));
     return values(t_.accumulate_sample(maybe_poisoned(s, poison_ && m == 0)));
   }
   void apply(const runs::StepValues& mean) override { t_.apply_accumulated(losses(mean)); }
@@ -175,18 +175,18 @@ class GanTask : public runs::TrainingTask {
   static StepLosses losses(const runs::StepValues& v) { return {v[0], v[1], v[2], v[3], v[4], v[5]}; }
 
   // Sample q of the epoch's order (q: a position in it), reading `next` ahead.
-  const GiSample& sample(int64_t q, int64_t next) {
+  const gi::GiSample& sample(int64_t q, int64_t next) {
     return train_.get(size_t(order_[size_t(q)]),
                       next >= 0 && next < n_ ? std::optional<size_t>(size_t(order_[size_t(next)])) : std::nullopt);
   }
   // Sample q as trained on: augmented when asked (gi_augment.h), from its own stream.
-  const GiSample& prepared(int64_t q, const GiSample& s) {
+  const gi::GiSample& prepared(int64_t q, const gi::GiSample& s) {
     if (!o_.augment.any()) return s;
     Rng rng = augment_rng(o_.train.seed, epoch_, q);
     augmented_ = augmented(s, draw_augment(o_.augment, rng), o_.train.inputs.norm.hdr_scale);
     return augmented_;
   }
-  const GiSample& maybe_poisoned(const GiSample& s, bool poison) {
+  const gi::GiSample& maybe_poisoned(const gi::GiSample& s, bool poison) {
     if (!poison) return s;
     poisoned_ = s;
     poisoned_.input = s.input.clone();
@@ -211,10 +211,10 @@ class GanTask : public runs::TrainingTask {
   }
   // The step's first sample (read again when the step read others after it).
   void write_samples(int64_t j) {
-    const GiSample& s = shown_ ? *shown_ : prepared(j * K_, sample(j * K_, -1));
+    const gi::GiSample& s = shown_ ? *shown_ : prepared(j * K_, sample(j * K_, -1));
     write_sample_pngs(files_.sample_prefix(t_.step()), s,
                       t_.predict(s, /*bn_batch_stats=*/true, /*dropout_on=*/false),
-                      HdrMapping(o_.train.inputs.norm.hdr_scale));
+                      gi::HdrMapping(o_.train.inputs.norm.hdr_scale));
   }
 
   const GanRunOptions& o_;
@@ -227,8 +227,8 @@ class GanTask : public runs::TrainingTask {
   int epoch_ = 0;
   std::vector<int64_t> order_;
   bool poison_ = false;
-  const GiSample* shown_ = nullptr;  // K = 1: the step's sample, for the PNGs
-  GiSample augmented_, poisoned_;
+  const gi::GiSample* shown_ = nullptr;  // K = 1: the step's sample, for the PNGs
+  gi::GiSample augmented_, poisoned_;
   StepLosses acc_;
   int acc_n_ = 0;
 };
@@ -266,4 +266,4 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   return r;
 }
 
-}  // namespace nns::gi
+}  // namespace nns::runs

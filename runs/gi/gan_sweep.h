@@ -22,7 +22,7 @@
 #include "runs/gi/gi_samples.h"
 #include "runs/gi/eval_gi.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 struct GanSweepOptions {
   std::string data_dir, out, mode = "surround", points, loss = "gan", arch = "pix2pix", residual;
@@ -68,7 +68,7 @@ inline std::vector<int> sweep_sizes(const std::vector<std::array<int, 3>>& todo)
 }
 
 // One point's run: the sweep's schedule and losses at this size, width and depth.
-inline GanRunOptions sweep_point_options(const GanSweepOptions& so, const GiInputConfig& in, int ngf, int lv) {
+inline GanRunOptions sweep_point_options(const GanSweepOptions& so, const gi::GiInputConfig& in, int ngf, int lv) {
   GanRunOptions o;
   o.out = so.out + "/s" + std::to_string(in.size) + "_g" + std::to_string(ngf) + "_l" + std::to_string(lv);
   o.sample_every = 0;
@@ -81,8 +81,8 @@ inline GanRunOptions sweep_point_options(const GanSweepOptions& so, const GiInpu
   o.train.epochs = so.epochs - so.epochs / 2, o.train.epochs_decay = so.epochs / 2;
   o.train.seed = uint64_t(so.seed);
   o.train.loss = parse_loss(so.loss);
-  o.train.arch = parse_arch(so.arch);
-  o.train.residual = parse_residual(so.residual);
+  o.train.arch = gi::parse_arch(so.arch);
+  o.train.residual = gi::parse_residual(so.residual);
   return o;
 }
 
@@ -116,7 +116,7 @@ inline bool train_and_score_point(const GanSweepOptions& so, const GanRunOptions
   e.max_frames = max_items, e.previews = 1, e.quiet = true;
   auto rows = evaluate_gi(e);
   const EvalRow& m = rows.back();
-  p.params = load_generator(files.generator()).G->parameter_count();
+  p.params = gi::load_generator(files.generator()).G->parameter_count();
   p.train_seconds = r.seconds, p.ms_per_frame = m.ms_per_frame;
   p.ssim = m.all.ssim, p.psnr = m.all.psnr, p.mse = m.all.mse;
   return true;
@@ -129,8 +129,8 @@ inline std::vector<SweepPoint> sweep_points(const GanSweepOptions& so, const std
   const size_t max_items = so.max_frames > 0 ? size_t(so.max_frames) : size_t(-1);
   std::vector<SweepPoint> points;
   for (int size : sweep_sizes(todo)) {
-    GiInputConfig in;
-    in.mode = parse_mode(so.mode);
+    gi::GiInputConfig in;
+    in.mode = gi::parse_mode(so.mode);
     in.size = size;
     in.validation_fraction = so.validation_fraction;
     GiItemReader rd{in.mode, size};
@@ -242,4 +242,4 @@ inline void run_gan_sweep(const GanSweepOptions& so) {
   std::printf("sweep-gan: %s/sweep.csv, %s/ssim_vs_ms.svg\n", so.out.c_str(), so.out.c_str());
 }
 
-}  // namespace nns::gi
+}  // namespace nns::runs

@@ -36,7 +36,7 @@
 #include "runs/non_finite.h"
 #include "runs/training_run.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 enum class GiLoss { gan, l1, dssim };
 inline GiLoss parse_loss(const std::string& s) {
@@ -50,10 +50,10 @@ inline const char* loss_name(GiLoss l) {
 }
 
 struct GanTrainConfig {
-  GiInputConfig inputs;
+  gi::GiInputConfig inputs;
   int ngf = 32, levels = 6;          // generator
-  GiArch arch = GiArch::pix2pix;
-  GiResidual residual = GiResidual::off;  // predict a correction to the input light (generator.h)
+  gi::GiArch arch = gi::GiArch::pix2pix;
+  gi::GiResidual residual = gi::GiResidual::off;  // predict a correction to the input light (generator.h)
   bool g_batchnorm = true;           // BatchNorm in the pix2pix U-Net (unet.h)
   int ndf = 32, d_layers = 3;        // discriminator
   GiLoss loss = GiLoss::gan;
@@ -66,16 +66,16 @@ struct GanTrainConfig {
   int epochs = 10, epochs_decay = 10;  // constant lr, then linear decay to 0
   uint64_t seed = 1;
 
-  UnetConfig unet() const {
-    UnetConfig u;
+  gi::UnetConfig unet() const {
+    gi::UnetConfig u;
     u.in_channels = inputs.channels();
     u.ngf = ngf;
     u.levels = levels;
     u.batchnorm = g_batchnorm;
     return u;
   }
-  GeneratorConfig generator() const { return {arch, unet(), residual, inputs.norm.hdr_scale}; }
-  PatchGanConfig patchgan() const { return {inputs.channels() + 3, ndf, d_layers}; }
+  gi::GeneratorConfig generator() const { return {arch, unet(), residual, inputs.norm.hdr_scale}; }
+  gi::PatchGanConfig patchgan() const { return {inputs.channels() + 3, ndf, d_layers}; }
   int total_epochs() const { return epochs + epochs_decay; }
 };
 
@@ -129,13 +129,13 @@ class DiscriminatorWatch {
 class GanTrainer {
  public:
   explicit GanTrainer(const GanTrainConfig& c)
-      : config(c), init_rng_(c.seed), G_(make_generator<float>(c.generator(), init_rng_)), G(*G_),
+      : config(c), init_rng_(c.seed), G_(gi::make_generator<float>(c.generator(), init_rng_)), G(*G_),
         schedule_(LrSchedule::linear(c.lr, c.epochs, c.epochs_decay)),
         schedule_d_(LrSchedule::linear(c.d_lr(), c.epochs, c.epochs_decay)) {
     opt_g_ = std::make_unique<Adam<float>>(G.parameters(),
                                            AdamOptions{.lr = c.lr, .beta1 = c.beta1, .beta2 = c.beta2});
     if (c.loss == GiLoss::gan) {
-      D = std::make_unique<PatchGan<float>>(c.patchgan(), init_rng_);
+      D = std::make_unique<gi::PatchGan<float>>(c.patchgan(), init_rng_);
       opt_d_ = std::make_unique<Adam<float>>(D->parameters(),
                                              AdamOptions{.lr = c.d_lr(), .beta1 = c.beta1, .beta2 = c.beta2});
     }
@@ -148,7 +148,7 @@ class GanTrainer {
   }
   double lr() const { return opt_g_->lr(); }
 
-  StepLosses train_step(const GiSample& s) {
+  StepLosses train_step(const gi::GiSample& s) {
     StepLosses out = forward_backward(s, /*checked=*/true);
     // Both updates only after every check passed: a failing step changes nothing.
     if (D) opt_d_->step();
@@ -161,7 +161,7 @@ class GanTrainer {
   // losses and gradients alone, unchecked (a rank must not stop while the others wait for
   // its gradients); then apply_accumulated() checks the mean losses and the mean
   // gradients, the same on every rank, and updates. BatchNorm keeps per-image statistics.
-  StepLosses accumulate_sample(const GiSample& s) { return forward_backward(s, /*checked=*/false); }
+  StepLosses accumulate_sample(const gi::GiSample& s) { return forward_backward(s, /*checked=*/false); }
   void apply_accumulated(const StepLosses& mean) {
     const int64_t k = step_ + 1;
     if (D && !std::isfinite(mean.d)) throw NonFiniteError(k, "discriminator loss");
@@ -197,26 +197,26 @@ class GanTrainer {
 
   // The losses of one sample and their gradients (into cleared buffers); `checked`: a
   // NaN or Inf throws NonFiniteError before any gradient is used.
-  StepLosses forward_backward(const GiSample& s, bool checked) {
+  StepLosses forward_backward(const gi::GiSample& s, bool checked) {
     G.train();
     if (D) D->train();
     const int64_t k = step_ + 1;  // 1-based step number in messages
     StepLosses out;
     Var<float> x(s.input);
     Var<float> y(s.target);
-    Var<float> fake = generate(G, config.generator(), x);
-    Var<float> fake_f = crop2d(fake, s.front);
+    Var<float> fake = gi::generate(G, config.generator(), x);
+    Var<float> fake_f = gi::crop2d(fake, s.front);
     if (checked) check_finite(fake.value(), k, "generator output");
 
     Var<float> x_f;
     if (D) {
-      x_f = Var<float>(crop2d(s.input, s.front));
+      x_f = Var<float>(gi::crop2d(s.input, s.front));
       // D step: real pairs towards 1, generated (detached) towards 0.
       set_requires_grad(*D, true);
       Var<float> real_logits = D->forward(pair(x_f, y));
       Var<float> fake_logits = D->forward(pair(x_f, Var<float>(fake_f.value())));
-      Var<float> d_real = bce_with_logits_target(real_logits, 1.0f);
-      Var<float> d_fake = bce_with_logits_target(fake_logits, 0.0f);
+      Var<float> d_real = gi::bce_with_logits_target(real_logits, 1.0f);
+      Var<float> d_fake = gi::bce_with_logits_target(fake_logits, 0.0f);
       Var<float> d_loss = (d_real + d_fake) * 0.5f;
       out.d_real = d_real.value()[0], out.d_fake = d_fake.value()[0], out.d = d_loss.value()[0];
       if (checked && !std::isfinite(out.d)) throw NonFiniteError(k, "discriminator loss");
@@ -226,14 +226,14 @@ class GanTrainer {
     }
 
     // G step: fool D (its parameters frozen: no gradient is wasted on them) + lambda*L1.
-    Var<float> rec = config.loss == GiLoss::dssim ? dssim_tanh(fake_f, y) : l1_loss(fake_f, y);
+    Var<float> rec = config.loss == GiLoss::dssim ? gi::dssim_tanh(fake_f, y) : l1_loss(fake_f, y);
     if (config.loss != GiLoss::dssim && config.dssim_weight > 0)
-      rec = rec + dssim_tanh(fake_f, y) * float(config.dssim_weight);
+      rec = rec + gi::dssim_tanh(fake_f, y) * float(config.dssim_weight);
     Var<float> g_loss = config.loss == GiLoss::gan ? rec * float(config.lambda) : rec;
     out.g_rec = rec.value()[0];
     if (D) {
       set_requires_grad(*D, false);
-      Var<float> adv = bce_with_logits_target(D->forward(pair(x_f, fake_f)), 1.0f);
+      Var<float> adv = gi::bce_with_logits_target(D->forward(pair(x_f, fake_f)), 1.0f);
       out.g_adv = adv.value()[0];
       g_loss = adv + g_loss;
     }
@@ -253,11 +253,11 @@ class GanTrainer {
   }
 
   // G's prediction of the front view, Tanh range (1, 3, h, w), in the given test mode.
-  Tensor<float> predict(const GiSample& s, bool bn_batch_stats, bool dropout_on) {
+  Tensor<float> predict(const gi::GiSample& s, bool bn_batch_stats, bool dropout_on) {
     NoGradGuard ng;
     auto saved = snapshot_buffers();  // batch-stat BN would move the running statistics
     G.set_test_modes(bn_batch_stats, dropout_on);
-    Tensor<float> out = crop2d(generate(G, config.generator(), Var<float>(s.input)).value(), s.front);
+    Tensor<float> out = gi::crop2d(gi::generate(G, config.generator(), Var<float>(s.input)).value(), s.front);
     restore_buffers(saved);
     G.train();
     return out;
@@ -284,19 +284,19 @@ class GanTrainer {
   }
   // The generator alone with what rebuilds it and assembles its inputs (gi_model_io.h).
   void save_generator(const std::string& path) {
-    save_generator_blob(path, G, config.inputs, config.generator(), loss_name(config.loss));
+    gi::save_generator_blob(path, G, config.inputs, config.generator(), loss_name(config.loss));
   }
   // G.blob, and D.blob when there is a discriminator (--loss gan).
   void save_models(const std::string& g_path, const std::string& d_path) {
     save_generator(g_path);
-    if (D) save_discriminator_blob(d_path, *D);
+    if (D) gi::save_discriminator_blob(d_path, *D);
   }
 
   GanTrainConfig config;
 
  private:
   void put_config(Blob& b) const {
-    put_generator_config(b, config.inputs, config.generator(), loss_name(config.loss));
+    gi::put_generator_config(b, config.inputs, config.generator(), loss_name(config.loss));
     b.set_config("ndf", config.ndf);
     b.set_config("d_layers", config.d_layers);
     b.set_config("lambda", config.lambda);
@@ -331,11 +331,11 @@ class GanTrainer {
   }
 
   Rng init_rng_;
-  std::unique_ptr<GiGenerator<float>> G_;
+  std::unique_ptr<gi::GiGenerator<float>> G_;
 
  public:
-  GiGenerator<float>& G;
-  std::unique_ptr<PatchGan<float>> D;
+  gi::GiGenerator<float>& G;
+  std::unique_ptr<gi::PatchGan<float>> D;
 
  private:
   std::unique_ptr<Adam<float>> opt_g_, opt_d_;
@@ -344,4 +344,4 @@ class GanTrainer {
   DiscriminatorWatch watch_;
 };
 
-}  // namespace nns::gi
+}  // namespace nns::runs

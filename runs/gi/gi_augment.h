@@ -33,7 +33,7 @@
 #include "models/gi/generator.h"
 #include "models/gi/gi_inputs.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 struct GiAugment {
   bool mirror = false;
@@ -81,12 +81,12 @@ inline Tensor<float> flipped(const Tensor<float>& t) {
 
 // The sample in a mirror (see above); throws for a global view of odd face size, whose
 // layout is not symmetric (the front face is not centred).
-inline GiSample mirrored(const GiSample& s) {
+inline gi::GiSample mirrored(const gi::GiSample& s) {
   const int64_t C = s.input.size(1), H = s.input.size(2), W = s.input.size(3);
   if (s.front.x0 + s.front.w + s.front.x0 != W)
     throw std::invalid_argument(s.name + ": --aug-mirror needs the front view centred in the input (a global view of "
                                 "even face size), got face size " + std::to_string(s.front.w));
-  GiSample o = s;
+  gi::GiSample o = s;
   o.input = s.input.clone();
   // Albedo, normals, depth, lumination; not the coordinate channels (10-11) after them.
   detail::flip_rows(o.input.data(), std::min<int64_t>(C, 10), H, W);
@@ -110,13 +110,13 @@ inline GiSample mirrored(const GiSample& s) {
 
 // All light of the sample times scale[c] per channel (see above); `hdr_scale` is the
 // HDR mapping's k the sample was assembled with.
-inline GiSample light_scaled(const GiSample& s, const float scale[3], float hdr_scale) {
-  const HdrMapping hdr(hdr_scale);
+inline gi::GiSample light_scaled(const gi::GiSample& s, const float scale[3], float hdr_scale) {
+  const gi::HdrMapping hdr(hdr_scale);
   const int64_t H = s.input.size(2), W = s.input.size(3), n = H * W;
-  GiSample o = s;
+  gi::GiSample o = s;
   o.input = s.input.clone();
   for (int c = 0; c < 3; ++c) {
-    float* lum = o.input.data() + (GeneratorConfig::kLuminationChannel + c) * n;
+    float* lum = o.input.data() + (gi::GeneratorConfig::kLuminationChannel + c) * n;
     for (int64_t i = 0; i < n; ++i) lum[i] = hdr.to_tanh(scale[c] * hdr.from_tanh(lum[i]));
   }
   for (Tensor<float>* t : {&o.emission, &o.direct_env, &o.target_linear}) {
@@ -134,10 +134,10 @@ inline GiSample light_scaled(const GiSample& s, const float scale[3], float hdr_
 }
 
 // The sample as `d` says: mirrored, then its light scaled (the two commute).
-inline GiSample augmented(const GiSample& s, const AugmentDraw& d, float hdr_scale) {
-  GiSample o = d.mirror ? mirrored(s) : s;
+inline gi::GiSample augmented(const gi::GiSample& s, const AugmentDraw& d, float hdr_scale) {
+  gi::GiSample o = d.mirror ? mirrored(s) : s;
   if (d.scale[0] != 1 || d.scale[1] != 1 || d.scale[2] != 1) o = light_scaled(o, d.scale, hdr_scale);
   return o;
 }
 
-}  // namespace nns::gi
+}  // namespace nns::runs

@@ -47,7 +47,7 @@
 #include "runs/gi/gi_samples.h"
 #include "runs/gi/gi_previews.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 struct InferOptions {
   std::string model, in;
@@ -148,9 +148,9 @@ inline void name_outputs(const InferOptions& o, InferResult& r) {
   r.indirect_png = stem + "_indirect.png";
 }
 
-inline LoadedGenerator load_named_generator(const std::string& model) {
+inline gi::LoadedGenerator load_named_generator(const std::string& model) {
   try {
-    return load_generator(model);
+    return gi::load_generator(model);
   } catch (const std::exception& e) {
     std::string what = e.what();
     throw std::runtime_error(what.find(model) == std::string::npos ? model + ": cannot load the generator: " + what
@@ -161,12 +161,12 @@ inline LoadedGenerator load_named_generator(const std::string& model) {
 // The network's input and the front view the output is aligned with; `inputs`: every
 // file read, so the output cannot overwrite one.
 struct FrameInput {
-  GiSample sample;
+  gi::GiSample sample;
   data::View front;
   std::vector<std::string> inputs;
 };
 
-inline FrameInput read_surround_input(const InferOptions& o, const GiInputConfig& cfg, bool folder, InferResult& r) {
+inline FrameInput read_surround_input(const InferOptions& o, const gi::GiInputConfig& cfg, bool folder, InferResult& r) {
   FrameInput in;
   std::array<data::View, 6> faces;
   std::string frame_name = o.in;
@@ -202,7 +202,7 @@ inline FrameInput read_surround_input(const InferOptions& o, const GiInputConfig
   return in;
 }
 
-inline FrameInput read_front_input(const InferOptions& o, const GiInputConfig& cfg, bool folder, InferResult& r) {
+inline FrameInput read_front_input(const InferOptions& o, const gi::GiInputConfig& cfg, bool folder, InferResult& r) {
   namespace fs = std::filesystem;
   const bool from_images = !o.channels.empty();
   for (auto& m : o.channels)
@@ -246,12 +246,12 @@ inline void refuse_overwriting_inputs(const std::vector<std::string>& inputs, co
 }
 
 // The network alone, timed.
-inline Tensor<float> predict_light(const InferOptions& o, LoadedGenerator& g, const GiSample& s,
+inline Tensor<float> predict_light(const InferOptions& o, gi::LoadedGenerator& g, const gi::GiSample& s,
                                    InferResult& r) {
   auto t0 = std::chrono::steady_clock::now();
   Tensor<float> light;
   try {
-    light = predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
+    light = gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
   } catch (const std::exception& e) {
     throw std::runtime_error((!o.channels.empty() ? r.front_file : o.in) + ": the model " + o.model +
                              " cannot run on this " + std::to_string(s.input.size(3)) + "x" +
@@ -269,7 +269,7 @@ struct LightOutputs {
 
 inline LightOutputs light_outputs(const InferOptions& o, const Tensor<float>& light, const FrameInput& in,
                                   InferResult& r) {
-  const GiSample& s = in.sample;
+  const gi::GiSample& s = in.sample;
   const data::View& front = in.front;
   const int w = front.width, h = front.height;
   const int64_t n = int64_t(w) * h;
@@ -318,7 +318,7 @@ inline void write_outputs_together(const LightOutputs& out, float hdr_scale, con
   const std::filesystem::path parent = std::filesystem::path(r.exr).parent_path();
   try {
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    const HdrMapping hdr(hdr_scale);
+    const gi::HdrMapping hdr(hdr_scale);
     write_paths_atomic({r.exr, r.shaded_png, r.indirect_png}, [&](size_t i, const std::string& tmp) {
       if (i == 0) data::write_view(tmp, out.exr);
       if (i == 1) write_light_png(tmp, out.shaded.data(), r.width, r.height, hdr);
@@ -343,12 +343,12 @@ inline InferResult infer_gi(const InferOptions& o) {
   // What a killed earlier run into these names left (the folder is the user's: only
   // our three names' temporaries).
   for (const std::string& f : {r.exr, r.shaded_png, r.indirect_png}) remove_stale_temporaries_of(f);
-  LoadedGenerator g = load_named_generator(o.model);
-  r.mode = mode_name(g.inputs.mode);
+  gi::LoadedGenerator g = load_named_generator(o.model);
+  r.mode = gi::mode_name(g.inputs.mode);
   std::error_code ec;
   if (!from_images && !fs::exists(o.in, ec)) throw std::runtime_error(o.in + ": no such file or folder");
   const bool folder = !from_images && fs::is_directory(o.in, ec);
-  const FrameInput in = g.inputs.mode == GiMode::surround ? read_surround_input(o, g.inputs, folder, r)
+  const FrameInput in = g.inputs.mode == gi::GiMode::surround ? read_surround_input(o, g.inputs, folder, r)
                                                           : read_front_input(o, g.inputs, folder, r);
   refuse_overwriting_inputs(in.inputs, r);
   const Tensor<float> light = predict_light(o, g, in.sample, r);
@@ -356,4 +356,4 @@ inline InferResult infer_gi(const InferOptions& o) {
   return r;
 }
 
-}  // namespace nns::gi
+}  // namespace nns::runs

@@ -21,9 +21,9 @@
 #include "runs/metrics_log.h"
 #include "models/gi/gi_inputs.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
-inline void write_light_png(const std::string& path, const float* rgb, int w, int h, const HdrMapping& hdr) {
+inline void write_light_png(const std::string& path, const float* rgb, int w, int h, const gi::HdrMapping& hdr) {
   const int64_t n = int64_t(w) * h;
   report::write_png_rgb(path, rgb, rgb + n, rgb + 2 * n, w, h, {.exposure = 1.0f / hdr.scale});
 }
@@ -32,7 +32,7 @@ inline void write_light_png(const std::string& path, const float* rgb, int w, in
 // the channels on the geometry the metrics score (sky black), the heat map saturating
 // at 0.25.
 inline void write_eval_pngs(const std::string& prefix, const Tensor<float>& pred, const Tensor<float>& truth,
-                            const HdrMapping& hdr, const std::vector<uint8_t>& geometry) {
+                            const gi::HdrMapping& hdr, const std::vector<uint8_t>& geometry) {
   const int h = int(truth.size(1)), w = int(truth.size(2));
   const int64_t n = int64_t(w) * h;
   std::vector<float> err(size_t(n), 0.0f);
@@ -48,8 +48,8 @@ inline void write_eval_pngs(const std::string& prefix, const Tensor<float>& pred
 // emission + env) of the front region, the predicted and true light and the error
 // (write_eval_pngs), and albedo * prediction + emission, the shaded image the screen
 // would show.
-inline void write_sample_pngs(const std::string& prefix, const GiSample& s, const Tensor<float>& pred_tanh,
-                              const HdrMapping& hdr) {
+inline void write_sample_pngs(const std::string& prefix, const gi::GiSample& s, const Tensor<float>& pred_tanh,
+                              const gi::HdrMapping& hdr) {
   const int h = int(s.front.h), w = int(s.front.w);
   const int64_t n = int64_t(w) * h;
   std::vector<float> input(size_t(3 * n)), shaded(size_t(3 * n));
@@ -217,4 +217,4 @@ inline void write_loss_chart(const runs::MetricsLog& log, const std::string& svg
   report::write_chart(svg_path, series, o);
 }
 
-}  // namespace nns::gi
+}  // namespace nns::runs

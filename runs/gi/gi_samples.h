@@ -23,7 +23,7 @@
 #include "data/global_view.h"
 #include "models/gi/gi_inputs.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 // Box-filters every plane of `v` by `factor`. Depth averages the geometry pixels of a
 // block (sky only if the whole block is sky); normals are renormalised.
@@ -90,11 +90,11 @@ inline void append_coords(Tensor<float>& input, const std::vector<float>& c0,
 
 // One front view -> sample. targets = false: a frame without ground truth (gi-infer);
 // the sample gets no target, only what shades a prediction.
-inline GiSample assemble_front(const data::View& v, const GiInputConfig& cfg, bool targets = true) {
-  GiSample s;
+inline gi::GiSample assemble_front(const data::View& v, const gi::GiInputConfig& cfg, bool targets = true) {
+  gi::GiSample s;
   s.name = v.source;
   s.scene = v.scene;
-  Tensor<float> planes = view_planes(v, cfg.norm);
+  Tensor<float> planes = gi::view_planes(v, cfg.norm);
   s.input = Tensor<float>({1, cfg.channels(), v.height, v.width});
   std::copy(planes.begin(), planes.end(), s.input.begin());
   if (cfg.coordconv) {
@@ -102,9 +102,9 @@ inline GiSample assemble_front(const data::View& v, const GiInputConfig& cfg, bo
     append_coords(s.input, xy.x, xy.y, 10);
   }
   s.front = {0, 0, v.width, v.height};
-  s.front_geometry = geometry_of(v);
-  if (targets) fill_front_targets(s, v, cfg.norm);
-  else fill_front_shading(s, v);
+  s.front_geometry = gi::geometry_of(v);
+  if (targets) gi::fill_front_targets(s, v, cfg.norm);
+  else gi::fill_front_shading(s, v);
   return s;
 }
 
@@ -124,13 +124,13 @@ inline float front_direct_share(const std::array<data::View, 6>& faces) {
 }
 
 // Six faces -> sample on the global view (front region = the front face).
-inline GiSample assemble_surround(const std::array<data::View, 6>& faces, const GiInputConfig& cfg,
+inline gi::GiSample assemble_surround(const std::array<data::View, 6>& faces, const gi::GiInputConfig& cfg,
                                   const std::string& name, bool targets = true) {
   const int F = faces[0].width;
   std::array<Tensor<float>, 6> planes;
-  for (int f = 0; f < 6; ++f) planes[size_t(f)] = view_planes(faces[size_t(f)], cfg.norm);
+  for (int f = 0; f < 6; ++f) planes[size_t(f)] = gi::view_planes(faces[size_t(f)], cfg.norm);
   const data::GlobalViewLayout& layout = data::global_view_layout(F);
-  GiSample s;
+  gi::GiSample s;
   s.name = name;
   s.scene = faces[0].scene;
   s.input = Tensor<float>({1, cfg.channels(), layout.height, layout.width});
@@ -146,16 +146,16 @@ inline GiSample assemble_surround(const std::array<data::View, 6>& faces, const 
   }
   auto r = layout.front_rect();
   s.front = {r.x0, r.y0, r.w, r.h};
-  s.front_geometry = geometry_of(faces[0]);
-  if (targets) fill_front_targets(s, faces[0], cfg.norm);
-  else fill_front_shading(s, faces[0]);
+  s.front_geometry = gi::geometry_of(faces[0]);
+  if (targets) gi::fill_front_targets(s, faces[0], cfg.norm);
+  else gi::fill_front_shading(s, faces[0]);
   s.front_direct_share = front_direct_share(faces);
   return s;
 }
 
 // Reads one item of a split (a view or a frame) at the requested size.
 struct GiItemReader {
-  GiMode mode;
+  gi::GiMode mode;
   int size;  // 0: as stored
   std::array<data::View, 6> frame(const data::FrameEntry& e) const {
     auto faces = data::read_frame(e);
@@ -169,16 +169,16 @@ struct GiItemReader {
   }
 };
 
-inline size_t split_items(const data::SplitListing& s, GiMode mode) {
-  return mode == GiMode::surround || s.views.empty() ? s.frames.size() : s.views.size();
+inline size_t split_items(const data::SplitListing& s, gi::GiMode mode) {
+  return mode == gi::GiMode::surround || s.views.empty() ? s.frames.size() : s.views.size();
 }
 
 // Calls fn(item index, front view, faces or nullptr, name) for the items first .. max_items-1
 // of the split.
 template <class Fn>
 void for_each_item(const data::SplitListing& s, const GiItemReader& rd, size_t max_items, Fn&& fn, size_t first = 0) {
-  const bool frames = rd.mode == GiMode::surround || s.views.empty();
-  if (rd.mode == GiMode::surround && s.frames.empty())
+  const bool frames = rd.mode == gi::GiMode::surround || s.views.empty();
+  if (rd.mode == gi::GiMode::surround && s.frames.empty())
     throw std::runtime_error(s.dir + ": --mode surround needs surround frames (folders of six faces)");
   size_t n = std::min(max_items, split_items(s, rd.mode));
   for (size_t i = first; i < n; ++i) {
@@ -195,7 +195,7 @@ void for_each_item(const data::SplitListing& s, const GiItemReader& rd, size_t m
 // Depth range: the 99th percentile of geometry depth (a far outlier must not squash the
 // rest); HDR scale: the median of the target light over geometry pixels of front views;
 // the light cap: their maximum.
-inline GiNormalisation fit_normalisation(const data::SplitListing& train, const GiItemReader& rd,
+inline gi::GiNormalisation fit_normalisation(const data::SplitListing& train, const GiItemReader& rd,
                                          size_t max_items) {
   std::vector<float> depths, light;
   float light_max = 0;
@@ -222,7 +222,7 @@ inline GiNormalisation fit_normalisation(const data::SplitListing& train, const 
       }
     }
   });
-  GiNormalisation n;
+  gi::GiNormalisation n;
   auto pct = [](std::vector<float>& v, double q) {
     size_t k = std::min(v.size() - 1, size_t(q * double(v.size())));
     std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
@@ -236,13 +236,13 @@ inline GiNormalisation fit_normalisation(const data::SplitListing& train, const 
 }
 
 // Item i of a split as a sample, assembled as for training (and as eval-gi does).
-inline GiSample load_sample(const data::SplitListing& split, const GiItemReader& rd, const GiInputConfig& cfg,
+inline gi::GiSample load_sample(const data::SplitListing& split, const GiItemReader& rd, const gi::GiInputConfig& cfg,
                             size_t i) {
   if (i >= split_items(split, rd.mode)) throw std::out_of_range(split.dir + ": no item " + std::to_string(i));
-  GiSample out;
+  gi::GiSample out;
   for_each_item(split, rd, i + 1, [&](size_t, const data::View& front, std::array<data::View, 6>* faces,
                                       const std::string& name) {
-    if (rd.mode == GiMode::surround) {
+    if (rd.mode == gi::GiMode::surround) {
       out = assemble_surround(*faces, cfg, name);
     } else {
       out = assemble_front(front, cfg);
@@ -253,10 +253,10 @@ inline GiSample load_sample(const data::SplitListing& split, const GiItemReader&
   return out;
 }
 
-inline std::vector<GiSample> load_samples(const data::SplitListing& split, const GiItemReader& rd,
-                                          const GiInputConfig& cfg, size_t max_items,
+inline std::vector<gi::GiSample> load_samples(const data::SplitListing& split, const GiItemReader& rd,
+                                          const gi::GiInputConfig& cfg, size_t max_items,
                                           const std::string& label, bool quiet = false) {
-  std::vector<GiSample> out(std::min(max_items, split_items(split, rd.mode)));
+  std::vector<gi::GiSample> out(std::min(max_items, split_items(split, rd.mode)));
   Progress bar(label, int64_t(out.size()));
   for (size_t i = 0; i < out.size(); ++i) {
     out[i] = load_sample(split, rd, cfg, i);
@@ -267,7 +267,7 @@ inline std::vector<GiSample> load_samples(const data::SplitListing& split, const
 
 // The bytes one sample holds (its tensors and masks): what decides whether a split fits
 // in memory.
-inline size_t sample_bytes(const GiSample& s) {
+inline size_t sample_bytes(const gi::GiSample& s) {
   size_t b = 0;
   for (const Tensor<float>* t : {&s.input, &s.target, &s.albedo, &s.emission, &s.direct_env, &s.target_linear})
     if (t->defined()) b += size_t(t->numel()) * sizeof(float);
@@ -275,4 +275,4 @@ inline size_t sample_bytes(const GiSample& s) {
   return b + s.geometry.size();
 }
 
-}  // namespace nns::gi
+}  // namespace nns::runs

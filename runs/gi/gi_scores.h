@@ -28,7 +28,7 @@
 #include "screen_space/discontinuities.h"
 #include "screen_space/gbuffer.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 struct LightMetrics {
   double mse = 0, psnr = 0, ssim = 0;                      // mapped space
@@ -38,7 +38,7 @@ struct LightMetrics {
 
 // pred, target: linear light (3, h, w). geometry: h * w mask (1 = geometry).
 inline LightMetrics light_metrics(const Tensor<float>& pred, const Tensor<float>& target,
-                                  const std::vector<uint8_t>& geometry, const HdrMapping& hdr) {
+                                  const std::vector<uint8_t>& geometry, const gi::HdrMapping& hdr) {
   const int h = int(target.size(1)), w = int(target.size(2));
   const int64_t n = int64_t(h) * w;
   const uint8_t* mask = geometry.data();
@@ -93,7 +93,7 @@ struct MetricsMean {
 // Without reprojection a moving camera's true change would count as flicker.
 
 // Whether `cur` is the frame after `prev` on one camera path ("<scene>-pNN-fNNN").
-inline bool next_on_path(const GiSample& prev, const GiSample& cur) {
+inline bool next_on_path(const gi::GiSample& prev, const gi::GiSample& cur) {
   namespace fs = std::filesystem;
   int fp = -1, fc = -1;
   const std::string pp = ao::path_of_frame(fs::path(prev.name).stem().string(), fp);
@@ -101,7 +101,7 @@ inline bool next_on_path(const GiSample& prev, const GiSample& cur) {
   return !pc.empty() && pc == pp && fc == fp + 1 && prev.scene == cur.scene;
 }
 
-inline std::vector<int64_t> reproject_front(const GiSample& cur, const GiSample& prev) {
+inline std::vector<int64_t> reproject_front(const gi::GiSample& cur, const gi::GiSample& prev) {
   // The AO radius is unused by reprojection; 1 stands in for the attribute GI views lack.
   const ao::GBuffer c = ao::gbuffer_from_view(cur.front_geometry, 1.0f);
   const ao::GBuffer p = ao::gbuffer_from_view(prev.front_geometry, 1.0f);
@@ -109,7 +109,7 @@ inline std::vector<int64_t> reproject_front(const GiSample& cur, const GiSample&
 }
 
 // A (3, h, w) linear-light frame in mapped space.
-inline std::vector<float> mapped(const Tensor<float>& t, const HdrMapping& hdr) {
+inline std::vector<float> mapped(const Tensor<float>& t, const gi::HdrMapping& hdr) {
   std::vector<float> out(size_t(t.numel()));
   for (int64_t i = 0; i < t.numel(); ++i) out[size_t(i)] = hdr.to_unit(t[i]);
   return out;
@@ -179,7 +179,7 @@ struct DistanceBands {
 };
 
 // Per front pixel its band, -1 for sky.
-inline std::vector<int8_t> distance_bands_of(const GiSample& s) {
+inline std::vector<int8_t> distance_bands_of(const gi::GiSample& s) {
   const ao::GBuffer g = ao::gbuffer_from_view(s.front_geometry, 1.0f);  // the radius is unused here
   const std::vector<int> d = ao::chebyshev_distance(
       ao::discontinuity_pixels(g.width, g.height, ao::surface_break(g, DistanceBands::kDepthRatio,
@@ -209,4 +209,4 @@ inline void add_to_bands(DistanceBands& bands, const std::vector<int8_t>& band, 
   }
 }
 
-}  // namespace nns::gi
+}  // namespace nns::runs

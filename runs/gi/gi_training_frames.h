@@ -13,14 +13,14 @@
 
 #include "runs/gi/gi_samples.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 class GiTrainData {
  public:
   // In memory: every sample loaded up front.
-  explicit GiTrainData(std::vector<GiSample> samples) : samples_(std::move(samples)) {}
+  explicit GiTrainData(std::vector<gi::GiSample> samples) : samples_(std::move(samples)) {}
   // Streamed: item i of `split` read when asked for; `n` items (max_items applied).
-  GiTrainData(data::SplitListing split, GiItemReader rd, GiInputConfig cfg, size_t n)
+  GiTrainData(data::SplitListing split, GiItemReader rd, gi::GiInputConfig cfg, size_t n)
       : stream_(std::make_unique<Stream>(std::move(split), rd, std::move(cfg), n)) {}
 
   size_t size() const { return stream_ ? stream_->n : samples_.size(); }
@@ -28,7 +28,7 @@ class GiTrainData {
   bool streamed() const { return stream_ != nullptr; }
 
   // Sample i, valid until the next call; `next` (if any) is read ahead meanwhile.
-  const GiSample& get(size_t i, std::optional<size_t> next = std::nullopt) {
+  const gi::GiSample& get(size_t i, std::optional<size_t> next = std::nullopt) {
     if (!stream_) return samples_.at(i);
     Stream& s = *stream_;
     if (s.ahead && s.ahead_index == i) {
@@ -48,20 +48,20 @@ class GiTrainData {
 
  private:
   struct Stream {
-    Stream(data::SplitListing s, GiItemReader r, GiInputConfig c, size_t count)
+    Stream(data::SplitListing s, GiItemReader r, gi::GiInputConfig c, size_t count)
         : split(std::move(s)), rd(r), cfg(std::move(c)), n(count) {}
     data::SplitListing split;
     GiItemReader rd;
-    GiInputConfig cfg;
+    gi::GiInputConfig cfg;
     size_t n = 0;
-    GiSample current;
+    gi::GiSample current;
     // Declared after what the prefetch reads: a std::async future's destructor waits for
     // its task, so the read finishes before split/rd/cfg go away.
-    std::optional<std::future<GiSample>> ahead;
+    std::optional<std::future<gi::GiSample>> ahead;
     size_t ahead_index = 0;
   };
-  std::vector<GiSample> samples_;
+  std::vector<gi::GiSample> samples_;
   std::unique_ptr<Stream> stream_;
 };
 
-}  // namespace nns::gi
+}  // namespace nns::runs

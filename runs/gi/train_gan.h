@@ -20,7 +20,7 @@
 #include "runs/gi/eval_gi.h"
 #include "runs/run_report.h"
 
-namespace nns::gi {
+namespace nns::runs {
 
 // train-gan's options; the initialisers are the defaults, and the flags read them.
 //
@@ -123,19 +123,19 @@ inline GanRunOptions run_options(const TrainGanOptions& o, const GanSplits& s) {
   r.accumulate = o.accumulate;
   r.augment = o.augment;
   r.bucket_mb = o.bucket_mb;
-  r.quiet = !dist::writer();
+  r.quiet = !runs::writer();
   r.data_identity = std::filesystem::weakly_canonical(o.data_dir).string() + " (" + std::to_string(s.train.size()) +
                     " train, " + std::to_string(s.splits.validation.size()) + " validation, " +
                     std::to_string(s.splits.listing.test.size()) + " test)";
   GanTrainConfig& c = r.train;
-  c.inputs.mode = parse_mode(o.mode);
+  c.inputs.mode = gi::parse_mode(o.mode);
   c.inputs.coordconv = o.coordconv;
   c.inputs.size = o.size;
   c.inputs.validation_fraction = s.splits.validation.size() > 0 ? o.validation_fraction : 0;
   c.ngf = o.ngf, c.ndf = o.ndf, c.levels = o.levels, c.d_layers = o.d_layers;
   c.loss = parse_loss(o.loss);
-  c.arch = parse_arch(o.arch);
-  c.residual = parse_residual(o.residual);
+  c.arch = gi::parse_arch(o.arch);
+  c.residual = gi::parse_residual(o.residual);
   c.g_batchnorm = o.g_norm == "batch";
   c.lambda = o.lambda, c.lr = o.lr, c.lr_d = o.lr_d, c.beta1 = o.beta1;
   c.dssim_weight = o.dssim_weight_used();
@@ -170,13 +170,13 @@ inline void require_unet_divisible(const TrainGanOptions& o, int height, int wid
 
 // The training frames, normalised with statistics of the training scenes alone; held in
 // memory, or streamed from disk when asked or when they would take more than the budget.
-inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplits& s, GiInputConfig& inputs) {
+inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplits& s, gi::GiInputConfig& inputs) {
   GiItemReader rd{inputs.mode, o.size};
   const size_t n_train = std::min(max_items(o), split_items(s.train, rd.mode));
   if (n_train == 0) throw std::runtime_error(o.data_dir + ": no training samples for --mode " + o.mode);
   // The first item, read before the normalisation pass reads the whole split: its shape
   // is every sample's (the checks and the memory estimate need nothing else).
-  const GiSample first = load_sample(s.train, rd, inputs, 0);
+  const gi::GiSample first = load_sample(s.train, rd, inputs, 0);
   require_unet_divisible(o, int(first.input.size(2)), int(first.input.size(3)));
   if (o.augment.mirror) (void)mirrored(first);  // refuses an odd face size before the first step
   inputs.norm = fit_normalisation(s.train, rd, max_items(o));
@@ -184,10 +184,10 @@ inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplit
   const bool streamed = o.stream == "on" || (o.stream == "auto" && gib > o.memory_budget_gib);
   GiTrainData train = streamed ? GiTrainData(s.train, rd, inputs, n_train)
                                : GiTrainData(load_samples(s.train, rd, inputs, max_items(o), "loading train"));
-  if (dist::writer())
+  if (runs::writer())
     std::fprintf(stderr, "train-gan: %zu training %s (%zu more in validation scenes) from %s, input %s, depth_max %.3g, "
                  "hdr_scale %.3g, light_max %.3g; %.2f GiB of samples, %s\n",
-                 n_train, inputs.mode == GiMode::surround ? "frames" : "views", s.splits.validation.size(),
+                 n_train, inputs.mode == gi::GiMode::surround ? "frames" : "views", s.splits.validation.size(),
                  o.data_dir.c_str(), first.input.shape().str().c_str(), inputs.norm.depth_max, inputs.norm.hdr_scale,
                  inputs.norm.light_max, gib, streamed ? "streamed from disk" : "held in memory");
   return train;
@@ -225,11 +225,11 @@ inline TrainGanResult train_gan(const TrainGanOptions& o) {
     res.run = run_gan_training(run, train);
   }  // the evaluation loads its own frames
   const GanRunResult& r = res.run;
-  if (dist::writer() && r.d_wins_windows > 0)
+  if (runs::writer() && r.d_wins_windows > 0)
     std::fprintf(stderr, "train-gan: the discriminator won outright in %lld windows of %d steps (first at step %lld)\n",
                  (long long)r.d_wins_windows, DiscriminatorWatch::kWindow, (long long)r.first_d_wins_step);
   if (!r.finished) return res.exit_code = 3, res;  // the run layer's non-finite stop
-  if (!dist::writer()) return res;                 // rank 0 reports and evaluates
+  if (!runs::writer()) return res;                 // rank 0 reports and evaluates
   std::printf("train-gan: %s, %s in %s; generator %s\n", runs::count_of(r.epochs_done, "epoch").c_str(),
               runs::count_of(r.steps, "step").c_str(),
               Progress::format_seconds(r.seconds).c_str(), GanRunFiles{o.out}.generator().c_str());
@@ -237,4 +237,4 @@ inline TrainGanResult train_gan(const TrainGanOptions& o) {
   return res;
 }
 
-}  // namespace nns::gi
+}  // namespace nns::runs

@@ -91,6 +91,7 @@ class GiInfer : public ::testing::Test {
   static nns::Tensor<float> eval_gi_prediction(const std::string& blob, size_t index, nns::gi::GiSample* out,
                                                const std::string& dataset = data()) {
     using namespace nns::gi;
+    using namespace nns::runs;
     LoadedGenerator g = load_generator(blob);
     auto listing = nns::data::list_dataset(dataset);
     GiItemReader rd{g.inputs.mode, g.inputs.size};

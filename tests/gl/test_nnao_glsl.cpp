@@ -61,7 +61,7 @@ class NnaoGlsl : public ::testing::Test {
 
 nnao::NnaoWeights export_model(const Blob& blob, const fs::path& dir, int samples) {
   const nnao::NnaoWeights m = nnao::NnaoWeights::from_blob(blob);
-  nnao::write_export(m, dir.string(), samples);
+  runs::write_export(m, dir.string(), samples);
   return m;
 }
 

@@ -12,6 +12,7 @@
 
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 using namespace nns::testing;
 using nns::data::View;
 

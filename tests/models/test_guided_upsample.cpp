@@ -41,7 +41,7 @@ Tensor<float> light_of(const View& low, int channels, float (*f)(float z, int x,
 
 TEST(GuidedUpsample, AConstantStaysThatConstantSkyIncluded) {
   const View full = planes(24, 16, [](int x, int y) { return y < 4 ? INFINITY : 2.0f + 0.1f * float(x); });
-  const View low = nns::gi::downsample_view(full, 4);
+  const View low = nns::runs::downsample_view(full, 4);
   const Tensor<float> up = nns::gi::guided_upsample(light_of(low, 3, [](float, int, int) { return 0.37f; }), low, full);
   ASSERT_EQ(up.size(1), 16);
   ASSERT_EQ(up.size(2), 24);
@@ -55,7 +55,7 @@ TEST(GuidedUpsample, AConstantStaysThatConstantSkyIncluded) {
 TEST(GuidedUpsample, LightDoesNotCrossADepthStep) {
   for (int edge : {8, 9, 10, 11}) {
     const View full = planes(24, 8, [edge](int x, int) { return x < edge ? 2.0f : 6.0f; });
-    const View low = nns::gi::downsample_view(full, 2);
+    const View low = nns::runs::downsample_view(full, 2);
     const Tensor<float> lit = light_of(low, 1, [](float z, int, int) { return z < 3 ? 0.0f : (z > 5 ? 1.0f : 0.5f); });
     const Tensor<float> up = nns::gi::guided_upsample(lit, low, full);
     for (int y = 0; y < 8; ++y)
@@ -68,7 +68,7 @@ TEST(GuidedUpsample, LightDoesNotCrossADepthStep) {
 TEST(GuidedUpsample, ALinearRampOnOneSurfaceIsReproduced) {
   const int k = 4;
   const View full = planes(32, 16, [](int, int) { return 3.0f; });
-  const View low = nns::gi::downsample_view(full, k);
+  const View low = nns::runs::downsample_view(full, k);
   // The low pixel x stands at full coordinate (x + 1/2) k - 1/2.
   const Tensor<float> ramp = light_of(low, 1, [](float, int x, int y) {
     return 0.01f * ((float(x) + 0.5f) * 4 - 0.5f) + 0.02f * ((float(y) + 0.5f) * 4 - 0.5f);
@@ -80,7 +80,7 @@ TEST(GuidedUpsample, ALinearRampOnOneSurfaceIsReproduced) {
 
 TEST(GuidedUpsample, SizesThatDoNotGoIntoEachOtherAreRefused) {
   const View full = planes(24, 16, [](int, int) { return 2.0f; });
-  const View low = nns::gi::downsample_view(full, 2);
+  const View low = nns::runs::downsample_view(full, 2);
   Tensor<float> light({3, 8, 12});
   const View odd = planes(25, 16, [](int, int) { return 2.0f; });
   EXPECT_THROW(nns::gi::guided_upsample(light, low, odd), std::runtime_error);

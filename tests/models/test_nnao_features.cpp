@@ -104,13 +104,13 @@ TEST(NnaoPoints, HalfStorageRoundsWithinItsPrecisionAndSaturates) {
   // The training matrix is binary16: round to nearest, relative error <= 2^-11 for
   // normal values, and out-of-range values clamp to +-65504 instead of becoming inf.
   for (float v : {1.0f, -0.3337f, 3.14159f, 1e-3f, -17.25f, 60000.0f}) {
-    const float r = float(nnao::to_half(v));
+    const float r = float(runs::to_half(v));
     EXPECT_LE(std::abs(r - v), std::abs(v) * 0x1p-11f) << v;
   }
-  EXPECT_EQ(float(nnao::to_half(1e6f)), 65504.0f);
-  EXPECT_EQ(float(nnao::to_half(-INFINITY)), -65504.0f);
-  std::vector<nnao::Half> h = {nnao::to_half(0.5f), nnao::to_half(-2.0f)};
+  EXPECT_EQ(float(runs::to_half(1e6f)), 65504.0f);
+  EXPECT_EQ(float(runs::to_half(-INFINITY)), -65504.0f);
+  std::vector<runs::Half> h = {runs::to_half(0.5f), runs::to_half(-2.0f)};
   std::vector<float> f(2);
-  nnao::to_float(h.data(), f.data(), 2);
+  runs::to_float(h.data(), f.data(), 2);
   EXPECT_EQ(f, (std::vector<float>{0.5f, -2.0f}));
 }

@@ -7,7 +7,7 @@
 
 #include "runs/ao/ao_pareto.h"
 
-using nns::ao_eval::ParetoRow;
+using nns::runs::ParetoRow;
 
 namespace {
 
@@ -32,7 +32,7 @@ TEST(AoPareto, FrontAndWinsAtNoMoreTime) {
       row("NNAO-exact", "half", 10.0, 0.0070, 0.89),
       row("NNAO-exact", "slow", 40.0, 0.0075, 0.90),  // slower and worse than "half": off the front
   };
-  nns::ao_eval::mark_front_and_wins(rows);
+  nns::runs::mark_front_and_wins(rows);
   EXPECT_TRUE(find(rows, "SSAO", "4").on_front);
   EXPECT_FALSE(find(rows, "GTAO", "8").on_front);    // "quarter" is faster and better
   EXPECT_FALSE(find(rows, "GTAO", "32").on_front);   // "half" is faster and better
@@ -51,9 +51,9 @@ TEST(AoPareto, FrontAndWinsAtNoMoreTime) {
 TEST(AoPareto, ABetterMseWithAWorseSsimIsNoWin) {
   std::vector<ParetoRow> rows = {row("HBAO", "16", 5.0, 0.010, 0.90), row("NNAO-exact", "a", 4.0, 0.009, 0.89),
                                  row("NNAO-exact", "b", 5.0, 0.011, 0.95), row("NNAO-exact", "c", 5.5, 0.005, 0.99)};
-  nns::ao_eval::mark_front_and_wins(rows);
+  nns::runs::mark_front_and_wins(rows);
   EXPECT_EQ(rows[0].beaten_by, "none");  // a: SSIM lower; b: MSE higher; c: slower
-  const std::string csv = nns::ao_eval::pareto_csv(rows);
+  const std::string csv = nns::runs::pareto_csv(rows);
   EXPECT_EQ(csv.rfind("method,setting,wall_ms,cpu_ms,mse,ssim,flicker_x_truth,on_front,beaten_by_nnao_at_no_more_time\n", 0), 0u);
   EXPECT_NE(csv.find("\nHBAO,16,5,10,0.01,0.9,,no,none\n"), std::string::npos) << csv;
 }

@@ -7,7 +7,7 @@
 
 #include "runs/gi/gan_trainer.h"
 
-using nns::gi::DiscriminatorWatch;
+using nns::runs::DiscriminatorWatch;
 
 namespace {
 

@@ -6,6 +6,7 @@
 
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 
 TEST(GiEvaluate, UnlitMeansNoLightOnGeometry) {
   GiSample s;

@@ -12,6 +12,7 @@ namespace {
 
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 
 TEST(GanStep, DiscriminatorGradientIsTheDiscriminatorLossAlone) {
   GanTrainConfig c;

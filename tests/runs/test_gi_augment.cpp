@@ -15,6 +15,7 @@
 
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 using nns::data::View;
 
 namespace {

@@ -14,6 +14,7 @@
 namespace fs = std::filesystem;
 using namespace nns;
 using namespace nns::gi;
+using namespace nns::runs;
 
 namespace {
 

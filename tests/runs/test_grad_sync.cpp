@@ -86,7 +86,7 @@ std::vector<std::vector<float>> accumulated(Net& net, const Batch& all, int K, i
                                             std::vector<double>* mean_loss = nullptr) {
   std::vector<Rng*> rngs;
   for (auto& [n, r] : net.named_rngs()) rngs.push_back(r);
-  dist::GradSync sync(net.parameters(), rngs, K, bucket_mb);
+  runs::GradSync sync(net.parameters(), rngs, K, bucket_mb);
   EXPECT_TRUE(sync.active());
   std::vector<std::vector<double>> losses;
   for (int m = sync.mine().begin; m < sync.mine().end; ++m) {
@@ -151,14 +151,14 @@ TEST(GradSync, MatchesTheFullBatchGradientToRounding) {
 TEST(GradSync, RefusesFewerMicroBatchesThanOne) {
   Rng r(1);
   Net net(r);
-  EXPECT_THROW(dist::GradSync(net.parameters(), {}, 0, 1), std::invalid_argument);
-  EXPECT_FALSE(dist::GradSync(net.parameters(), {}, 1, 1).active());  // K = 1: the plain step
+  EXPECT_THROW(runs::GradSync(net.parameters(), {}, 0, 1), std::invalid_argument);
+  EXPECT_FALSE(runs::GradSync(net.parameters(), {}, 1, 1).active());  // K = 1: the plain step
 }
 
 TEST(GradSync, MeanOverMicroBatchesFoldsInOrder) {
   Rng r(1);
   Net net(r);
-  dist::GradSync sync(net.parameters(), {}, 3, 1);
+  runs::GradSync sync(net.parameters(), {}, 3, 1);
   const auto m = sync.mean_over_micro({{0.1, 1e16}, {0.2, 1.0}, {0.3, -1e16}});
   EXPECT_EQ(m[0], ((0.1 + 0.2) + 0.3) / 3);
   EXPECT_EQ(m[1], ((1e16 + 1.0) + -1e16) / 3);  // 0: the order is visible in the result

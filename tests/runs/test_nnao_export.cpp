@@ -15,7 +15,7 @@ namespace fixtures = nns::fixtures;
 TEST(NnaoExport, FilterImagesHoldTheFoldedWeights) {
   auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(9, 4, 11));
   fs::path d = fs::temp_directory_path() / ("nnao_export_" + std::to_string(::getpid()));
-  nnao::write_filter_images(m, d.string());
+  runs::write_filter_images(m, d.string());
   for (int k = 0; k < 4; ++k) {
     auto v = data::read_view((d / ("filter" + std::to_string(k) + ".exr")).string());
     ASSERT_EQ(v.width, 9);
@@ -50,14 +50,14 @@ TEST(NnaoExport, GlslShadersCompileWithGlslangValidator) {
   for (int hidden : {4, 8})
     for (int samples : {64, 256}) {
       auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(31, hidden, 12));
-      std::string src = nnao::glsl_grid_pass(m, samples);
+      std::string src = runs::glsl_grid_pass(m, samples);
       EXPECT_NE(src.find("const int W = 31;"), std::string::npos);
       EXPECT_NE(src.find("uniform int uSamples = " + std::to_string(samples) + ";"), std::string::npos);
       compiles("grid_" + std::to_string(hidden) + "_" + std::to_string(samples), src);
     }
   const fixtures::HorizonShape shape{16, 8, 4};
-  compiles("horizon", nnao::glsl_horizon_pass(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 16, 3, false, shape))));
-  compiles("blur", nnao::glsl_blur_pass());
+  compiles("horizon", runs::glsl_horizon_pass(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 16, 3, false, shape))));
+  compiles("blur", runs::glsl_blur_pass());
   // And a broken shader must fail, so the check above can fail.
   std::ofstream(d / "bad.frag") << "#version 330 core\nvoid main() { undefined_call(); }\n";
   EXPECT_NE(std::system(("glslangValidator " + (d / "bad.frag").string() + " > /dev/null 2>&1").c_str()), 0);
@@ -67,9 +67,9 @@ TEST(NnaoExport, GlslShadersCompileWithGlslangValidator) {
 // export-nnao's folder: both passes for either kind; the filter images only for a grid.
 TEST(NnaoExport, WritesBothPassesForEitherKind) {
   fs::path d = fs::temp_directory_path() / ("nnao_export_kinds_" + std::to_string(::getpid()));
-  nnao::write_export(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(9, 4, 1)), (d / "grid").string(), 64);
+  runs::write_export(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(9, 4, 1)), (d / "grid").string(), 64);
   const fixtures::HorizonShape shape{8, 4, 2};
-  nnao::write_export(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 8, 2, false, shape)), (d / "horizon").string(), 64);
+  runs::write_export(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 8, 2, false, shape)), (d / "horizon").string(), 64);
   for (const char* f : {"nnao.frag", "nnao_blur.frag", "nnao_filters.exr", "filter3.exr"})
     EXPECT_TRUE(fs::exists(d / "grid" / f)) << f;
   for (const char* f : {"nnao.frag", "nnao_blur.frag"}) EXPECT_TRUE(fs::exists(d / "horizon" / f)) << f;

@@ -132,6 +132,7 @@ TEST(PointFile, OneBufferForEverythingIsTheGlobalShuffle) {
 
 TEST(PointFile, StreamedStatisticsDoNotDependOnTheBlocks) {
   using namespace nns::nnao;
+  using namespace nns::runs;
   const int64_t F = 12, R = point_row_bytes(F), n = 300;
   std::vector<char> rows(size_t(n * R));
   Rng rng(4);
@@ -164,6 +165,7 @@ TEST(PointFile, StreamedStatisticsDoNotDependOnTheBlocks) {
 
 TEST(PointFile, StandardizingTheFileInBlocksEqualsStandardizingTheRows) {
   using namespace nns::nnao;
+  using namespace nns::runs;
   const int64_t F = 8, R = point_row_bytes(F), n = 50;
   std::vector<char> rows(size_t(n * R));
   Rng rng(5);
