@@ -4,7 +4,7 @@
 // of a flag's range are errors that name the flag and the range (exit 2), never a
 // silent default: every numeric flag states its range here, where it is read.
 //
-//   nns::cli::Args args(argc, argv, "train-nnao", "Train NNAO on an EXR dataset.");
+//   nns::apps::Args args(argc, argv, "train-nnao", "Train NNAO on an EXR dataset.");
 //   int epochs = args.get_int("--epochs", 100, "training epochs", 0, 100000);
 //   bool resume = args.get_flag("--resume", "continue from the last checkpoint");
 //   args.done();  // handles --help and reports every problem found
@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-namespace nns::cli {
+namespace nns::apps {
 
 class Args {
  public:
@@ -257,4 +257,4 @@ inline int run_main(const char* program, const std::function<int()>& body) {
   }
 }
 
-}  // namespace nns::cli
+}  // namespace nns::apps

@@ -8,7 +8,7 @@
 #include "runs/gi/gi_previews.h"
 
 int main(int argc, char** argv) {
-  nns::cli::Args args(argc, argv, "dataset-info",
+  nns::apps::Args args(argc, argv, "dataset-info",
                       "Validate a G-buffer EXR dataset and print views, resolutions, channels, "
                       "scenes, value ranges and every problem found.");
   std::string purpose = args.get_choice("--purpose", "any", {"any", "nnao", "gi"},
@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "dataset-info: error: %s: not a folder\n", dir.c_str());
     return 2;
   }
-  return nns::cli::run_main("dataset-info", [&] {
+  return nns::apps::run_main("dataset-info", [&] {
     nns::data::ValidateOptions o;
     o.purpose = purpose == "nnao" ? nns::data::Purpose::nnao
               : purpose == "gi"   ? nns::data::Purpose::gi

@@ -18,8 +18,8 @@
 using namespace nns;
 
 int main(int argc, char** argv) {
-  return cli::run_main("demo", [&] {
-    cli::Args a(argc, argv, "demo",
+  return apps::run_main("demo", [&] {
+    apps::Args a(argc, argv, "demo",
                 "Train a small conv net on built-in synthetic data, save its weights, reload them.");
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
     int seed = a.get_int("--seed", 1, "random seed (weights and data)", 0, INT_MAX);

@@ -24,8 +24,8 @@
 using namespace nns;
 
 int main(int argc, char** argv) {
-  return cli::run_main("eval-ao", [&]() -> int {
-    cli::Args args(argc, argv, "eval-ao",
+  return apps::run_main("eval-ao", [&]() -> int {
+    apps::Args args(argc, argv, "eval-ao",
                    "Time and score NNAO and the classical SSAO methods against ground-truth AO.");
     runs::EvalAoOptions o;
     std::string data_dir = args.get_string("--data", "", "dataset: a split folder, a flat folder, or a root with test/ (default: the built-in default nnao dataset)");

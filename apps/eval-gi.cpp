@@ -17,8 +17,8 @@
 using namespace nns;
 
 int main(int argc, char** argv) {
-  return cli::run_main("eval-gi", [&] {
-    cli::Args a(argc, argv, "eval-gi", "Evaluate GI generators against ray-traced ground truth.");
+  return apps::run_main("eval-gi", [&] {
+    apps::Args a(argc, argv, "eval-gi", "Evaluate GI generators against ray-traced ground truth.");
     runs::EvalOptions o;
     o.data = a.get_string("--data", "", "dataset folder (its test split is scored, its train split fits the ambient term)");
     o.models = a.get_list("--model", "a generator blob (G.blob) from train-gan");

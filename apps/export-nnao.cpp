@@ -41,8 +41,8 @@ std::string pick_from_ladder(const std::string& ladder, double budget_ms, int w,
 }  // namespace
 
 int main(int argc, char** argv) {
-  return cli::run_main("export-nnao", [&]() -> int {
-    cli::Args args(argc, argv, "export-nnao", "Export NNAO as GLSL passes (and a grid model's filter texture) for engines.");
+  return apps::run_main("export-nnao", [&]() -> int {
+    apps::Args args(argc, argv, "export-nnao", "Export NNAO as GLSL passes (and a grid model's filter texture) for engines.");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao");
     const std::string ladder = args.get_string("--ladder", "", "instead of --model: a trained ladder (train-nnao --ladder); exports its highest (most accurate) rung that fits --budget-ms at --size on this machine");
     const double budget = args.get_double("--budget-ms", 0, "--ladder: the AO budget per frame in ms (timed here, on this machine's threads)", 1e-3, 1e6);

@@ -18,8 +18,8 @@
 using namespace nns;
 
 int main(int argc, char** argv) {
-  return cli::run_main("gi-infer", [&] {
-    cli::Args a(argc, argv, "gi-infer",
+  return apps::run_main("gi-infer", [&] {
+    apps::Args a(argc, argv, "gi-infer",
                 "Predict indirect light and the lit image of one G-buffer frame with a trained GI generator.\n"
                 "--in: a view EXR (front-mode model) or a folder with front/back/left/right/up/down.exr\n"
                 "(surround model); needs Z, N.X/Y/Z, albedo.R/G/B, direct.R/G/B (emission, env optional),\n"
@@ -31,8 +31,8 @@ int main(int argc, char** argv) {
     runs::InferOptions o;
     o.model = a.get_string("--model", "", "generator blob (G.blob) from train-gan");
     o.in = a.get_string("--in", "", "the frame: a view .exr or a folder of six faces (or --channel)");
-    cli::ImageInputFlags images =
-        cli::image_input_flags(a, "gi-infer", {"depth", "normal", "albedo", "direct"}, {"emission", "env"},
+    apps::ImageInputFlags images =
+        apps::image_input_flags(a, "gi-infer", {"depth", "normal", "albedo", "direct"}, {"emission", "env"},
                                                            /*surround=*/true);
     o.channels = images.channels;
     o.images = images.view;

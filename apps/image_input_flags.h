@@ -9,7 +9,7 @@
 #include "apps/args.h"
 #include "data/image_read.h"
 
-namespace nns::cli {
+namespace nns::apps {
 
 struct ImageInputFlags {
   std::vector<data::ChannelMapping> channels;  // empty: the command reads --in
@@ -56,4 +56,4 @@ inline ImageInputFlags image_input_flags(Args& a, const std::string& command, st
   return f;
 }
 
-}  // namespace nns::cli
+}  // namespace nns::apps

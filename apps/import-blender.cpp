@@ -55,7 +55,7 @@ std::vector<Job> plan(const std::vector<std::string>& inputs, const std::string&
 }  // namespace
 
 int main(int argc, char** argv) {
-  nns::cli::Args args(argc, argv, "import-blender",
+  nns::apps::Args args(argc, argv, "import-blender",
                       "Convert Blender multilayer EXR renders (ViewLayer.Depth.Z, ViewLayer.Normal.X, "
                       "DiffCol, DiffDir, DiffInd, Emit, AO) into the nnshade dataset format. Files rendered by "
                       "tools/blender_capture.py carry their camera in the header; a flag given here overrides it "
@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
   if (args.positional().empty()) args.error("expected at least one Blender EXR or folder");
   args.done("BLENDER.exr|FOLDER ...");
 
-  return nns::cli::run_main("import-blender", [&] {
+  return nns::apps::run_main("import-blender", [&] {
     ImportSettings flags;
     flags.fov_y = float(fov);
     if (ao_radius > 0) flags.ao_radius = float(ao_radius);

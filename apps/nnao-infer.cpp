@@ -18,11 +18,11 @@
 using namespace nns;
 
 int main(int argc, char** argv) {
-  return cli::run_main("nnao-infer", [&]() -> int {
-    cli::Args args(argc, argv, "nnao-infer", "Run NNAO on one G-buffer view.");
+  return apps::run_main("nnao-infer", [&]() -> int {
+    apps::Args args(argc, argv, "nnao-infer", "Run NNAO on one G-buffer view.");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao");
     std::string in = args.get_string("--in", "", "input view (EXR with Z, N.X, N.Y, N.Z; or --channel)");
-    cli::ImageInputFlags images = cli::image_input_flags(args, "nnao-infer", {"depth", "normal"});
+    apps::ImageInputFlags images = apps::image_input_flags(args, "nnao-infer", {"depth", "normal"});
     std::string out = args.get_path("--out", "", "output EXR (channel AO)");
     std::string png = args.get_string("--png", "", "also write a PNG preview");
     int samples = args.get_int("--samples", 0, "0 = exact; else shader-style filter samples (64, 128, 256, ...)", 0, INT_MAX);
@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
     data::View v = images.channels.empty() ? data::read_view(in) : data::view_from_images(images.channels, images.view);
     float r = float(radius);
     if (r <= 0 && !v.ao_radius && m.radius > 0) r = m.radius;
-    ao::GBuffer g = ao::gbuffer_from_view(v, r);
+    screen_space::GBuffer g = screen_space::gbuffer_from_view(v, r);
     data::View o;
     o.width = v.width;
     o.height = v.height;

@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
       "surround-v2 generations 1-2, other presets the first eight; generation 3 is corridor, courtyard, multiroom, "
       "generation 4 cloister, basilica: ";
   for (auto& f : render::scene_families()) families_help += f.name + (&f == &render::scene_families().back() ? ")" : ", ");
-  cli::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
+  apps::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
   render::DatasetJob job;
   job.out = args.get_path("--out", "", "output dataset folder (required)");
   job.preset = args.get_choice("--preset", "nnao",
@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
 
   job.part = runs::rank(), job.parts = runs::size();
   job.progress = runs::writer();
-  return mpi.finish(cli::run_main("render-dataset", [&] {
+  return mpi.finish(apps::run_main("render-dataset", [&] {
     // Rank 0 locks and checks the folder before any rank writes a view into it.
     FolderLock lock;
     if (runs::writer()) {

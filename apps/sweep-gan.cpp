@@ -21,8 +21,8 @@ using namespace nns::gi;
 using namespace nns::runs;
 
 int main(int argc, char** argv) {
-  return cli::run_main("sweep-gan", [&] {
-    cli::Args a(argc, argv, "sweep-gan", "Sweep GI GAN sizes; name the smallest model within 0.01 SSIM of the best.");
+  return apps::run_main("sweep-gan", [&] {
+    apps::Args a(argc, argv, "sweep-gan", "Sweep GI GAN sizes; name the smallest model within 0.01 SSIM of the best.");
     std::string data_dir = a.get_string("--data", "", "dataset (default: the built-in surround data)");
     std::string out = a.get_path("--out", "sweep-gan-out", "output folder");
     std::string mode = a.get_choice("--mode", "surround", {"front", "surround"}, "input mode");

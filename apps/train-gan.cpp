@@ -25,8 +25,8 @@ using namespace nns::runs;
 
 int main(int argc, char** argv) {
   runs::Session mpi(argc, argv);
-  return mpi.finish(cli::run_main("train-gan", [&] {
-    cli::Args a(argc, argv, "train-gan",
+  return mpi.finish(apps::run_main("train-gan", [&] {
+    apps::Args a(argc, argv, "train-gan",
                 "Train a pix2pix GAN (or an L1/DSSIM U-Net) to predict diffuse global illumination.");
     TrainGanOptions o;  // its initialisers are the defaults (runs/gi/train_gan.h)
     auto on = [](bool b) { return std::string(b ? "on" : "off"); };

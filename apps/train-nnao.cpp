@@ -28,8 +28,8 @@ using namespace nns;
 
 int main(int argc, char** argv) {
   runs::Session mpi(argc, argv);
-  return mpi.finish(cli::run_main("train-nnao", [&]() -> int {
-    cli::Args args(argc, argv, "train-nnao", "Train NNAO (Holden et al. 2016) on EXR G-buffers.");
+  return mpi.finish(apps::run_main("train-nnao", [&]() -> int {
+    apps::Args args(argc, argv, "train-nnao", "Train NNAO (Holden et al. 2016) on EXR G-buffers.");
     runs::TrainOptions o;
     o.data_dir = args.get_string("--data", o.data_dir, "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
     o.out_dir = args.get_path("--out", o.out_dir, "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");

@@ -23,8 +23,8 @@
 using namespace nns;
 
 int main(int argc, char** argv) {
-  return cli::run_main("tune-classical-ao", [&]() -> int {
-    cli::Args args(argc, argv, "tune-classical-ao",
+  return apps::run_main("tune-classical-ao", [&]() -> int {
+    apps::Args args(argc, argv, "tune-classical-ao",
                    "Fit the classical AO methods' parameters for minimum MSE on a dataset's training split.");
     std::string data_dir = args.get_string("--data", "", "dataset root with train/ (default: the built-in default nnao dataset)");
     std::string out = args.get_path("--out", "classical-params.txt", "parameter file to write (eval-ao --classical-params)");
@@ -53,20 +53,20 @@ int main(int argc, char** argv) {
     for (auto& p : paths) {
       views.push_back(data::read_view(p, ro));
       if (!views.back().has("AO")) throw std::runtime_error(p + ": missing channel 'AO' (the tuning target)");
-      ao::gbuffer_from_view(views.back());  // the G-buffer checks, before any time is spent
+      screen_space::gbuffer_from_view(views.back());  // the G-buffer checks, before any time is spent
     }
 
-    ao::ClassicalParams params = start.empty() ? ao::ClassicalParams{} : ao::read_classical_params(start);
+    classical_ao::ClassicalParams params = start.empty() ? classical_ao::ClassicalParams{} : classical_ao::read_classical_params(start);
     std::ostringstream summary;
     std::set<std::string> seen;
     for (const std::string& name : methods) {
       if (!seen.insert(name).second) continue;
-      const ao::ClassicalMethod& m = ao::classical_method(name);  // throws on an unknown name
+      const classical_ao::ClassicalMethod& m = classical_ao::classical_method(name);  // throws on an unknown name
       std::printf("tuning %s at samples", name.c_str());
       for (int n : m.sample_counts) std::printf(" %d", n);
       std::printf(" on %zu training views\n", views.size());
       const auto t0 = std::chrono::steady_clock::now();
-      auto r = ao::tune_classical(name, m.sample_counts, views, params, rounds,
+      auto r = classical_ao::tune_classical(name, m.sample_counts, views, params, rounds,
                                   [](const std::string& s) { std::printf("  %s\n", s.c_str()); std::fflush(stdout); });
       char line[256];
       std::snprintf(line, sizeof line, "%s: train MSE %.6g -> %.6g (%d parameter sets, %.0f s)", name.c_str(),
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     std::string header = "tune-classical-ao on " + d.train.dir + " (" + std::to_string(views.size()) + " views, " +
                          std::to_string(rounds) + " rounds); MSE averaged over each method's sample counts";
     remove_stale_temporaries_of(out);  // a killed earlier run's
-    write_file_atomic(out, ao::format_classical_params(params, header) + summary.str());
+    write_file_atomic(out, classical_ao::format_classical_params(params, header) + summary.str());
     std::printf("wrote %s\n", out.c_str());
     return 0;
   });

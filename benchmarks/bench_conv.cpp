@@ -30,7 +30,7 @@ double peak_gflops(int threads) {
   static std::map<int, double> cache;
   auto it = cache.find(threads);
   if (it != cache.end()) return it->second;
-  return cache[threads] = bench::measure_fma_peak_gflops(threads);
+  return cache[threads] = benchmarks::measure_fma_peak_gflops(threads);
 }
 
 Tensor<float> randn(const Shape& s, Rng& rng) {

@@ -17,10 +17,10 @@ void BM_FmaPeak(benchmark::State& state) {
   float sink = 0;
   for (auto _ : state) {
     nns::ThreadPool::global().run(
-        [&](int w, int) { benchmark::DoNotOptimize(nns::bench::fma_chains(iters, float(w) + sink)); });
+        [&](int w, int) { benchmark::DoNotOptimize(nns::benchmarks::fma_chains(iters, float(w) + sink)); });
   }
   state.counters["GFLOP/s"] = benchmark::Counter(
-      nns::bench::fma_flops_per_iter() * double(iters) * threads * double(state.iterations()) / 1e9,
+      nns::benchmarks::fma_flops_per_iter() * double(iters) * threads * double(state.iterations()) / 1e9,
       benchmark::Counter::kIsRate);
   state.counters["threads"] = threads;
 }

@@ -61,7 +61,7 @@ double patchgan_flops(const PatchGanConfig& c, int64_t S) {
 double peak_flops(int threads) {
   static double cached[3] = {0, 0, 0};  // measured once per thread count
   if (threads > 2) return threads * peak_flops(1);
-  if (cached[threads] == 0) cached[threads] = bench::measure_fma_peak_gflops(threads) * 1e9;
+  if (cached[threads] == 0) cached[threads] = benchmarks::measure_fma_peak_gflops(threads) * 1e9;
   return cached[threads];
 }
 

@@ -27,7 +27,7 @@ double peak_gflops(int threads) {
   auto it = cache.find(threads);
   if (it != cache.end()) return it->second;
   use_threads(threads);
-  double p = nns::bench::measure_fma_peak_gflops(threads);
+  double p = nns::benchmarks::measure_fma_peak_gflops(threads);
   cache[threads] = p;
   return p;
 }

@@ -115,7 +115,7 @@ static void BM_NnaoInferFrame(benchmark::State& state) {
   set_num_threads(int(state.range(1)));
   auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(31, 4, 3));
   static data::View v = nns::fixtures::synthetic_view(320, 180, 1, 1);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   std::vector<float> out(size_t(g.pixels()));
   for (auto _ : state) {
     if (samples == 0) vec ? nnao::infer_exact(m, g, out.data()) : nnao::infer_exact_reference(m, g, out.data());
@@ -134,10 +134,10 @@ BENCHMARK(BM_NnaoInferFrame)->ArgNames({"samples", "threads", "vec"})
 // thread. Checks first that the two paths agree on this frame.
 static void BM_ClassicalAoFrame(benchmark::State& state) {
   set_num_threads(1);
-  const auto& method = ao::classical_methods().at(size_t(state.range(0)));
+  const auto& method = classical_ao::classical_methods().at(size_t(state.range(0)));
   const int samples = int(state.range(1));
   static data::View v = nns::fixtures::synthetic_view(320, 180, 1, 1);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   std::vector<float> out(size_t(g.pixels())), ref(out.size());
   method.run(g, samples, out.data());
   method.reference(g, samples, ref.data());
@@ -171,7 +171,7 @@ static void BM_HorizonVsHbaoPerSample(benchmark::State& state) {
   set_num_threads(1);
   auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(0, 16, 7, false, {16, 8, 4}));
   static data::View v = nns::fixtures::synthetic_view(320, 180, 1, 1);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   std::vector<float> out(size_t(g.pixels())), ref(out.size());
   nnao::infer_exact(m, g, out.data());
   nnao::infer_exact_reference(m, g, ref.data());
@@ -189,8 +189,8 @@ static void BM_HorizonVsHbaoPerSample(benchmark::State& state) {
   std::vector<double> nnao_ms, hbao_ms, gtao_ms, ratio;
   for (auto _ : state) {
     nnao_ms.push_back(ms([&] { nnao::infer_exact(m, g, out.data()); }));
-    hbao_ms.push_back(ms([&] { ao::hbao(g, 64, out.data()); }));
-    gtao_ms.push_back(ms([&] { ao::gtao(g, 32, out.data()); }));
+    hbao_ms.push_back(ms([&] { classical_ao::hbao(g, 64, out.data()); }));
+    gtao_ms.push_back(ms([&] { classical_ao::gtao(g, 32, out.data()); }));
     ratio.push_back((nnao_ms.back() / m.input.samples()) / (hbao_ms.back() / 64));
     state.SetIterationTime(nnao_ms.back() / 1000);
   }

@@ -14,7 +14,7 @@
 
 #include "core/thread_pool.h"
 
-namespace nns::bench {
+namespace nns::benchmarks {
 
 #if defined(__AVX512F__)
 using FmaVec = __m512;
@@ -77,4 +77,4 @@ inline double measure_fma_peak_gflops(int threads, int64_t iters = 20'000'000 / 
   return best;
 }
 
-}  // namespace nns::bench
+}  // namespace nns::benchmarks

@@ -43,7 +43,7 @@ double median(std::vector<double> v) {
 
 struct Method {
   std::string name;
-  std::function<void(const ao::GBuffer&, float*)> run;
+  std::function<void(const screen_space::GBuffer&, float*)> run;
   std::vector<double> ms, cpu;
 };
 
@@ -80,15 +80,15 @@ int main(int argc, char** argv) {
       models.emplace_back("NNAO", nnao::NnaoWeights::from_blob(b));
     }
     const data::View view = load_view(view_arg);
-    const ao::GBuffer g = ao::gbuffer_from_view(view);
+    const screen_space::GBuffer g = screen_space::gbuffer_from_view(view);
     std::vector<Method> methods;
-    for (auto& [name, m] : models) methods.push_back({name, [&m = m](const ao::GBuffer& gb, float* o) { nnao::infer_exact(m, gb, o); }, {}, {}});
-    const ao::ClassicalParams params;
-    for (auto& c : ao::classical_methods())
+    for (auto& [name, m] : models) methods.push_back({name, [&m = m](const screen_space::GBuffer& gb, float* o) { nnao::infer_exact(m, gb, o); }, {}, {}});
+    const classical_ao::ClassicalParams params;
+    for (auto& c : classical_ao::classical_methods())
       for (int n : c.sample_counts) {
         const std::string name = c.name + "-" + std::to_string(n);
         if (which == "all" && name != "HBAO-64" && name != "GTAO-32") continue;
-        methods.push_back({name, [&c, &params, n](const ao::GBuffer& gb, float* o) { ao::run_classical(c.name, params, gb, n, o, false); }, {}, {}});
+        methods.push_back({name, [&c, &params, n](const screen_space::GBuffer& gb, float* o) { classical_ao::run_classical(c.name, params, gb, n, o, false); }, {}, {}});
       }
     std::vector<float> out(size_t(g.pixels()));
     auto selected = [&](const Method& m) { return which == "all" || which == "every" || m.name.rfind(which, 0) == 0; };

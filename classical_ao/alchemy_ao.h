@@ -14,7 +14,16 @@
 
 #include "screen_space/ao_common.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
+using screen_space::NoiseTile;
+using screen_space::Vec3;
+using screen_space::box_blur_4x4;
+using screen_space::box_blur_4x4_reference;
+using screen_space::dot;
+using screen_space::for_each_surface_pixel;
+using screen_space::noise_angle_4x4;
 
 // Free parameters (tune-classical-ao fits them; the defaults are the values used before).
 // kappa is the paper's contrast exponent, A^kappa (1: none).
@@ -63,7 +72,7 @@ inline void alchemy_ao_reference(const GBuffer& g, int samples, float* out) {
 }
 
 inline void alchemy_ao_with(const GBuffer& g, int samples, float* out, const AlchemyParams& p) {
-  using namespace simd;
+  using namespace screen_space::simd;
   std::vector<float> raw(size_t(g.pixels()));
   const float r = g.radius * p.radius_scale, r2 = r * r;
   const float sigma = p.sigma, beta = p.beta * r, eps = p.eps * r2;
@@ -115,4 +124,4 @@ inline void alchemy_ao_with(const GBuffer& g, int samples, float* out, const Alc
 
 inline void alchemy_ao(const GBuffer& g, int samples, float* out) { alchemy_ao_with(g, samples, out, AlchemyParams{}); }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

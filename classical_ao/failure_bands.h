@@ -14,7 +14,11 @@
 #include "screen_space/discontinuities.h"
 #include "screen_space/gbuffer.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
+using screen_space::chebyshev_distance;
+using screen_space::discontinuity_pixels;
 
 struct FailureBands {
   std::vector<std::string> names = {"halo", "border", "thin"};
@@ -65,4 +69,4 @@ inline FailureBands failure_bands(const GBuffer& g) {
   return b;
 }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

@@ -46,7 +46,22 @@
 
 #include "screen_space/ao_common.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
+using screen_space::NoiseTile;
+using screen_space::Vec3;
+using screen_space::box_blur_4x4;
+using screen_space::box_blur_4x4_reference;
+using screen_space::cross;
+using screen_space::dot;
+using screen_space::for_each_surface_pixel;
+using screen_space::hash_unit;
+using screen_space::length;
+using screen_space::noise_angle_4x4;
+using screen_space::normalize;
+using screen_space::pixel_hash;
+using screen_space::saturate;
 
 struct GtaoParams {
   float radius_scale = 1.457f;  // XeGTAO "radius multiplier"
@@ -148,7 +163,10 @@ inline void gtao_reference_with(const GBuffer& g, int samples, float* out, const
 
 inline void gtao_reference(const GBuffer& g, int samples, float* out) { gtao_reference_with(g, samples, out, GtaoParams{}); }
 
+// acos and asin on 16 lanes, beside the screen-space kit's vector operations.
 namespace simd {
+
+using namespace screen_space::simd;
 
 // acos on [-1, 1] from Cephes' asinf polynomial (|error| < 1e-6 rad, tested against
 // std::acos): acos x = pi/2 - asin x for |x| <= 1/2, else 2 asin(sqrt((1 - |x|) / 2)),
@@ -176,6 +194,7 @@ inline VF asin(VF x) { return splat(0.5f * gtao_detail::kPi) - acos(x); }
 }  // namespace simd
 
 inline void gtao_with(const GBuffer& g, int samples, float* out, const GtaoParams& p) {
+  using namespace screen_space::simd;
   using namespace simd;
   using namespace gtao_detail;
   int slices, steps;
@@ -269,4 +288,4 @@ inline void gtao_with(const GBuffer& g, int samples, float* out, const GtaoParam
 
 inline void gtao(const GBuffer& g, int samples, float* out) { gtao_with(g, samples, out, GtaoParams{}); }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

@@ -16,7 +16,19 @@
 
 #include "screen_space/ao_common.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
+using screen_space::NoiseTile;
+using screen_space::Vec3;
+using screen_space::box_blur_4x4;
+using screen_space::box_blur_4x4_reference;
+using screen_space::dot;
+using screen_space::for_each_surface_pixel;
+using screen_space::hash_unit;
+using screen_space::noise_angle_4x4;
+using screen_space::pixel_hash;
+using screen_space::saturate;
 
 // Free parameters (tune-classical-ao fits them; the defaults are the values used before).
 struct HbaoParams {
@@ -76,7 +88,7 @@ inline void hbao_reference_with(const GBuffer& g, int samples, float* out, const
 inline void hbao_reference(const GBuffer& g, int samples, float* out) { hbao_reference_with(g, samples, out, HbaoParams{}); }
 
 inline void hbao_with(const GBuffer& g, int samples, float* out, const HbaoParams& p) {
-  using namespace simd;
+  using namespace screen_space::simd;
   int dirs, steps;
   hbao_layout(samples, dirs, steps);
   std::vector<float> raw(size_t(g.pixels()));
@@ -134,4 +146,4 @@ inline void hbao_with(const GBuffer& g, int samples, float* out, const HbaoParam
 
 inline void hbao(const GBuffer& g, int samples, float* out) { hbao_with(g, samples, out, HbaoParams{}); }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

@@ -11,7 +11,9 @@
 #include "classical_ao/ssao.h"
 #include "classical_ao/ssao_plus.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
 
 struct ClassicalMethod {
   std::string name;
@@ -37,4 +39,4 @@ inline const ClassicalMethod& classical_method(const std::string& name) {
   throw std::invalid_argument("unknown AO method '" + name + "' (known: SSAO, SSAO+, HBAO, Alchemy, GTAO)");
 }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

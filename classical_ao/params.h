@@ -19,7 +19,9 @@
 #include "classical_ao/methods.h"
 #include "core/atomic_file.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
 
 struct ClassicalParams {
   SsaoParams ssao;
@@ -124,4 +126,4 @@ inline ClassicalParams read_classical_params(const std::string& path) {
   return p;
 }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

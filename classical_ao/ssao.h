@@ -16,7 +16,17 @@
 #include "screen_space/ao_common.h"
 #include "screen_space/simd16.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
+using screen_space::NoiseTile;
+using screen_space::Vec3;
+using screen_space::box_blur_4x4;
+using screen_space::box_blur_4x4_reference;
+using screen_space::for_each_surface_pixel;
+using screen_space::noise_angle_4x4;
+using screen_space::saturate;
+using screen_space::sphere_kernel;
 
 // Free parameters (tune-classical-ao fits them; the defaults are the values used before):
 // the range check accepts occluders within range * r behind the sample, and gain is the
@@ -49,7 +59,7 @@ inline void ssao_reference_with(const GBuffer& g, int samples, float* out, const
 inline void ssao_reference(const GBuffer& g, int samples, float* out) { ssao_reference_with(g, samples, out, SsaoParams{}); }
 
 inline void ssao_with(const GBuffer& g, int samples, float* out, const SsaoParams& p) {
-  using namespace simd;
+  using namespace screen_space::simd;
   const std::vector<Vec3> kernel = sphere_kernel(samples, 0x55A0 + uint64_t(samples));
   const NoiseTile noise;
   std::vector<float> raw(size_t(g.pixels()));
@@ -80,4 +90,4 @@ inline void ssao_with(const GBuffer& g, int samples, float* out, const SsaoParam
 
 inline void ssao(const GBuffer& g, int samples, float* out) { ssao_with(g, samples, out, SsaoParams{}); }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

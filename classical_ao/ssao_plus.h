@@ -12,7 +12,21 @@
 
 #include "screen_space/ao_common.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
+using screen_space::NoiseTile;
+using screen_space::Vec3;
+using screen_space::box_blur_4x4;
+using screen_space::box_blur_4x4_reference;
+using screen_space::cross;
+using screen_space::dot;
+using screen_space::for_each_surface_pixel;
+using screen_space::length;
+using screen_space::noise_angle_4x4;
+using screen_space::normalize;
+using screen_space::saturate;
+using screen_space::sphere_kernel;
 
 inline std::vector<Vec3> hemisphere_kernel(int n, uint64_t seed) {
   std::vector<Vec3> k = sphere_kernel(n, seed);
@@ -71,7 +85,7 @@ inline void ssao_plus_reference(const GBuffer& g, int samples, float* out) {
 }
 
 inline void ssao_plus_with(const GBuffer& g, int samples, float* out, const SsaoPlusParams& p) {
-  using namespace simd;
+  using namespace screen_space::simd;
   const std::vector<Vec3> kernel = hemisphere_kernel(samples, 0x5A0B + uint64_t(samples));
   const NoiseTile noise;
   std::vector<float> raw(size_t(g.pixels()));
@@ -119,4 +133,4 @@ inline void ssao_plus_with(const GBuffer& g, int samples, float* out, const Ssao
 
 inline void ssao_plus(const GBuffer& g, int samples, float* out) { ssao_plus_with(g, samples, out, SsaoPlusParams{}); }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

@@ -24,7 +24,10 @@
 
 #include "screen_space/gbuffer.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
+using screen_space::Vec3;
 
 // prev_index[i] = pixel of the previous frame, or -1.
 inline std::vector<int64_t> reproject_to_previous(const GBuffer& cur, const std::optional<std::array<float, 16>>& cur_w2c,
@@ -116,4 +119,4 @@ inline std::string path_of_frame(const std::string& stem, int& frame) {
   return stem.substr(0, k);
 }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

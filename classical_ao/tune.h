@@ -17,7 +17,10 @@
 #include "data/view.h"
 #include "classical_ao/params.h"
 
-namespace nns::ao {
+namespace nns::classical_ao {
+
+using screen_space::GBuffer;
+using screen_space::gbuffer_from_view;
 
 // The MSE of `method` with parameters p over views (each with Z, N.*, AO), pooled over
 // the non-sky pixels of all views, averaged over the sample counts.
@@ -89,4 +92,4 @@ inline TuneResult tune_classical(const std::string& method, const std::vector<in
   return r;
 }
 
-}  // namespace nns::ao
+}  // namespace nns::classical_ao

@@ -180,9 +180,9 @@ int main(int argc, char** argv) {
   image("half.exr", 3, {"Z"}, report::PixelType::f16);
   // classical_params: the file tune-classical-ao writes (classical_ao/params.h).
   {
-    ao::ClassicalParams p;
+    classical_ao::ClassicalParams p;
     p.hbao.angle_bias = 0.2f, p.gtao.falloff = 0.5f;
-    put(dir / "classical_params" / "tuned.txt", ao::format_classical_params(p, "seed") + "# a comment\n\n");
+    put(dir / "classical_params" / "tuned.txt", classical_ao::format_classical_params(p, "seed") + "# a comment\n\n");
   }
   // blender_import: width 2, height 1, a capture note as tools/blender_capture.py writes
   // it, then the planes Depth.Z, Normal.X, Normal.Y, Normal.Z, AO.R (fuzz_blender_import.cpp).

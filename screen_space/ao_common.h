@@ -11,7 +11,7 @@
 #include "screen_space/gbuffer.h"
 #include "screen_space/simd16.h"
 
-namespace nns::ao {
+namespace nns::screen_space {
 
 // f(px, py, i) for every pixel; rows are split over the workers. Each pixel is written
 // once, so the result is the same for any thread count.
@@ -123,4 +123,4 @@ inline void box_blur_4x4(const GBuffer& g, const float* in, float* out) {
 
 inline float saturate(float v) { return v < 0 ? 0 : (v > 1 ? 1 : v); }
 
-}  // namespace nns::ao
+}  // namespace nns::screen_space

@@ -19,7 +19,7 @@
 
 #include "screen_space/gbuffer.h"
 
-namespace nns::ao {
+namespace nns::screen_space {
 
 template <class Differ>
 std::vector<uint8_t> discontinuity_pixels(int w, int h, Differ&& differ) {
@@ -79,4 +79,4 @@ inline auto surface_break(const GBuffer& g, float depth_ratio, float crease_cos)
   };
 }
 
-}  // namespace nns::ao
+}  // namespace nns::screen_space

@@ -15,7 +15,7 @@
 
 #include "data/view.h"
 
-namespace nns::ao {
+namespace nns::screen_space {
 
 struct Vec3 {
   float x = 0, y = 0, z = 0;
@@ -144,4 +144,4 @@ inline uint32_t pixel_hash(uint32_t x, uint32_t y, uint32_t salt = 0) {
 }
 inline float hash_unit(uint32_t h) { return float(h >> 8) * 0x1.0p-24f; }
 
-}  // namespace nns::ao
+}  // namespace nns::screen_space

@@ -25,7 +25,7 @@
 #include "screen_space/pow_by_squaring.h"
 #include "screen_space/simd16.h"
 
-namespace nns::ao {
+namespace nns::screen_space {
 
 struct LowResGBuffer {
   int scale = 1;
@@ -255,4 +255,4 @@ inline void upsample(const GBuffer& full, const LowResGBuffer& lr, const float* 
   });
 }
 
-}  // namespace nns::ao
+}  // namespace nns::screen_space

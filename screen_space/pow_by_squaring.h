@@ -2,7 +2,7 @@
 // x^p by squaring (p >= 0), for a float or a 16-lane vector alike. NNAO's blur, the
 // low-resolution upsample, the GLSL passes and the torch tool multiply in this order,
 // so they agree to the bit; p = 8 is the ((x^2)^2)^2 the first NNAO models used.
-namespace nns::ao {
+namespace nns::screen_space {
 
 template <class T>
 T pow_by_squaring(T x, int p, T one) {
@@ -14,4 +14,4 @@ T pow_by_squaring(T x, int p, T one) {
   return r;
 }
 
-}  // namespace nns::ao
+}  // namespace nns::screen_space

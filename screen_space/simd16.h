@@ -33,7 +33,7 @@
 #include "screen_space/simd16_generic.h"
 #endif
 
-namespace nns::ao::simd {
+namespace nns::screen_space::simd {
 
 inline VF operator-(VF a) { return splat(0.0f) - a; }
 inline VF saturate(VF a) { return min(max(a, splat(0.0f)), splat(1.0f)); }
@@ -150,4 +150,4 @@ struct Block {
   }
 };
 
-}  // namespace nns::ao::simd
+}  // namespace nns::screen_space::simd

@@ -10,7 +10,7 @@
 
 #include "screen_space/simd16_lanes.h"
 
-namespace nns::ao::simd {
+namespace nns::screen_space::simd {
 
 constexpr const char* kBackend = "avx2";
 
@@ -147,4 +147,4 @@ inline VF prelu(VF x, VF alpha, VF beta) {
           _mm256_blendv_ps(_mm256_mul_ps(alpha.hi, x.hi), _mm256_mul_ps(beta.hi, x.hi), pos_hi)};
 }
 
-}  // namespace nns::ao::simd
+}  // namespace nns::screen_space::simd

@@ -7,7 +7,7 @@
 
 #include "screen_space/simd16_lanes.h"
 
-namespace nns::ao::simd {
+namespace nns::screen_space::simd {
 
 constexpr const char* kBackend = "avx512";
 
@@ -65,4 +65,4 @@ inline VF prelu(VF x, VF alpha, VF beta) {
                                _mm512_mul_ps(beta.v, x.v))};
 }
 
-}  // namespace nns::ao::simd
+}  // namespace nns::screen_space::simd

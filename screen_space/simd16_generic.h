@@ -15,7 +15,7 @@
 
 #include "screen_space/simd16_lanes.h"
 
-namespace nns::ao::simd {
+namespace nns::screen_space::simd {
 
 constexpr const char* kBackend = "generic";
 
@@ -89,4 +89,4 @@ inline VF scale2_normal(VF a, VF n) { return scale2(a, n); }  // n in [-126, 127
 inline VF prelu(VF x, VF alpha, VF beta) { return {x.v > 0 ? beta.v * x.v : alpha.v * x.v}; }
 #undef NNS_LANES
 
-}  // namespace nns::ao::simd
+}  // namespace nns::screen_space::simd

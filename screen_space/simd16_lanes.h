@@ -3,10 +3,10 @@
 // (bit l = lane l; only the low 16 bits are used), whatever the instruction set.
 #include <cstdint>
 
-namespace nns::ao::simd {
+namespace nns::screen_space::simd {
 
 constexpr int kLanes = 16;
 using Mask = uint32_t;
 constexpr Mask kAll = 0xFFFFu;
 
-}  // namespace nns::ao::simd
+}  // namespace nns::screen_space::simd

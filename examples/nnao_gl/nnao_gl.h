@@ -72,7 +72,7 @@ class NnaoGlPasses {
 
   // The G-buffer's planes as R32F depth and RGB32F normals; its camera and radius
   // become the passes' uniforms.
-  void set_gbuffer(const ao::GBuffer& g) {
+  void set_gbuffer(const screen_space::GBuffer& g) {
     g_ = g;
     std::vector<float> normals(size_t(g.pixels()) * 3);
     for (int64_t i = 0; i < g.pixels(); ++i)
@@ -287,7 +287,7 @@ class NnaoGlPasses {
     return p;
   }
 
-  ao::GBuffer g_;
+  screen_space::GBuffer g_;
   GLuint vao_ = 0, fbo_ = 0, ao_program_ = 0, blur_program_ = 0, down_program_ = 0, up_program_ = 0;
   int blur_pairs_ = 1, scale_ = 1, work_w_ = 0, work_h_ = 0;
   GLuint filters_ = 0, depth_ = 0, normal_ = 0, ao_ = 0, tmp_ = 0, out_ = 0;

@@ -18,8 +18,8 @@
 using namespace nns;
 
 int main(int argc, char** argv) {
-  return cli::run_main("run-nnao-shader", [&]() -> int {
-    cli::Args args(argc, argv, "run-nnao-shader", "Run export-nnao's GLSL passes on a G-buffer view (headless OpenGL).");
+  return apps::run_main("run-nnao-shader", [&]() -> int {
+    apps::Args args(argc, argv, "run-nnao-shader", "Run export-nnao's GLSL passes on a G-buffer view (headless OpenGL).");
     std::string shaders = args.get_string("--shaders", "", "export-nnao's output folder");
     std::string in = args.get_string("--in", "", "input view (EXR with Z, N.X, N.Y, N.Z, fovY, aoRadius)");
     std::string out = args.get_string("--out", "", "output EXR (channel AO)");
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     const data::View v = data::read_view(in);
-    const ao::GBuffer g = ao::gbuffer_from_view(v, float(radius));
+    const screen_space::GBuffer g = screen_space::gbuffer_from_view(v, float(radius));
     gl::HeadlessGl context;
     gl::NnaoGlPasses passes(shaders);
     passes.set_gbuffer(g);

@@ -67,9 +67,9 @@ struct HorizonLayout {
 inline int64_t horizon_base_index(const HorizonLayout& L) { return L.features() - 1; }
 
 // Writes L.features() floats for centre pixel (px, py), which must not be sky.
-inline void compute_horizon_features(const ao::GBuffer& g, int px, int py, const HorizonLayout& L, float* out) {
+inline void compute_horizon_features(const screen_space::GBuffer& g, int px, int py, const HorizonLayout& L, float* out) {
   const int64_t c = int64_t(py) * g.width + px;
-  const ao::Vec3 P = g.position(px, py), N = ao::normalize(g.normal(c));
+  const screen_space::Vec3 P = g.position(px, py), N = screen_space::normalize(g.normal(c));
   const float r = g.radius, r2 = r * r;
   const float R_px = r * 0.5f * float(g.width) / (g.sx * g.z[c]);
   // The normal's direction on the screen (y down); facing the camera, any start will do.
@@ -93,9 +93,9 @@ inline void compute_horizon_features(const ao::GBuffer& g, int px, int py, const
           g.clamped_pixel(qx, qy, jx, jy);
           const int64_t j = int64_t(jy) * g.width + jx;
           if (!g.sky(j)) {
-            const ao::Vec3 d = g.position(jx, jy) - P;
-            const float d2 = ao::dot(d, d);
-            if (d2 > 0 && d2 <= r2) horizon = std::fmax(horizon, ao::dot(N, d) / std::sqrt(d2));
+            const screen_space::Vec3 d = g.position(jx, jy) - P;
+            const float d2 = screen_space::dot(d, d);
+            if (d2 > 0 && d2 <= r2) horizon = std::fmax(horizon, screen_space::dot(N, d) / std::sqrt(d2));
           }
         }
       }
@@ -103,7 +103,7 @@ inline void compute_horizon_features(const ao::GBuffer& g, int px, int py, const
     }
   }
   const int64_t extra = int64_t(L.directions) * L.bands;
-  out[extra] = ao::dot(N, ao::normalize(-1.0f * P));
+  out[extra] = screen_space::dot(N, screen_space::normalize(-1.0f * P));
   out[extra + 1] = std::fmin(L.radius_term_max, std::log2(1.0f + R_px) / 8.0f);
   for (int b = 0; b < L.bands; ++b) {
     float occluded = 0;

@@ -25,11 +25,11 @@ namespace detail {
 
 // The march: writes the features of the 16 lanes to f[q] (q as in horizon_features.h)
 // and returns the base (the last band's visibility). Only for blocks with a live lane.
-inline VF horizon_march(const NnaoWeights& m, const ao::GBuffer& g_in, const Block& b_in, VF* f) {
+inline VF horizon_march(const NnaoWeights& m, const screen_space::GBuffer& g_in, const Block& b_in, VF* f) {
   // Local copies: a store through f (a vector type, which may alias anything) would
   // otherwise make the compiler reload the frame's sizes and the block's planes, and
   // redo their conversions, at every step.
-  const ao::GBuffer g = g_in;
+  const screen_space::GBuffer g = g_in;
   const Block b = b_in;
   const HorizonLayout L = m.input.horizon;
   const int per_band = L.steps / L.bands;
@@ -86,7 +86,7 @@ inline VF horizon_march(const NnaoWeights& m, const ao::GBuffer& g_in, const Blo
 
 // HS > 0: the hidden width known at compile time (4, 8, 16: the presets' and the sweep's).
 template <int HS>
-void horizon_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, VF* f, float* out) {
+void horizon_block(const NnaoWeights& m, const screen_space::GBuffer& g, const Block& b, VF* f, float* out) {
   const int H = HS > 0 ? HS : m.hidden;
   const int64_t F = m.features();
   VF h[HS > 0 ? HS : 64];
@@ -106,8 +106,8 @@ void horizon_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, V
 
 }  // namespace detail
 
-inline void infer_horizon(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
-  using namespace ao::simd;
+inline void infer_horizon(const NnaoWeights& m, const screen_space::GBuffer& g, float* out) {
+  using namespace screen_space::simd;
   const int H = m.hidden;
   for_each_block(g, [&](int x0, int y, Mask valid) {
     // One feature buffer per worker thread, reused block after block.

@@ -15,7 +15,7 @@
 
 namespace nns::nnao {
 
-inline void infer_exact_per_pixel(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
+inline void infer_exact_per_pixel(const NnaoWeights& m, const screen_space::GBuffer& g, float* out) {
   const int64_t F = m.features();
   const int H = m.hidden;
   parallel_for(g.height, [&](int64_t y0, int64_t y1) {

@@ -30,13 +30,13 @@ inline float grid_offset(int i, int w, float r) {
 // centre's depth, so their projection is affine in the offset: pixel = centre pixel +
 // offset * (pixels per view-space unit at depth z).
 struct FeatureCentre {
-  const ao::GBuffer* g;
+  const screen_space::GBuffer* g;
   int w;
   float z, r, inv_r, cx, cy, kx, ky;
   float step;  // grid spacing 2r/(w-1): offset(i) = -r + i * step
-  ao::Vec3 P, N;
+  screen_space::Vec3 P, N;
 
-  FeatureCentre(const ao::GBuffer& gb, int px, int py, int window) : g(&gb), w(window) {
+  FeatureCentre(const screen_space::GBuffer& gb, int px, int py, int window) : g(&gb), w(window) {
     const int64_t c = int64_t(py) * gb.width + px;
     z = gb.z[c];
     r = gb.radius;
@@ -66,8 +66,8 @@ struct FeatureCentre {
       o[0] = o[1] = o[2] = o[3] = 0;
       return false;
     }
-    const ao::Vec3 D = g->position(ix, iy) - P;
-    const float d2 = ao::dot(D, D) * (inv_r * inv_r);
+    const screen_space::Vec3 D = g->position(ix, iy) - P;
+    const float d2 = screen_space::dot(D, D) * (inv_r * inv_r);
     if (!(d2 < 1.0f)) {
       o[0] = o[1] = o[2] = o[3] = 0;
       return false;
@@ -82,14 +82,14 @@ struct FeatureCentre {
 };
 
 // Writes feature_count(w) floats for centre pixel (px, py), which must not be sky.
-inline void compute_features(const ao::GBuffer& g, int px, int py, int w, float* out) {
+inline void compute_features(const screen_space::GBuffer& g, int px, int py, int w, float* out) {
   const FeatureCentre c(g, px, py, w);
   for (int j = 0; j < w; ++j)
     for (int i = 0; i < w; ++i) c.sample(i, j, out + (int64_t(j) * w + i) * 4);
 }
 
 // Non-sky pixel indices of a frame (row-major order).
-inline std::vector<int64_t> non_sky_pixels(const ao::GBuffer& g) {
+inline std::vector<int64_t> non_sky_pixels(const screen_space::GBuffer& g) {
   std::vector<int64_t> out;
   out.reserve(size_t(g.pixels()));
   for (int64_t i = 0; i < g.pixels(); ++i)

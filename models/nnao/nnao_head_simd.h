@@ -6,7 +6,7 @@
 
 namespace nns::nnao::detail {
 
-using namespace ao::simd;
+using namespace screen_space::simd;
 
 // Layers 1..3 and the de-standardisation (NnaoWeights::head, same order of operations)
 // on the 16 lanes at once, from the layer-0 sums h[k]: h[k] * scale + b0[k], plus the
@@ -18,7 +18,7 @@ template <int HS = 0>
 void finish_block(const NnaoWeights& m, const Block& b, const VF* h, float scale, bool scaled, float* out,
                   const VF* base = nullptr) {
   const int H = HS > 0 ? HS : m.hidden;
-  auto prelu = [](VF x, float alpha, float beta) { return ao::simd::prelu(x, splat(alpha), splat(beta)); };
+  auto prelu = [](VF x, float alpha, float beta) { return screen_space::simd::prelu(x, splat(alpha), splat(beta)); };
   VF a[HS > 0 ? HS : 64], c[HS > 0 ? HS : 64];
   for (int k = 0; k < H; ++k)
     a[k] = prelu((scaled ? h[k] * splat(scale) : h[k]) + splat(m.b0[size_t(k)]), m.alpha[0][size_t(k)], m.beta[0][size_t(k)]);

@@ -55,11 +55,11 @@ inline void check_sample_count(int samples, const InputSpec& input) {
 
 namespace detail {
 
-using namespace ao::simd;
+using namespace screen_space::simd;
 
 // The G-buffer interleaved per pixel as (Nx, Ny, Nz, Z): one 16-byte load per sample
 // and lane instead of four gathers from four planes. Built once per frame.
-inline std::vector<float> pack_normal_depth(const ao::GBuffer& g) {
+inline std::vector<float> pack_normal_depth(const screen_space::GBuffer& g) {
   std::vector<float> p(size_t(4 * g.pixels()));
   for (int64_t i = 0; i < g.pixels(); ++i) {
     p[size_t(4 * i)] = g.nx[i], p[size_t(4 * i + 1)] = g.ny[i];
@@ -87,7 +87,7 @@ struct CentreBlock {
   float step, r;
   const float* packed;  // pack_normal_depth(g)
 
-  CentreBlock(const ao::GBuffer& g, const Block& b, int w, const float* packed_)
+  CentreBlock(const screen_space::GBuffer& g, const Block& b, int w, const float* packed_)
       : z(b.z), px(b.px), py(b.py), packed(packed_) {
     nx = load(g.nx + b.i0, b.valid, 0.0f), ny = load(g.ny + b.i0, b.valid, 0.0f), nz = load(g.nz + b.i0, b.valid, 0.0f);
     r = g.radius;
@@ -102,7 +102,7 @@ struct CentreBlock {
 
   // The 4 features of the grid sample at screen point (sx, sy) for the lanes of m
   // (zero elsewhere); returns the lanes whose features are not all zero.
-  Mask sample(const ao::GBuffer& g, VF sx, VF sy, Mask m, VF o[4]) const {
+  Mask sample(const screen_space::GBuffer& g, VF sx, VF sy, Mask m, VF o[4]) const {
     VI ix, iy;
     clamped_pixel(g, sx, sy, ix, iy);
     const VI s = pixel_index(g, ix, iy);
@@ -142,7 +142,7 @@ struct CentreBlock {
 
 // HS > 0: the hidden width known at compile time (the paper's 4 stays in registers).
 template <int HS>
-void exact_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, const float* packed, float* out) {
+void exact_block(const NnaoWeights& m, const screen_space::GBuffer& g, const Block& b, const float* packed, float* out) {
   const int w = m.input.window, H = HS > 0 ? HS : m.hidden;
   const int64_t F = m.features();
   VF h[HS > 0 ? HS : 64];
@@ -170,8 +170,8 @@ void exact_block(const NnaoWeights& m, const ao::GBuffer& g, const Block& b, con
 // pass, the usual SSAO blur): Gaussian in screen space (sigma 1.5 px), times
 // exp(-(dz / (e.depth r))^2) and max(0, n.n')^e.normal_power, so it does not average
 // across a depth discontinuity or a sharp crease (the terms: nnao_weights.h).
-inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out, const BlurEdges& e = {}) {
-  using namespace ao::simd;
+inline void bilateral_blur(const screen_space::GBuffer& g, const float* in, float* out, const BlurEdges& e = {}) {
+  using namespace screen_space::simd;
   const float inv_dz = 1.0f / (e.depth * g.radius);
   const bool normals = e.normal_power > 0;  // power 0: the term is 1, its three planes not read
   float spatial[5];
@@ -221,7 +221,7 @@ inline void bilateral_blur(const ao::GBuffer& g, const float* in, float* out, co
 }
 
 // A horizon model's march and network, then its blur passes, at the G-buffer's resolution.
-inline void infer_horizon_blurred(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
+inline void infer_horizon_blurred(const NnaoWeights& m, const screen_space::GBuffer& g, float* out) {
   // Each pass reads one buffer and writes the other, the last one writing `out` (no
   // copies between passes: serial, they held the second thread back).
   const std::unique_ptr<float[]> a(new float[size_t(g.pixels())]), b(new float[size_t(g.pixels())]);
@@ -234,8 +234,8 @@ inline void infer_horizon_blurred(const NnaoWeights& m, const ao::GBuffer& g, fl
   }
 }
 
-inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
-  using namespace ao::simd;
+inline void infer_exact(const NnaoWeights& m, const screen_space::GBuffer& g, float* out) {
+  using namespace screen_space::simd;
   // A horizon model (nnao_inputs.h) marches its directions instead (horizon_simd.h),
   // then the bilateral blur: chosen on the validation families of the default data
   // (3 seeds: MSE -7%, SSIM 0.84-0.86 -> 0.89-0.90, flicker 1.6x -> 1.0-1.07x the
@@ -246,10 +246,10 @@ inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) 
     if (m.downsample > 1) {
       // The same passes on one pixel of every s x s block, then the guided upsample
       // with the blur's edge terms (screen_space/low_resolution.h).
-      const ao::LowResGBuffer lr = ao::downsample_gbuffer(g, m.downsample);
+      const screen_space::LowResGBuffer lr = screen_space::downsample_gbuffer(g, m.downsample);
       std::vector<float> low(size_t(lr.g.pixels()));
       infer_horizon_blurred(m, lr.g, low.data());
-      return ao::upsample(g, lr, low.data(), out, {m.blur_edges.depth, m.blur_edges.normal_power});
+      return screen_space::upsample(g, lr, low.data(), out, {m.blur_edges.depth, m.blur_edges.normal_power});
     }
     return infer_horizon_blurred(m, g, out);
   }
@@ -262,9 +262,9 @@ inline void infer_exact(const NnaoWeights& m, const ao::GBuffer& g, float* out) 
 }
 
 // `blur` false gives the raw stochastic estimate (tests check its mean).
-inline void infer_shader_style(const NnaoWeights& m, const ao::GBuffer& g, int samples,
+inline void infer_shader_style(const NnaoWeights& m, const screen_space::GBuffer& g, int samples,
                                float* out, bool blur = true, uint32_t seed = 0) {
-  using namespace ao::simd;
+  using namespace screen_space::simd;
   int mx, my;
   sample_grid(samples, m.input.window, mx, my);
   const int w = m.input.window, H = m.hidden;
@@ -289,8 +289,8 @@ inline void infer_shader_style(const NnaoWeights& m, const ao::GBuffer& g, int s
     const detail::CentreBlock c(g, b, w, packed.data());
     alignas(64) float jx_[kLanes], jy_[kLanes];
     for (int l = 0; l < kLanes; ++l) {
-      const uint32_t hsh = ao::pixel_hash(uint32_t(x0 + l), uint32_t(y), seed);
-      jx_[l] = ao::hash_unit(hsh), jy_[l] = ao::hash_unit(ao::pixel_hash(hsh, 1, seed));
+      const uint32_t hsh = screen_space::pixel_hash(uint32_t(x0 + l), uint32_t(y), seed);
+      jx_[l] = screen_space::hash_unit(hsh), jy_[l] = screen_space::hash_unit(screen_space::pixel_hash(hsh, 1, seed));
     }
     const VF jx = load(jx_), jy = load(jy_);
     // One feature sample per stratum (cell a, bb) at this pixel's jitter: f(j, ii, live, o)

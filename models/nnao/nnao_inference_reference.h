@@ -22,19 +22,19 @@ namespace nns::nnao {
 
 
 // bilateral_blur of nnao_inference.h, one pixel at a time.
-inline void bilateral_blur_reference(const ao::GBuffer& g, const float* in, float* out, const BlurEdges& e = {}) {
+inline void bilateral_blur_reference(const screen_space::GBuffer& g, const float* in, float* out, const BlurEdges& e = {}) {
   const float inv_dz = 1.0f / (e.depth * g.radius);
   float spatial[5];
   for (int k = -2; k <= 2; ++k) spatial[k + 2] = std::exp(-float(k * k) / (2 * 1.5f * 1.5f));
   std::vector<float> tmp(size_t(g.pixels()));
   auto pass = [&](const float* src, float* dst, int ddx, int ddy) {
-    ao::for_each_pixel(g, [&](int x, int y, int64_t i) {
+    screen_space::for_each_pixel(g, [&](int x, int y, int64_t i) {
       if (g.sky(i)) {
         dst[i] = 1;
         return;
       }
       const float z = g.z[i];
-      const ao::Vec3 n = g.normal(i);
+      const screen_space::Vec3 n = g.normal(i);
       float s = 0, ws = 0;
       for (int k = -2; k <= 2; ++k) {
         const int sx = x + k * ddx, sy = y + k * ddy;
@@ -42,7 +42,7 @@ inline void bilateral_blur_reference(const ao::GBuffer& g, const float* in, floa
         const int64_t j = int64_t(sy) * g.width + sx;
         if (g.sky(j)) continue;
         const float dz = (g.z[j] - z) * inv_dz;
-        const float nd = pow_by_squaring(std::max(0.0f, ao::dot(n, g.normal(j))), e.normal_power, 1.0f);
+        const float nd = pow_by_squaring(std::max(0.0f, screen_space::dot(n, g.normal(j))), e.normal_power, 1.0f);
         const float w = spatial[k + 2] * std::exp(-dz * dz) * nd;
         s += w * src[j];
         ws += w;
@@ -56,15 +56,15 @@ inline void bilateral_blur_reference(const ao::GBuffer& g, const float* in, floa
 
 // The exact form: the per-pixel loop (of either input kind, nnao_exact_per_pixel.h),
 // then for a horizon model the blur infer_exact applies (m.blur_passes times).
-inline void infer_exact_reference(const NnaoWeights& m, const ao::GBuffer& g, float* out) {
+inline void infer_exact_reference(const NnaoWeights& m, const screen_space::GBuffer& g, float* out) {
   if (!m.input.is_horizon()) return infer_exact_per_pixel(m, g, out);
   if (m.downsample > 1) {  // at 1/s of the resolution, then the guided upsample
     NnaoWeights full = m;
     full.downsample = 1;
-    const ao::LowResGBuffer lr = ao::downsample_gbuffer(g, m.downsample);
+    const screen_space::LowResGBuffer lr = screen_space::downsample_gbuffer(g, m.downsample);
     std::vector<float> low(size_t(lr.g.pixels()));
     infer_exact_reference(full, lr.g, low.data());
-    return ao::upsample_reference(g, lr, low.data(), out, {m.blur_edges.depth, m.blur_edges.normal_power});
+    return screen_space::upsample_reference(g, lr, low.data(), out, {m.blur_edges.depth, m.blur_edges.normal_power});
   }
   std::vector<float> raw(size_t(g.pixels()));
   infer_exact_per_pixel(m, g, raw.data());
@@ -76,7 +76,7 @@ inline void infer_exact_reference(const NnaoWeights& m, const ao::GBuffer& g, fl
 }
 
 // `blur` false gives the raw stochastic estimate (tests check its mean).
-inline void infer_shader_style_reference(const NnaoWeights& m, const ao::GBuffer& g, int samples,
+inline void infer_shader_style_reference(const NnaoWeights& m, const screen_space::GBuffer& g, int samples,
                                float* out, bool blur = true, uint32_t seed = 0) {
   int mx, my;
   sample_grid(samples, m.input.window, mx, my);
@@ -84,14 +84,14 @@ inline void infer_shader_style_reference(const NnaoWeights& m, const ao::GBuffer
   const int64_t F = m.features();
   const float scale = float(w * w) / float(mx * my);
   std::vector<float> raw(size_t(g.pixels()));
-  ao::for_each_pixel(g, [&](int x, int y, int64_t i) {
+  screen_space::for_each_pixel(g, [&](int x, int y, int64_t i) {
     if (g.sky(i)) {
       raw[size_t(i)] = 1;
       return;
     }
     const FeatureCentre c(g, x, y, w);
-    const uint32_t hsh = ao::pixel_hash(uint32_t(x), uint32_t(y), seed);
-    const float jx = ao::hash_unit(hsh), jy = ao::hash_unit(ao::pixel_hash(hsh, 1, seed));
+    const uint32_t hsh = screen_space::pixel_hash(uint32_t(x), uint32_t(y), seed);
+    const float jx = screen_space::hash_unit(hsh), jy = screen_space::hash_unit(screen_space::pixel_hash(hsh, 1, seed));
     float h[64] = {}, h4[4] = {0, 0, 0, 0};
     float f[4];
     for (int b = 0; b < my; ++b) {

@@ -31,7 +31,7 @@ struct InputSpec {
     return "features must be 'grid' or 'horizon', not '" + kind + "'";
   }
   // The raw (unstandardised) inputs of pixel (px, py), which must not be sky.
-  void compute(const ao::GBuffer& g, int px, int py, float* out) const {
+  void compute(const screen_space::GBuffer& g, int px, int py, float* out) const {
     if (is_horizon()) compute_horizon_features(g, px, py, horizon, out);
     else compute_features(g, px, py, window, out);
   }

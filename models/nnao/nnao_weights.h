@@ -42,7 +42,7 @@ struct BlurEdges {
 };
 
 // The blur's normal term is x^p by squaring (screen_space/pow_by_squaring.h).
-using ao::pow_by_squaring;
+using screen_space::pow_by_squaring;
 
 struct NnaoWeights {
   int hidden = 4;

@@ -28,8 +28,8 @@ namespace nns::runs {
 inline std::string camera_path_of(const std::string& view_file, int& frame) {
   namespace fs = std::filesystem;
   frame = -1;
-  std::string path = ao::path_of_frame(fs::path(view_file).stem().string(), frame);
-  if (path.empty()) path = ao::path_of_frame(fs::path(view_file).parent_path().filename().string(), frame);
+  std::string path = classical_ao::path_of_frame(fs::path(view_file).stem().string(), frame);
+  if (path.empty()) path = classical_ao::path_of_frame(fs::path(view_file).parent_path().filename().string(), frame);
   return path;
 }
 
@@ -43,7 +43,7 @@ inline std::string safe(std::string s) {
 struct Method {
   std::string name;  // "NNAO-exact", "NNAO", "SSAO", ...; "<method>+TA": accumulated (run is null)
   int samples;
-  std::function<void(const ao::GBuffer&, float*)> run;
+  std::function<void(const screen_space::GBuffer&, float*)> run;
   std::string setting = "";  // an NNAO ladder's rung; empty: the sample count names the setting
   // The point's label in charts and tables: the rung, or the sample count.
   std::string label() const { return setting.empty() ? std::to_string(samples) : setting; }
@@ -67,7 +67,7 @@ inline std::vector<report::Comparison> write_ao_previews(const std::vector<std::
   for (size_t k = 0; k < n; ++k) {
     const size_t v = k * views.size() / n;
     const data::View view = data::read_view(views[v]);
-    const ao::GBuffer g = ao::gbuffer_from_view(view);
+    const screen_space::GBuffer g = screen_space::gbuffer_from_view(view);
     const auto& gt = view.channel("AO");
     std::vector<uint8_t> mask(size_t(g.pixels()));
     for (int64_t i = 0; i < g.pixels(); ++i) mask[size_t(i)] = !g.sky(i);

@@ -71,9 +71,9 @@ struct MethodStats {
   std::vector<double> ms, cpu_ms;  // wall and CPU time (caller and workers, pool_cpu_ms) per view
   Score all;
   std::map<std::string, Score> by_scene, by_family;
-  std::map<std::string, ao::TemporalStats> temporal_by_family;
+  std::map<std::string, classical_ao::TemporalStats> temporal_by_family;
   std::vector<Score> bands;
-  ao::TemporalStats temporal;
+  classical_ao::TemporalStats temporal;
   std::vector<float> previous;  // this method's AO on the previous view
 };
 
@@ -142,7 +142,7 @@ inline EvalViews open_split(const EvalAoOptions& o) {
 struct MethodInputs {
   std::vector<nnao::NnaoWeights> models;
   std::vector<std::string> model_settings;  // the rungs' names; empty for a single model
-  ao::ClassicalParams classical;
+  classical_ao::ClassicalParams classical;
   uint32_t pattern_seed = 0;
 };
 
@@ -160,7 +160,7 @@ inline MethodList build_methods(const EvalAoOptions& o, MethodInputs& in) {
   const bool have_model = !in.models.empty();
   for (auto& w : wanted) {
     bool known = w == "NNAO" || w == "NNAO-exact";
-    for (auto& c : ao::classical_methods()) known |= c.name == w;
+    for (auto& c : classical_ao::classical_methods()) known |= c.name == w;
     if (!known) throw std::invalid_argument("--methods: unknown method '" + w + "' (known: NNAO-exact, NNAO, SSAO, SSAO+, HBAO, Alchemy, GTAO)");
     if ((w == "NNAO" || w == "NNAO-exact") && !have_model)
       throw std::invalid_argument("--methods " + w + " needs --model nnao.blob or --ladder DIR");
@@ -171,7 +171,7 @@ inline MethodList build_methods(const EvalAoOptions& o, MethodInputs& in) {
   if (wanted.count("NNAO-exact"))
     for (size_t k = 0; k < in.models.size(); ++k) {
       const nnao::NnaoWeights* w = &in.models[k];
-      Method m{"NNAO-exact", w->input.samples(), [w, scalar](const ao::GBuffer& g, float* out) {
+      Method m{"NNAO-exact", w->input.samples(), [w, scalar](const screen_space::GBuffer& g, float* out) {
                  if (scalar) nnao::infer_exact_reference(*w, g, out);
                  else nnao::infer_exact(*w, g, out);
                }};
@@ -185,17 +185,17 @@ inline MethodList build_methods(const EvalAoOptions& o, MethodInputs& in) {
       const nnao::NnaoWeights* w = &in.models[0];
       nnao::check_sample_count(n, w->input);
       uint32_t* seed = &in.pattern_seed;
-      methods.push_back({"NNAO", n, [w, seed, n, scalar](const ao::GBuffer& g, float* out) {
+      methods.push_back({"NNAO", n, [w, seed, n, scalar](const screen_space::GBuffer& g, float* out) {
                            if (scalar) nnao::infer_shader_style_reference(*w, g, n, out, true, *seed);
                            else nnao::infer_shader_style(*w, g, n, out, true, *seed);
                          }});
     }
-  for (auto& c : ao::classical_methods())
+  for (auto& c : classical_ao::classical_methods())
     if (wanted.count(c.name))
       for (int n : c.sample_counts) {
-        const ao::ClassicalParams* p = &in.classical;
-        methods.push_back({c.name, n, [&c, p, n, scalar](const ao::GBuffer& g, float* out) {
-                             ao::run_classical(c.name, *p, g, n, out, scalar);
+        const classical_ao::ClassicalParams* p = &in.classical;
+        methods.push_back({c.name, n, [&c, p, n, scalar](const screen_space::GBuffer& g, float* out) {
+                             classical_ao::run_classical(c.name, *p, g, n, out, scalar);
                            }});
       }
   // The accumulated forms: scored from their method's output, frame by frame (no run of
@@ -219,18 +219,18 @@ struct Evaluation {
   MethodList list;
   std::vector<MethodStats> stats;
   std::vector<std::string> band_names;
-  ao::TemporalStats gt_temporal;
-  std::map<std::string, ao::TemporalStats> gt_temporal_by_family;
+  classical_ao::TemporalStats gt_temporal;
+  std::map<std::string, classical_ao::TemporalStats> gt_temporal_by_family;
   int width = 0, height = 0;
 };
 
 // One view's ground truth, masks and camera-path link, shared by every method's score.
 struct ViewScoring {
   const data::View& view;
-  const ao::GBuffer& g;
+  const screen_space::GBuffer& g;
   const std::vector<float>& gt;
   std::vector<uint8_t> mask;
-  ao::FailureBands bands;
+  classical_ao::FailureBands bands;
   std::vector<int64_t> band_pixels;  // per failure band, counted once per view
   int64_t px = 0;                    // non-sky pixels
   bool on_path = false, same_path = false;
@@ -259,7 +259,7 @@ struct ViewScoring {
 
 // Runs method m `repeat` times on g and keeps the fastest wall and CPU time (the run
 // least disturbed by other processes; the output is the same every time).
-inline void timed_run(const Method& m, const ao::GBuffer& g, int repeat, float* out, double& ms, double& cpu) {
+inline void timed_run(const Method& m, const screen_space::GBuffer& g, int repeat, float* out, double& ms, double& cpu) {
   ms = 1e300, cpu = 1e300;
   for (int k = 0; k < repeat; ++k) {
     const double c0 = pool_cpu_ms();
@@ -285,9 +285,9 @@ inline Evaluation evaluate_views(const EvalAoOptions& o, const std::vector<std::
     data::View view = data::read_view(views[v]);
     if (!view.has("AO"))
       throw std::runtime_error(views[v] + ": missing channel 'AO' (eval-ao scores against ground-truth AO)");
-    const ao::GBuffer g = ao::gbuffer_from_view(view);
+    const screen_space::GBuffer g = screen_space::gbuffer_from_view(view);
     ev.width = g.width, ev.height = g.height;
-    ViewScoring sc{view, g, view.channel("AO"), std::vector<uint8_t>(size_t(g.pixels())), ao::failure_bands(g)};
+    ViewScoring sc{view, g, view.channel("AO"), std::vector<uint8_t>(size_t(g.pixels())), classical_ao::failure_bands(g)};
     for (int64_t i = 0; i < g.pixels(); ++i) sc.mask[size_t(i)] = !g.sky(i);
     sc.px = std::count(sc.mask.begin(), sc.mask.end(), uint8_t(1));
     ev.band_names = sc.bands.names;
@@ -298,7 +298,7 @@ inline Evaluation evaluate_views(const EvalAoOptions& o, const std::vector<std::
     sc.same_path = sc.on_path && path == prev_path && frame == prev_frame + 1;
     in.pattern_seed = o.vary_pattern && sc.on_path ? uint32_t(frame) : 0u;
     if (sc.same_path) {
-      sc.to_prev = ao::reproject_to_previous(g, view.world_to_camera, ao::gbuffer_from_view(prev_view),
+      sc.to_prev = classical_ao::reproject_to_previous(g, view.world_to_camera, screen_space::gbuffer_from_view(prev_view),
                                              prev_view.world_to_camera);
       sc.prev_gt = prev_view.channel("AO").data();
       const float* gt = sc.gt.data();
@@ -625,7 +625,7 @@ inline MethodInputs load_method_inputs(const EvalAoOptions& o) {
       in.models.push_back(nnao::NnaoWeights::load(e.blob));
       in.model_settings.push_back(e.name);
     }
-  in.classical = o.params_file.empty() ? ao::ClassicalParams{} : ao::read_classical_params(o.params_file);
+  in.classical = o.params_file.empty() ? classical_ao::ClassicalParams{} : classical_ao::read_classical_params(o.params_file);
   return in;
 }
 

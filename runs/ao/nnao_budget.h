@@ -63,7 +63,7 @@ struct TimedRung {
 inline std::vector<TimedRung> time_ladder(const std::string& dir, const data::View& view, int width, int height, int rounds = 7) {
   const std::vector<LadderEntry> rungs = read_ladder(dir);
   const data::View frame = resize_nearest(view, width, height);
-  const ao::GBuffer g = ao::gbuffer_from_view(frame);
+  const screen_space::GBuffer g = screen_space::gbuffer_from_view(frame);
   std::vector<float> out(size_t(g.pixels()));
   std::vector<TimedRung> timed;
   for (size_t k = 0; k < rungs.size(); ++k) {

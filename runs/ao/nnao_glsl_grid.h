@@ -22,7 +22,7 @@ inline std::string glsl_grid_pass(const nnao::NnaoWeights& m, int default_sample
     << "const int W = " << m.input.window << ";  // the grid: W x W view-space points spanning [-r, r]\n"
     << glsl_head(m);
   s << R"GLSL(
-// ao::pixel_hash and ao::hash_unit: the CPU path's jitter, uFrame its seed.
+// screen_space::pixel_hash and screen_space::hash_unit: the CPU path's jitter, uFrame its seed.
 uint pixelHash(uint x, uint y, uint salt) {
   uint h = x * 0x8da6b343u ^ y * 0xd8163841u ^ salt * 0xcb1ab31fu;
   h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;

@@ -71,23 +71,23 @@ struct PointFile {
 // and each target is the full-resolution truth at the pixel that low pixel is.
 inline int64_t view_points(const data::View& v, const nnao::InputSpec& input, int per_view, float radius, Rng& rng,
                            std::vector<char>& rows, int downsample = 1) {
-  const ao::GBuffer full = ao::gbuffer_from_view(v, radius);
+  const screen_space::GBuffer full = screen_space::gbuffer_from_view(v, radius);
   if (!v.has("AO"))
     throw std::runtime_error((v.source.empty() ? std::string("view") : v.source) +
                              ": missing channel 'AO' (NNAO training needs ground-truth AO)");
   const auto& ao_full = v.channel("AO");
-  ao::LowResGBuffer lr;
+  screen_space::LowResGBuffer lr;
   std::vector<float> ao_low;
   if (downsample > 1) {
-    lr = ao::downsample_gbuffer(full, downsample);
+    lr = screen_space::downsample_gbuffer(full, downsample);
     ao_low.resize(size_t(lr.g.pixels()));
     for (int y = 0; y < lr.g.height; ++y)
       for (int x = 0; x < lr.g.width; ++x)
         ao_low[size_t(y) * size_t(lr.g.width) + size_t(x)] =
-            ao_full[size_t(ao::LowResGBuffer::source(y, downsample, full.height)) * size_t(full.width) +
-                    size_t(ao::LowResGBuffer::source(x, downsample, full.width))];
+            ao_full[size_t(screen_space::LowResGBuffer::source(y, downsample, full.height)) * size_t(full.width) +
+                    size_t(screen_space::LowResGBuffer::source(x, downsample, full.width))];
   }
-  const ao::GBuffer& g = downsample > 1 ? lr.g : full;
+  const screen_space::GBuffer& g = downsample > 1 ? lr.g : full;
   const std::vector<float>& ao = downsample > 1 ? ao_low : ao_full;
   std::vector<int64_t> pix = nnao::non_sky_pixels(g);
   const int64_t n = std::min<int64_t>(per_view, int64_t(pix.size()));

@@ -48,7 +48,7 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<i
   const data::DatasetListing d = data::list_splits(base.data_dir);
   const std::string probe = d.test.views.empty() ? d.train.views.at(0) : d.test.views[0];
   data::View view = data::read_view(probe);
-  ao::GBuffer g = ao::gbuffer_from_view(view, base.radius);
+  screen_space::GBuffer g = screen_space::gbuffer_from_view(view, base.radius);
   std::vector<float> out(size_t(g.pixels()));
   std::vector<SweepEntry> entries;
   for (int w : sizes)

@@ -8,7 +8,7 @@
 //
 //   int main(int argc, char** argv) {
 //     runs::Session mpi(argc, argv);            // MPI_Init when launched by mpirun/srun
-//     return mpi.finish(cli::run_main(...));    // MPI_Finalize, or MPI_Abort on failure
+//     return mpi.finish(apps::run_main(...));    // MPI_Finalize, or MPI_Abort on failure
 //   }
 #include <algorithm>
 #include <cstdio>

@@ -99,7 +99,7 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<gi:
   row.model = model, row.mode = mode;
   MetricsMean all, off;
   double ms = 0;
-  ao::TemporalStats temporal, truth_temporal;
+  classical_ao::TemporalStats temporal, truth_temporal;
   std::vector<float> prev_pred, prev_truth;
   const gi::GiSample* prev = nullptr;
   int previews = 0;

@@ -96,16 +96,16 @@ struct MetricsMean {
 inline bool next_on_path(const gi::GiSample& prev, const gi::GiSample& cur) {
   namespace fs = std::filesystem;
   int fp = -1, fc = -1;
-  const std::string pp = ao::path_of_frame(fs::path(prev.name).stem().string(), fp);
-  const std::string pc = ao::path_of_frame(fs::path(cur.name).stem().string(), fc);
+  const std::string pp = classical_ao::path_of_frame(fs::path(prev.name).stem().string(), fp);
+  const std::string pc = classical_ao::path_of_frame(fs::path(cur.name).stem().string(), fc);
   return !pc.empty() && pc == pp && fc == fp + 1 && prev.scene == cur.scene;
 }
 
 inline std::vector<int64_t> reproject_front(const gi::GiSample& cur, const gi::GiSample& prev) {
   // The AO radius is unused by reprojection; 1 stands in for the attribute GI views lack.
-  const ao::GBuffer c = ao::gbuffer_from_view(cur.front_geometry, 1.0f);
-  const ao::GBuffer p = ao::gbuffer_from_view(prev.front_geometry, 1.0f);
-  return ao::reproject_to_previous(c, cur.front_geometry.world_to_camera, p, prev.front_geometry.world_to_camera);
+  const screen_space::GBuffer c = screen_space::gbuffer_from_view(cur.front_geometry, 1.0f);
+  const screen_space::GBuffer p = screen_space::gbuffer_from_view(prev.front_geometry, 1.0f);
+  return classical_ao::reproject_to_previous(c, cur.front_geometry.world_to_camera, p, prev.front_geometry.world_to_camera);
 }
 
 // A (3, h, w) linear-light frame in mapped space.
@@ -116,7 +116,7 @@ inline std::vector<float> mapped(const Tensor<float>& t, const gi::HdrMapping& h
 }
 
 // Adds one frame pair of a method (m) against the ground truth (g), every channel.
-inline void add_flicker_pair(ao::TemporalStats& st, const std::vector<int64_t>& map, const std::vector<float>& m,
+inline void add_flicker_pair(classical_ao::TemporalStats& st, const std::vector<int64_t>& map, const std::vector<float>& m,
                              const std::vector<float>& m_prev, const std::vector<float>& g,
                              const std::vector<float>& g_prev) {
   const size_t n = map.size();
@@ -180,9 +180,9 @@ struct DistanceBands {
 
 // Per front pixel its band, -1 for sky.
 inline std::vector<int8_t> distance_bands_of(const gi::GiSample& s) {
-  const ao::GBuffer g = ao::gbuffer_from_view(s.front_geometry, 1.0f);  // the radius is unused here
-  const std::vector<int> d = ao::chebyshev_distance(
-      ao::discontinuity_pixels(g.width, g.height, ao::surface_break(g, DistanceBands::kDepthRatio,
+  const screen_space::GBuffer g = screen_space::gbuffer_from_view(s.front_geometry, 1.0f);  // the radius is unused here
+  const std::vector<int> d = screen_space::chebyshev_distance(
+      screen_space::discontinuity_pixels(g.width, g.height, screen_space::surface_break(g, DistanceBands::kDepthRatio,
                                                                     DistanceBands::kCreaseCos)),
       g.width, g.height);
   std::vector<int8_t> band(d.size(), -1);

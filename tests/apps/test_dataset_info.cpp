@@ -266,7 +266,7 @@ TEST(DatasetInfo, ContactSheetDrawsTheFamilysGroundTruth) {
   ASSERT_EQ(o.code, 0) << o.output;
   EXPECT_NE(o.output.find("contact sheet: " + png + " (2 train frames"), std::string::npos) << o.output;
   int w = 0, h = 0;
-  std::vector<uint8_t> rgb = nns::test::read_rgb8(png, &w, &h);
+  std::vector<uint8_t> rgb = nns::testing::read_rgb8(png, &w, &h);
   const int gap = 4, F = 8;
   EXPECT_EQ(w, 2 * (3 * F + 2 * gap) + 3 * 2 * gap);
   EXPECT_EQ(h, F + 2 * gap);

@@ -46,7 +46,7 @@ class NnaoInferImages : public ::testing::Test {
     fs::create_directories(root_);
     // The rendered room has no sky; a band of sky along the top (depth +inf) makes every
     // format carry it too.
-    view_ = test::rendered_view();
+    view_ = nns::testing::rendered_view();
     auto& z = view_.channels["Z"];
     for (size_t i = 0; i < size_t(view_.width) * 4; ++i) z[i] = INFINITY;
     const data::View& v = view_;

@@ -148,7 +148,7 @@ class ReportHtml : public ::testing::Test {
     const fs::path shot = dir / "report_screenshot.png";
     headless("--screenshot=" + shell_arg(shot) + " --window-size=1280,1600", page);
     int w = 0, h = 0;
-    const std::vector<uint8_t> px = nns::test::read_rgb8(shot.string(), &w, &h);
+    const std::vector<uint8_t> px = nns::testing::read_rgb8(shot.string(), &w, &h);
     std::map<std::array<uint8_t, 3>, int64_t> colours;
     for (size_t i = 0; i + 2 < px.size(); i += 3) ++colours[{px[i], px[i + 1], px[i + 2]}];
     int64_t most = 0;

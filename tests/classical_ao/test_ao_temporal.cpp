@@ -30,8 +30,8 @@ data::View floor_view(int w, int h, float cam_x) {
   return v;
 }
 
-ao::Vec3 world(const ao::GBuffer& g, int64_t i, float cam_x) {
-  ao::Vec3 p = g.position(int(i % g.width), int(i / g.width));
+screen_space::Vec3 world(const screen_space::GBuffer& g, int64_t i, float cam_x) {
+  screen_space::Vec3 p = g.position(int(i % g.width), int(i / g.width));
   p.x += cam_x;
   return p;
 }
@@ -41,8 +41,8 @@ ao::Vec3 world(const ao::GBuffer& g, int64_t i, float cam_x) {
 TEST(AoTemporal, ReprojectionFindsTheSameSurfacePoint) {
   const float x0 = 0.0f, x1 = 0.15f;  // the camera slides right between the frames
   auto prev = floor_view(64, 48, x0), cur = floor_view(64, 48, x1);
-  auto gp = ao::gbuffer_from_view(prev), gc = ao::gbuffer_from_view(cur);
-  auto map = ao::reproject_to_previous(gc, cur.world_to_camera, gp, prev.world_to_camera);
+  auto gp = screen_space::gbuffer_from_view(prev), gc = screen_space::gbuffer_from_view(cur);
+  auto map = classical_ao::reproject_to_previous(gc, cur.world_to_camera, gp, prev.world_to_camera);
   int64_t floor_px = 0, mapped = 0, shifted = 0;
   for (int64_t i = 0; i < gc.pixels(); ++i) {
     if (gc.sky(i)) {
@@ -56,8 +56,8 @@ TEST(AoTemporal, ReprojectionFindsTheSameSurfacePoint) {
     shifted += j != i;
     // The two pixels show the same floor point, to within a pixel's footprint there.
     const float footprint = gc.z[i] * 2 * gc.sx / float(gc.width);
-    const ao::Vec3 d = world(gc, i, x1) - world(gp, j, x0);
-    EXPECT_LT(ao::length(d), 1.5f * footprint) << "pixel " << i;
+    const screen_space::Vec3 d = world(gc, i, x1) - world(gp, j, x0);
+    EXPECT_LT(screen_space::length(d), 1.5f * footprint) << "pixel " << i;
   }
   EXPECT_GT(mapped, floor_px * 8 / 10);  // only the strip that entered the screen is lost
   EXPECT_LT(mapped, floor_px);
@@ -67,8 +67,8 @@ TEST(AoTemporal, ReprojectionFindsTheSameSurfacePoint) {
 TEST(AoTemporal, WithoutMatricesTheMapIsTheIdentity) {
   auto a = floor_view(32, 24, 0), b = floor_view(32, 24, 0);
   a.world_to_camera.reset();
-  auto ga = ao::gbuffer_from_view(a), gb = ao::gbuffer_from_view(b);
-  auto map = ao::reproject_to_previous(ga, a.world_to_camera, gb, b.world_to_camera);
+  auto ga = screen_space::gbuffer_from_view(a), gb = screen_space::gbuffer_from_view(b);
+  auto map = classical_ao::reproject_to_previous(ga, a.world_to_camera, gb, b.world_to_camera);
   for (int64_t i = 0; i < ga.pixels(); ++i) EXPECT_EQ(map[size_t(i)], ga.sky(i) ? -1 : i);
 }
 
@@ -81,7 +81,7 @@ TEST(AoTemporal, StatisticsSeparateFlickerFromTrackingTheTruth) {
   for (auto* v : {&m0, &m1})
     for (auto& x : *v) x += 0.05f;
   for (int i = 0; i < 3; ++i) n1[size_t(i)] += 0.1f;
-  ao::TemporalStats gt, m, n;
+  classical_ao::TemporalStats gt, m, n;
   gt.add_pair(map, g1.data(), g0.data(), g1.data(), g0.data());
   m.add_pair(map, m1.data(), m0.data(), g1.data(), g0.data());
   n.add_pair(map, n1.data(), n0.data(), g1.data(), g0.data());
@@ -94,9 +94,9 @@ TEST(AoTemporal, StatisticsSeparateFlickerFromTrackingTheTruth) {
 
 TEST(AoTemporal, PathFramesAreRecognisedByName) {
   int f = -1;
-  EXPECT_EQ(ao::path_of_frame("room-100000-p00-f007", f), "room-100000-p00");
+  EXPECT_EQ(classical_ao::path_of_frame("room-100000-p00-f007", f), "room-100000-p00");
   EXPECT_EQ(f, 7);
-  EXPECT_EQ(ao::path_of_frame("colonnade-100000-v002", f), "");
-  EXPECT_EQ(ao::path_of_frame("a-f", f), "");
-  EXPECT_EQ(ao::path_of_frame("a-f1x", f), "");
+  EXPECT_EQ(classical_ao::path_of_frame("colonnade-100000-v002", f), "");
+  EXPECT_EQ(classical_ao::path_of_frame("a-f", f), "");
+  EXPECT_EQ(classical_ao::path_of_frame("a-f1x", f), "");
 }

@@ -36,10 +36,10 @@ data::View open_plane(int w, int h) {
 
 TEST(ClassicalAo, OpenPlaneIsUnoccluded) {
   auto v = open_plane(64, 48);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   std::vector<uint8_t> mask(size_t(g.pixels()));
   for (int64_t i = 0; i < g.pixels(); ++i) mask[size_t(i)] = !g.sky(i) && (i / 64) < 40;
-  for (auto& m : ao::classical_methods())
+  for (auto& m : classical_ao::classical_methods())
     for (int n : m.sample_counts) {
       std::vector<float> out(size_t(g.pixels()));
       m.run(g, n, out.data());
@@ -54,9 +54,9 @@ TEST(ClassicalAo, CorrelatesWithRayTracedAo) {
   // positive correlation over the non-sky pixels at its largest sample count. (Mean
   // squared error is what eval-ao reports; crude SSAO need not beat a constant there.)
   auto v = nns::fixtures::synthetic_view(96, 64, 1, 128);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   const auto& gt = v.channel("AO");
-  for (auto& m : ao::classical_methods()) {
+  for (auto& m : classical_ao::classical_methods()) {
     std::vector<float> out(size_t(g.pixels()));
     m.run(g, m.sample_counts.back(), out.data());
     double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0, n = 0;
@@ -77,8 +77,8 @@ TEST(ClassicalAo, CorrelatesWithRayTracedAo) {
 
 TEST(ClassicalAo, SameResultWithOneAndTwoThreads) {
   auto v = nns::fixtures::synthetic_view(64, 40, 2, 8);
-  auto g = ao::gbuffer_from_view(v);
-  for (auto& m : ao::classical_methods()) {
+  auto g = screen_space::gbuffer_from_view(v);
+  for (auto& m : classical_ao::classical_methods()) {
     std::vector<float> a(size_t(g.pixels())), b(size_t(g.pixels()));
     set_num_threads(1);
     m.run(g, 16, a.data());
@@ -93,7 +93,7 @@ TEST(ClassicalAo, GBufferRejectsNanDepthAndMissingRadius) {
   v.source = "bad.exr";
   v.channels["Z"][10] = NAN;
   try {
-    ao::gbuffer_from_view(v);
+    screen_space::gbuffer_from_view(v);
     FAIL() << "NaN depth accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.exr"), std::string::npos);
@@ -101,13 +101,13 @@ TEST(ClassicalAo, GBufferRejectsNanDepthAndMissingRadius) {
   }
   auto w = open_plane(8, 8);
   w.ao_radius.reset();
-  EXPECT_THROW(ao::gbuffer_from_view(w), std::runtime_error);
+  EXPECT_THROW(screen_space::gbuffer_from_view(w), std::runtime_error);
 }
 
 TEST(ClassicalAo, ProjectionInvertsPosition) {
   auto v = open_plane(40, 30);
-  auto g = ao::gbuffer_from_view(v);
-  ao::Vec3 p = g.position(7.0f, 25.0f, 3.5f);
+  auto g = screen_space::gbuffer_from_view(v);
+  screen_space::Vec3 p = g.position(7.0f, 25.0f, 3.5f);
   float px, py;
   g.project(p, px, py);
   EXPECT_NEAR(px, 7.0f, 1e-4);
@@ -146,17 +146,17 @@ TEST(ClassicalAo, VectorisedMethodsMatchScalarReferences) {
   // 100 wide: six full 16-pixel blocks and a 4-pixel tail per row.
   for (int seed : {1, 2}) {
     auto v = nns::fixtures::synthetic_view(100, 60, seed, 8);
-    auto g = ao::gbuffer_from_view(v);
+    auto g = screen_space::gbuffer_from_view(v);
     struct Pair {
       const char* name;
-      void (*fast)(const ao::GBuffer&, int, float*);
-      void (*ref)(const ao::GBuffer&, int, float*);
+      void (*fast)(const screen_space::GBuffer&, int, float*);
+      void (*ref)(const screen_space::GBuffer&, int, float*);
     };
-    const Pair pairs[] = {{"SSAO", ao::ssao, ao::ssao_reference},
-                          {"SSAO+", ao::ssao_plus, ao::ssao_plus_reference},
-                          {"HBAO", ao::hbao, ao::hbao_reference},
-                          {"Alchemy", ao::alchemy_ao, ao::alchemy_ao_reference},
-                          {"GTAO", ao::gtao, ao::gtao_reference}};
+    const Pair pairs[] = {{"SSAO", classical_ao::ssao, classical_ao::ssao_reference},
+                          {"SSAO+", classical_ao::ssao_plus, classical_ao::ssao_plus_reference},
+                          {"HBAO", classical_ao::hbao, classical_ao::hbao_reference},
+                          {"Alchemy", classical_ao::alchemy_ao, classical_ao::alchemy_ao_reference},
+                          {"GTAO", classical_ao::gtao, classical_ao::gtao_reference}};
     for (auto& p : pairs)
       for (int n : {4, 16, 64}) {
         std::vector<float> a(size_t(g.pixels())), b(size_t(g.pixels()));
@@ -169,10 +169,10 @@ TEST(ClassicalAo, VectorisedMethodsMatchScalarReferences) {
 
 TEST(ClassicalAo, VectorisedBoxBlurIsBitwiseTheReference) {
   auto v = nns::fixtures::synthetic_view(37, 21, 3, 8);  // a 5-pixel tail, sky and edges
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   std::vector<float> in(size_t(g.pixels())), a(in.size()), b(in.size());
   for (size_t i = 0; i < in.size(); ++i) in[i] = float((i * 7919) % 101) / 100.0f;
-  ao::box_blur_4x4(g, in.data(), a.data());
-  ao::box_blur_4x4_reference(g, in.data(), b.data());
+  screen_space::box_blur_4x4(g, in.data(), a.data());
+  screen_space::box_blur_4x4_reference(g, in.data(), b.data());
   EXPECT_EQ(a, b);
 }

@@ -11,7 +11,8 @@
 #include "screen_space/discontinuities.h"
 
 using namespace nns;
-using namespace nns::ao;
+using namespace nns::screen_space;
+using namespace nns::classical_ao;
 
 TEST(Discontinuities, ChebyshevDistanceMatchesBruteForce) {
   const int w = 23, h = 17;

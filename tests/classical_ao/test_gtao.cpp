@@ -26,8 +26,8 @@ using fixtures::V3;
 
 // The parameters under which GTAO's model is the quantity the closed forms give: the
 // radius is r and a sample counts fully up to r (a hard cut, as the ray-traced AO does).
-ao::GtaoParams hard_cut() {
-  ao::GtaoParams p;
+classical_ao::GtaoParams hard_cut() {
+  classical_ao::GtaoParams p;
   p.radius_scale = 1, p.falloff = 0, p.distribution = 1, p.thickness = 0;
   return p;
 }
@@ -40,7 +40,7 @@ TEST(Gtao, PolynomialAcosMatchesStdAcos) {
     const float x = float(k) / 100000.0f;
     alignas(64) float in[16], res[16];
     for (float& v : in) v = x;
-    ao::simd::store(res, ao::simd::acos(ao::simd::load(in)), ao::simd::kAll);
+    screen_space::simd::store(res, classical_ao::simd::acos(screen_space::simd::load(in)), screen_space::simd::kAll);
     worst = std::max(worst, std::abs(double(res[0]) - std::acos(double(x))));
   }
   std::printf("[gtao] polynomial acos: max |error| %.3g rad over [-1, 1]\n", worst);
@@ -56,10 +56,10 @@ TEST(Gtao, OpenPlaneIsUnoccluded) {
   };
   const V3 eye{0, 2, 0}, target{0, 0, -2 / std::tan(60 * kPi / 180)};
   Scene s = render(floor_only, eye, target, 96, 64, 60, 0.5f);
-  auto g = ao::gbuffer_from_view(s.view);
+  auto g = screen_space::gbuffer_from_view(s.view);
   for (int n : {4, 16, 64}) {
     std::vector<float> out(size_t(g.pixels()));
-    ao::gtao_with(g, n, out.data(), hard_cut());
+    classical_ao::gtao_with(g, n, out.data(), hard_cut());
     // Inside the 2-pixel border, where the blur's 4x4 window holds all 16 rotations.
     double lo = 1, mean = 0;
     int count = 0;
@@ -87,7 +87,7 @@ TEST(Gtao, CreaseMatchesClosedForm) {
   const V3 eye{0, 8 / std::sqrt(2.0), 8 / std::sqrt(2.0)}, target{0, 0.5, 0.5};
   const int W = 160, H = 120;
   Scene s = render(cast_crease, eye, target, W, H, 40, r);
-  auto g = ao::gbuffer_from_view(s.view);
+  auto g = screen_space::gbuffer_from_view(s.view);
   // The truth through the same 4x4 box blur as the method, so that the comparison is of
   // the estimator, not of the blur's smoothing of a curved profile.
   std::vector<float> truth(size_t(g.pixels())), truth_blurred(truth.size());
@@ -101,7 +101,7 @@ TEST(Gtao, CreaseMatchesClosedForm) {
     const int x = int(i % W), y = int(i / W);
     judged[size_t(i)] = std::abs(p.x) < 0.6 && std::max(p.y, p.z) < 1.5 * r && x > 4 && y > 4 && x < W - 5 && y < H - 5;
   }
-  ao::box_blur_4x4_reference(g, truth.data(), truth_blurred.data());
+  screen_space::box_blur_4x4_reference(g, truth.data(), truth_blurred.data());
   double truth_mean = 0, truth_var = 0;
   int64_t count = 0;
   for (size_t i = 0; i < truth.size(); ++i)
@@ -115,7 +115,7 @@ TEST(Gtao, CreaseMatchesClosedForm) {
   const int counts[2] = {16, 64};
   for (int c = 0; c < 2; ++c) {
     std::vector<float> out(truth.size());
-    ao::gtao_with(g, counts[c], out.data(), hard_cut());
+    classical_ao::gtao_with(g, counts[c], out.data(), hard_cut());
     double se = 0, worst = 0, bias = 0;
     for (size_t i = 0; i < truth.size(); ++i) {
       if (!judged[i]) continue;
@@ -139,13 +139,13 @@ TEST(Gtao, CreaseMatchesClosedForm) {
 
 TEST(Gtao, SameResultWithOneAndTwoThreadsForAnyParameters) {
   auto s = render(cast_crease, {0.3, 5, 6}, {0, 0.4, 0.5}, 70, 45, 50, 0.8f);
-  auto g = ao::gbuffer_from_view(s.view);
-  ao::GtaoParams p;
+  auto g = screen_space::gbuffer_from_view(s.view);
+  classical_ao::GtaoParams p;
   p.thickness = 0.5f, p.falloff = 0.3f, p.distribution = 1.5f;
   std::vector<float> a(size_t(g.pixels())), b(a.size());
   set_num_threads(1);
-  ao::gtao_with(g, 32, a.data(), p);
+  classical_ao::gtao_with(g, 32, a.data(), p);
   set_num_threads(2);
-  ao::gtao_with(g, 32, b.data(), p);
+  classical_ao::gtao_with(g, 32, b.data(), p);
   EXPECT_EQ(a, b);
 }

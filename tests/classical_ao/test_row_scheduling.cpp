@@ -22,15 +22,15 @@ namespace {
 // 64 x 40: rows 0..31 sky, rows 32..39 a plane: the costly rows are the last fifth.
 struct SkyAbovePlane {
   std::vector<float> z, n0, n1;
-  ao::GBuffer g;
+  screen_space::GBuffer g;
   SkyAbovePlane() : z(64 * 40, INFINITY), n0(z.size(), 0), n1(z.size(), 1) {
     for (size_t i = 32 * 64; i < z.size(); ++i) z[i] = 3;
-    g = ao::make_gbuffer(64, 40, 60, 1, z.data(), n0.data(), n0.data(), n1.data());
+    g = screen_space::make_gbuffer(64, 40, 60, 1, z.data(), n0.data(), n0.data(), n1.data());
   }
 };
 
 template <class Loop>
-std::set<std::thread::id> threads_on_costly_rows(const ao::GBuffer& g, Loop loop) {
+std::set<std::thread::id> threads_on_costly_rows(const screen_space::GBuffer& g, Loop loop) {
   std::mutex mu;
   std::set<std::thread::id> ids;
   loop(g, [&](int y) {
@@ -47,14 +47,14 @@ std::set<std::thread::id> threads_on_costly_rows(const ao::GBuffer& g, Loop loop
 TEST(RowScheduling, BothWorkersShareTheRowsThatCost) {
   set_num_threads(2);
   const SkyAbovePlane f;
-  const auto blocks = threads_on_costly_rows(f.g, [](const ao::GBuffer& g, auto row) {
-    ao::simd::for_each_block(g, [&](int x0, int y, ao::simd::Mask) {
+  const auto blocks = threads_on_costly_rows(f.g, [](const screen_space::GBuffer& g, auto row) {
+    screen_space::simd::for_each_block(g, [&](int x0, int y, screen_space::simd::Mask) {
       if (x0 == 0) row(y);
     });
   });
   EXPECT_EQ(blocks.size(), 2u) << "for_each_block ran the costly rows on one worker";
-  const auto pixels = threads_on_costly_rows(f.g, [](const ao::GBuffer& g, auto row) {
-    ao::for_each_pixel(g, [&](int x, int y, int64_t) {
+  const auto pixels = threads_on_costly_rows(f.g, [](const screen_space::GBuffer& g, auto row) {
+    screen_space::for_each_pixel(g, [&](int x, int y, int64_t) {
       if (x == 0) row(y);
     });
   });

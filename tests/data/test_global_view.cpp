@@ -217,7 +217,7 @@ TEST(GlobalView, LayoutPicture) {
                             ("nns_global_view_" + std::to_string(getpid()) + ".png")).string();
   write_png_rgb(path, g[0].data(), g[1].data(), g[2].data(), 4 * F, 2 * F, {.exposure = 1, .reinhard = false});
   int w = 0, h = 0;
-  auto bytes = nns::test::read_rgb8(path, &w, &h);
+  auto bytes = nns::testing::read_rgb8(path, &w, &h);
   EXPECT_EQ(w, 4 * F);
   EXPECT_EQ(h, 2 * F);
   // The front face's (white) colour sits in the middle of the image.

@@ -14,7 +14,7 @@
 #include "models/nnao/nnao_inference.h"
 #include "screen_space/gbuffer.h"
 
-namespace nns::test {
+namespace nns::testing {
 
 inline constexpr double kEdgePx = 1e-4;
 
@@ -22,7 +22,7 @@ inline bool near_pixel_edge(double c) { return std::abs(c - std::floor(c) - 0.5)
 inline bool near_integer(double v) { return std::abs(v - std::round(v)) < 1e-5 * std::max(1.0, std::abs(v)); }
 
 // The strata and the jitter of infer_shader_style (nnao_inference.h), in double.
-inline std::vector<bool> grid_edge_pixels(const ao::GBuffer& g, int w, int samples, uint32_t seed) {
+inline std::vector<bool> grid_edge_pixels(const screen_space::GBuffer& g, int w, int samples, uint32_t seed) {
   int mx, my;
   nnao::sample_grid(samples, w, mx, my);
   std::vector<bool> edge(size_t(g.pixels()), false);
@@ -32,8 +32,8 @@ inline std::vector<bool> grid_edge_pixels(const ao::GBuffer& g, int w, int sampl
       const int64_t c = int64_t(y) * g.width + x;
       if (g.sky(c)) continue;
       const double kx = 0.5 * g.width / (double(g.sx) * g.z[c]), ky = 0.5 * g.height / (double(g.sy) * g.z[c]);
-      const uint32_t h = ao::pixel_hash(uint32_t(x), uint32_t(y), seed);
-      const double jx = ao::hash_unit(h), jy = ao::hash_unit(ao::pixel_hash(h, 1, seed));
+      const uint32_t h = screen_space::pixel_hash(uint32_t(x), uint32_t(y), seed);
+      const double jx = screen_space::hash_unit(h), jy = screen_space::hash_unit(screen_space::pixel_hash(h, 1, seed));
       bool near = false;
       for (int b = 0; b < my && !near; ++b) {
         const double vj = (b + jy) * w / my;
@@ -50,7 +50,7 @@ inline std::vector<bool> grid_edge_pixels(const ao::GBuffer& g, int w, int sampl
 }
 
 // The march of compute_horizon_features (horizon_features.h), in double.
-inline std::vector<bool> horizon_edge_pixels(const ao::GBuffer& g, const nnao::HorizonLayout& L) {
+inline std::vector<bool> horizon_edge_pixels(const screen_space::GBuffer& g, const nnao::HorizonLayout& L) {
   std::vector<bool> edge(size_t(g.pixels()), false);
   auto position = [&](double px, double py, double d, double p[3]) {
     p[0] = ((px + 0.5) * 2.0 / g.width - 1) * g.sx * d, p[1] = (1 - (py + 0.5) * 2.0 / g.height) * g.sy * d, p[2] = -d;
@@ -89,4 +89,4 @@ inline std::vector<bool> horizon_edge_pixels(const ao::GBuffer& g, const nnao::H
   return edge;
 }
 
-}  // namespace nns::test
+}  // namespace nns::testing

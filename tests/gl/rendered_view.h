@@ -8,7 +8,7 @@
 #include "render/render_view.h"
 #include "render/scenes/families.h"
 
-namespace nns::test {
+namespace nns::testing {
 
 inline const data::View& rendered_view() {
   static const data::View v = [] {
@@ -25,4 +25,4 @@ inline const data::View& rendered_view() {
   return v;
 }
 
-}  // namespace nns::test
+}  // namespace nns::testing

@@ -99,17 +99,17 @@ void report(const char* what, const Diff& d, size_t pixels) {
 // them; returns the pass's comparison.
 Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, const data::View& view, int samples, uint32_t frame,
                   const char* name) {
-  const ao::GBuffer g = ao::gbuffer_from_view(view);
+  const screen_space::GBuffer g = screen_space::gbuffer_from_view(view);
   gl::NnaoGlPasses passes(dir.string());
   passes.set_gbuffer(g);
   std::vector<float> raw(size_t(g.pixels())), cpu(size_t(g.pixels())), cpu_blur(size_t(g.pixels()));
   std::vector<bool> edge;
   if (m.input.is_horizon()) {
     nnao::infer_horizon(m, g, raw.data());
-    edge = test::horizon_edge_pixels(g, m.input.horizon);
+    edge = nns::testing::horizon_edge_pixels(g, m.input.horizon);
   } else {
     nnao::infer_shader_style(m, g, samples, raw.data(), /*blur=*/false, frame);
-    edge = test::grid_edge_pixels(g, m.input.window, samples, frame);
+    edge = nns::testing::grid_edge_pixels(g, m.input.window, samples, frame);
   }
   // The blur as nnao-infer applies it: m.blur_passes times for a horizon model.
   const int pairs = m.input.is_horizon() ? m.blur_passes : 1;
@@ -151,10 +151,10 @@ Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, const data::V
 TEST_F(NnaoGlsl, GridModelMatchesTheCpuShaderStylePath) {
   using fixtures::random_nnao_blob, fixtures::spread_nnao_outputs;
   const auto m4 = export_model(spread_nnao_outputs(random_nnao_blob(31, 4, 21), 40, 0.5f), dir_ / "h4", 64);
-  check_passes(m4, dir_ / "h4", test::rendered_view(), 64, 0, "grid w31 h4, 64 samples, frame 0");
-  check_passes(m4, dir_ / "h4", test::rendered_view(), 128, 7, "grid w31 h4, 128 samples, frame 7");
+  check_passes(m4, dir_ / "h4", nns::testing::rendered_view(), 64, 0, "grid w31 h4, 64 samples, frame 0");
+  check_passes(m4, dir_ / "h4", nns::testing::rendered_view(), 128, 7, "grid w31 h4, 128 samples, frame 7");
   const auto m8 = export_model(spread_nnao_outputs(random_nnao_blob(15, 8, 22), 40, 0.5f), dir_ / "h8", 64);
-  check_passes(m8, dir_ / "h8", test::rendered_view(), 32, 3, "grid w15 h8, 32 samples, frame 3");
+  check_passes(m8, dir_ / "h8", nns::testing::rendered_view(), 32, 3, "grid w15 h8, 32 samples, frame 3");
 }
 
 // The default model's shape: 16 directions x 8 steps in 4 bands, hidden 16.
@@ -162,24 +162,24 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
   const fixtures::HorizonShape shape{16, 8, 4};
   const Blob blob = fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(0, 16, 23, false, shape), 20, -0.3f);
   const auto m = export_model(blob, dir_, 64);
-  check_passes(m, dir_, test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16");
+  check_passes(m, dir_, nns::testing::rendered_view(), 0, 0, "horizon d16 s8 b4 h16");
   // The default's 4 blur passes travel in nnao_blur.frag (NNAO_BLUR_PAIRS) to the host.
   Blob four = blob;
   four.set_config("blur_passes", 4);
   const auto m4 = export_model(four, dir_ / "b4", 64);
   ASSERT_EQ(m4.blur_passes, 4);
-  check_passes(m4, dir_ / "b4", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 blur passes");
+  check_passes(m4, dir_ / "b4", nns::testing::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 blur passes");
   // And so do its edge terms (BLUR_DEPTH, NNAO_BLUR_NORMAL_POWER).
   four.set_config("blur_depth", 0.3);
   four.set_config("blur_normal_power", 2);
   const auto loose = export_model(four, dir_ / "loose", 64);
   ASSERT_EQ(loose.blur_edges.normal_power, 2);
-  check_passes(loose, dir_ / "loose", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 passes, depth 0.3, power 2");
+  check_passes(loose, dir_ / "loose", nns::testing::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 passes, depth 0.3, power 2");
   // And the radius term's ceiling (RADIUS_TERM_MAX), low enough to hold most pixels.
   four.set_config("radius_term_max", 0.2);
   const auto capped = export_model(four, dir_ / "capped", 64);
   ASSERT_EQ(capped.input.horizon.radius_term_max, 0.2f);
-  check_passes(capped, dir_ / "capped", test::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, radius term at most 0.2");
+  check_passes(capped, dir_ / "capped", nns::testing::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, radius term at most 0.2");
 }
 
 // A model at 1/s resolution: the downsample, the NNAO pass and the blur on the low
@@ -188,14 +188,14 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
 // whole chain at full resolution, where a pixel may differ only if a low pixel within
 // the blur's and the upsample's reach differed.
 void check_low_resolution(const nnao::NnaoWeights& m, const fs::path& dir, const data::View& view, const char* name) {
-  const ao::GBuffer g = ao::gbuffer_from_view(view);
-  const ao::LowResGBuffer lr = ao::downsample_gbuffer(g, m.downsample);
+  const screen_space::GBuffer g = screen_space::gbuffer_from_view(view);
+  const screen_space::LowResGBuffer lr = screen_space::downsample_gbuffer(g, m.downsample);
   gl::NnaoGlPasses passes(dir.string());
   ASSERT_EQ(passes.downsample(), m.downsample) << name;
   passes.set_gbuffer(g);
   std::vector<float> raw(size_t(lr.g.pixels())), cpu(size_t(g.pixels()));
   nnao::infer_horizon(m, lr.g, raw.data());
-  const std::vector<bool> edge = test::horizon_edge_pixels(lr.g, m.input.horizon);
+  const std::vector<bool> edge = nns::testing::horizon_edge_pixels(lr.g, m.input.horizon);
   const Diff pass = compare(passes.ao_pass({}), raw, edge);
   report((std::string(name) + ", NNAO pass on the low frame").c_str(), pass, raw.size());
   EXPECT_EQ(pass.off_not_edge, 0) << name;
@@ -228,7 +228,7 @@ TEST_F(NnaoGlsl, LowResolutionModelMatchesTheCpuPath) {
     const fs::path dir = dir_ / ("s" + std::to_string(s));
     const auto m = export_model(blob, dir, 64);
     ASSERT_TRUE(fs::exists(dir / "nnao_downsample.frag") && fs::exists(dir / "nnao_upsample.frag"));
-    check_low_resolution(m, dir, test::rendered_view(), s == 2 ? "d8 s8 h8 at 1/2" : "d8 s8 h8 at 1/4");
+    check_low_resolution(m, dir, nns::testing::rendered_view(), s == 2 ? "d8 s8 h8 at 1/2" : "d8 s8 h8 at 1/4");
   }
   // Exported again at full resolution into the same folder: the resolution passes go.
   blob.set_config("downsample", 1);
@@ -264,12 +264,12 @@ TEST_F(NnaoGlsl, ABadBlurPairCountIsRefusedNamingTheFile) {
 // G-buffer uploaded upside down, normals with x and y swapped, the wrong frame's pattern.
 TEST_F(NnaoGlsl, AWronglyBoundInputIsCaught) {
   const auto m = export_model(fixtures::spread_nnao_outputs(fixtures::random_nnao_blob(31, 4, 21), 40, 0.5f), dir_, 64);
-  const data::View& v = test::rendered_view();
-  const ao::GBuffer g = ao::gbuffer_from_view(v);
+  const data::View& v = nns::testing::rendered_view();
+  const screen_space::GBuffer g = screen_space::gbuffer_from_view(v);
   std::vector<float> cpu(size_t(g.pixels()));
   nnao::infer_shader_style(m, g, 64, cpu.data(), /*blur=*/false, /*seed=*/0);
   const std::vector<bool> none(cpu.size(), false);
-  auto off = [&](const ao::GBuffer& bound, uint32_t frame) {
+  auto off = [&](const screen_space::GBuffer& bound, uint32_t frame) {
     gl::NnaoGlPasses passes(dir_.string());
     passes.set_gbuffer(bound);
     const int64_t n = compare(passes.ao_pass({64, frame}), cpu, none).off;
@@ -285,10 +285,10 @@ TEST_F(NnaoGlsl, AWronglyBoundInputIsCaught) {
   const float* src[4] = {g.z, g.nx, g.ny, g.nz};
   for (int c = 0; c < 4; ++c)
     for (int y = g.height - 1; y >= 0; --y) planes[c].insert(planes[c].end(), src[c] + int64_t(y) * g.width, src[c] + int64_t(y + 1) * g.width);
-  ao::GBuffer flipped = g;
+  screen_space::GBuffer flipped = g;
   flipped.z = planes[0].data(), flipped.nx = planes[1].data(), flipped.ny = planes[2].data(), flipped.nz = planes[3].data();
   EXPECT_GT(off(flipped, 0), many) << "an upside-down G-buffer goes unnoticed";
-  ao::GBuffer swapped = g;
+  screen_space::GBuffer swapped = g;
   swapped.nx = g.ny, swapped.ny = g.nx;
   EXPECT_GT(off(swapped, 0), many) << "normals with x and y swapped go unnoticed";
 

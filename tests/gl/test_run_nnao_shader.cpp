@@ -28,7 +28,7 @@ class RunNnaoShader : public ::testing::Test {
     setenv("LIBGL_ALWAYS_SOFTWARE", "1", 0);
     dir_ = fs::temp_directory_path() / ("run_nnao_shader_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
-    data::write_view(path("view.exr"), test::rendered_view());
+    data::write_view(path("view.exr"), nns::testing::rendered_view());
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
@@ -59,7 +59,7 @@ TEST_F(RunNnaoShader, DrawsNnaoInfersImageForEitherKind) {
   const int64_t grid = shader_vs_cpu(spread_nnao_outputs(random_nnao_blob(15, 4, 5), 40, 0.5f), "--samples 64");
   const int64_t horizon =
       shader_vs_cpu(spread_nnao_outputs(random_nnao_blob(0, 8, 6, false, {8, 4, 2}), 20, -0.3f), "");
-  const int64_t pixels = int64_t(test::rendered_view().width) * test::rendered_view().height;
+  const int64_t pixels = int64_t(nns::testing::rendered_view().width) * nns::testing::rendered_view().height;
   std::printf("run-nnao-shader vs nnao-infer, pixels differing by > 1e-4: grid %lld, horizon %lld of %lld\n",
               (long long)grid, (long long)horizon, (long long)pixels);
   EXPECT_LE(grid, pixels / 100);

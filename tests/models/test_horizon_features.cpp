@@ -18,7 +18,7 @@ namespace {
 
 const nnao::HorizonLayout kLayout{16, 8, 4};
 
-std::vector<float> features_at(const ao::GBuffer& g, int x, int y) {
+std::vector<float> features_at(const screen_space::GBuffer& g, int x, int y) {
   std::vector<float> f(size_t(kLayout.features()));
   nnao::compute_horizon_features(g, x, y, kLayout, f.data());
   return f;
@@ -39,7 +39,7 @@ fixtures::Scene open_floor() {
 
 TEST(HorizonFeatures, OpenPlaneHasNoHorizonAndFullVisibility) {
   const auto s = open_floor();
-  auto g = ao::gbuffer_from_view(s.view);
+  auto g = screen_space::gbuffer_from_view(s.view);
   const int64_t extra = int64_t(kLayout.directions) * kLayout.bands;
   for (int y = 0; y < g.height; y += 7)
     for (int x = 0; x < g.width; x += 5) {
@@ -61,7 +61,7 @@ TEST(HorizonFeatures, CreaseVisibilityFollowsTheClosedForm) {
   const V3 eye{0, 8 / std::sqrt(2.0), 8 / std::sqrt(2.0)}, target{0, 0.5, 0.5};
   const int W = 160, H = 120;
   auto s = fixtures::render(fixtures::cast_crease, eye, target, W, H, 40, r);
-  auto g = ao::gbuffer_from_view(s.view);
+  auto g = screen_space::gbuffer_from_view(s.view);
   double se = 0, se_const = 0, truth_mean = 0;
   std::vector<std::pair<double, double>> pairs;
   for (int y = 5; y < H - 5; ++y)
@@ -113,7 +113,7 @@ TEST(HorizonFeatures, RotatingTheImageAboutTheViewAxisKeepsTheFeatures) {
     const float x = nx[i], y = ny[i];
     nx[i] = y, ny[i] = -x;
   }
-  auto ga = ao::gbuffer_from_view(a.view), gb = ao::gbuffer_from_view(rolled);
+  auto ga = screen_space::gbuffer_from_view(a.view), gb = screen_space::gbuffer_from_view(rolled);
   for (int c : {40, 60, 80}) {
     auto fa = features_at(ga, c, 60), fb = features_at(gb, 120 - 60, c);
     double worst = 0;
@@ -126,7 +126,7 @@ TEST(HorizonFeatures, RotatingTheImageAboutTheViewAxisKeepsTheFeatures) {
 // other feature as it was; a layout with a ceiling of 0 or below is refused.
 TEST(HorizonFeatures, RadiusTermCeilingChangesOnlyTheRadiusTerm) {
   const auto s = open_floor();
-  auto g = ao::gbuffer_from_view(s.view);
+  auto g = screen_space::gbuffer_from_view(s.view);
   const int64_t radius_q = int64_t(kLayout.directions) * kLayout.bands + 1;
   std::vector<float> terms;  // the ceiling: the median term, so it holds about half the pixels
   for (int y = 0; y < g.height; y += 3)

@@ -15,17 +15,17 @@ namespace {
 // project it with the general projection, round, clamp, read, fall off.
 // `tie` marks grid points whose projection lies within 1e-3 pixel of a rounding
 // boundary, where float rounding of the two routes may pick either neighbour.
-std::vector<float> reference_features(const ao::GBuffer& g, int px, int py, int w,
+std::vector<float> reference_features(const screen_space::GBuffer& g, int px, int py, int w,
                                       std::vector<bool>& tie) {
   std::vector<float> out(size_t(w) * w * 4);
   tie.assign(size_t(w) * w, false);
   const int64_t c = int64_t(py) * g.width + px;
   const double r = g.radius;
-  ao::Vec3 P = g.position(px, py);
+  screen_space::Vec3 P = g.position(px, py);
   for (int j = 0; j < w; ++j)
     for (int i = 0; i < w; ++i) {
       double ox = w == 1 ? 0 : r * (2.0 * i / (w - 1) - 1), oy = w == 1 ? 0 : r * (1 - 2.0 * j / (w - 1));
-      ao::Vec3 S{float(P.x + ox), float(P.y + oy), P.z};
+      screen_space::Vec3 S{float(P.x + ox), float(P.y + oy), P.z};
       float sx, sy;
       g.project(S, sx, sy);
       auto near_half = [](float t) { return std::abs(t - std::floor(t) - 0.5f) < 1e-3f; };
@@ -35,8 +35,8 @@ std::vector<float> reference_features(const ao::GBuffer& g, int px, int py, int 
       int64_t s = int64_t(iy) * g.width + ix;
       float* o = &out[(size_t(j) * w + i) * 4];
       if (g.sky(s)) continue;
-      ao::Vec3 Ps = g.position(ix, iy);
-      double dist = std::sqrt(double(ao::dot(Ps - P, Ps - P)));
+      screen_space::Vec3 Ps = g.position(ix, iy);
+      double dist = std::sqrt(double(screen_space::dot(Ps - P, Ps - P)));
       double f = 1 - std::clamp(dist / r, 0.0, 1.0);
       o[0] = float(f * (g.nx[s] - g.nx[c]));
       o[1] = float(f * (g.ny[s] - g.ny[c]));
@@ -50,7 +50,7 @@ std::vector<float> reference_features(const ao::GBuffer& g, int px, int py, int 
 
 TEST(NnaoFeatures, MatchLiteralDefinitionEverywhere) {
   auto v = nns::fixtures::synthetic_view(64, 40, 3, 1, 0.8f);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   const int w = 7;
   std::vector<float> f(size_t(nnao::feature_count(w)));
   int checked = 0;
@@ -74,7 +74,7 @@ TEST(NnaoFeatures, FlatWallFacingTheCameraGivesZeros) {
   v.add_channel("N.X");
   v.add_channel("N.Y");
   v.add_channel("N.Z").assign(32 * 24, 1.0f);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   std::vector<float> f(size_t(nnao::feature_count(31)));
   nnao::compute_features(g, 16, 12, 31, f.data());
   for (float x : f) EXPECT_EQ(x, 0.0f);
@@ -84,7 +84,7 @@ TEST(NnaoFeatures, FalloffSkyAndCentre) {
   // Centre on the floor next to the sky: sky samples and samples beyond r are zero; the
   // centre sample (same pixel) is zero; a nearby sample of a different depth is not.
   auto v = nns::fixtures::synthetic_view(64, 40, 0, 1, 1.0f);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   const int w = 31;
   std::vector<float> f(size_t(nnao::feature_count(w)));
   // A floor pixel near the bottom of the screen: its grid leaves the screen (clamped).

@@ -48,7 +48,7 @@ TEST(NnaoInference, ExactMatchesDoubleReferenceWithUnfoldedStandardisation) {
   Blob blob = nns::fixtures::random_nnao_blob(w, H, 5);
   auto m = nnao::NnaoWeights::from_blob(blob);
   auto v = nns::fixtures::synthetic_view(40, 28, 2, 1);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   std::vector<float> out(size_t(g.pixels()));
   nnao::infer_exact(m, g, out.data());
   std::vector<float> f(size_t(nnao::feature_count(w)));
@@ -69,7 +69,7 @@ TEST(NnaoInference, ShaderStyleWithEveryFilterPixelIsExact) {
   const int w = 7;
   auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(w, 4, 6));
   auto v = nns::fixtures::synthetic_view(40, 28, 1, 1);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   std::vector<float> exact(size_t(g.pixels())), shader(size_t(g.pixels()));
   nnao::infer_exact(m, g, exact.data());
   nnao::infer_shader_style(m, g, 64, shader.data(), /*blur=*/false);
@@ -82,7 +82,7 @@ TEST(NnaoInference, ShaderStyleIsUnbiasedOverJitter) {
   const int w = 15;
   auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(w, 4, 7, /*linear_head=*/true));
   auto v = nns::fixtures::synthetic_view(48, 32, 4, 1);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   const size_t n = size_t(g.pixels());
   std::vector<float> exact(n), one(n), acc(n, 0), tmp(n);
   nnao::infer_exact(m, g, exact.data());
@@ -102,7 +102,7 @@ TEST(NnaoInference, ShaderStyleIsUnbiasedOverJitter) {
 TEST(NnaoInference, SameResultWithOneAndTwoThreads) {
   auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(9, 4, 8));
   auto v = nns::fixtures::synthetic_view(40, 28, 0, 1);
-  auto g = ao::gbuffer_from_view(v);
+  auto g = screen_space::gbuffer_from_view(v);
   std::vector<float> a(size_t(g.pixels())), b(a.size()), c(a.size()), d(a.size());
   set_num_threads(1);
   nnao::infer_exact(m, g, a.data());
@@ -168,7 +168,7 @@ TEST(NnaoInference, VectorisedPathsMatchScalarReferences) {
     auto m = nnao::NnaoWeights::from_blob(nns::fixtures::random_nnao_blob(9, H, 11 + H));
     for (int variant : {0, 3}) {
       auto v = nns::fixtures::synthetic_view(50, 30, variant, 1);
-      auto g = ao::gbuffer_from_view(v);
+      auto g = screen_space::gbuffer_from_view(v);
       const std::string tag = "H" + std::to_string(H) + " variant " + std::to_string(variant);
       std::vector<float> a(size_t(g.pixels())), b(a.size());
       nnao::infer_exact(m, g, a.data());
@@ -202,7 +202,7 @@ TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
       ASSERT_TRUE(m.input.is_horizon());
       for (int variant : {0, 3}) {
         auto v = nns::fixtures::synthetic_view(50, 30, variant, 1);
-        auto g = ao::gbuffer_from_view(v);
+        auto g = screen_space::gbuffer_from_view(v);
         const std::string tag = "horizon " + std::to_string(sh.directions) + "x" + std::to_string(sh.steps) + " H" +
                                 std::to_string(H) + " variant " + std::to_string(variant);
         std::vector<float> a(size_t(g.pixels())), b(a.size()), c(a.size());
@@ -243,7 +243,7 @@ TEST(NnaoInference, HorizonModelBlursBlurPassesTimes) {
   const auto m = nnao::NnaoWeights::from_blob(blob);
   ASSERT_EQ(m.blur_passes, 3);
   const auto view = nns::fixtures::synthetic_view(50, 30, 3, 1);  // g points into it
-  auto g = ao::gbuffer_from_view(view);
+  auto g = screen_space::gbuffer_from_view(view);
   std::vector<float> raw(size_t(g.pixels())), once(raw.size()), expect(raw.size()), got(raw.size()), ref(raw.size());
   nnao::infer_horizon(m, g, raw.data());
   for (int p = 0; p < 3; ++p) {
@@ -271,7 +271,7 @@ TEST(NnaoInference, HorizonModelHoldsTheRadiusTermAtTheBlobsCeiling) {
   ASSERT_FALSE(std::isfinite(nnao::NnaoWeights::from_blob(blob).input.horizon.radius_term_max));
   const auto plain = nnao::NnaoWeights::from_blob(blob);
   const auto view = nns::fixtures::synthetic_view(50, 30, 3, 1);  // g points into it
-  auto g = ao::gbuffer_from_view(view);
+  auto g = screen_space::gbuffer_from_view(view);
   // A ceiling at the view's median radius term, so it holds half the pixels.
   std::vector<float> terms, f(size_t(plain.features()));
   for (int64_t i = 0; i < g.pixels(); ++i)
@@ -337,7 +337,7 @@ TEST(NnaoInference, HorizonModelBlursWithTheBlobsEdgeTerms) {
   ASSERT_EQ(m.blur_edges.depth, 0.3f);
   ASSERT_EQ(m.blur_edges.normal_power, 2);
   const auto view = nns::fixtures::synthetic_view(50, 30, 3, 1);  // g points into it
-  auto g = ao::gbuffer_from_view(view);
+  auto g = screen_space::gbuffer_from_view(view);
   std::vector<float> raw(size_t(g.pixels())), tmp(raw.size()), expect(raw.size()), got(raw.size()), ref(raw.size()),
       first_terms(raw.size());
   nnao::infer_horizon(m, g, raw.data());

@@ -22,11 +22,11 @@ namespace {
 struct TwoPlanes {
   int w, h;
   std::vector<float> z, nx, ny, nz;
-  ao::GBuffer g;
+  screen_space::GBuffer g;
   TwoPlanes(int w_, int h_, int edge) : w(w_), h(h_), z(size_t(w_ * h_)), nx(z.size(), 0), ny(z.size(), 0), nz(z.size(), 1) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) z[size_t(y * w + x)] = x < edge ? 2.0f : 6.0f;
-    g = ao::make_gbuffer(w, h, 60, 0.5f, z.data(), nx.data(), ny.data(), nz.data());
+    g = screen_space::make_gbuffer(w, h, 60, 0.5f, z.data(), nx.data(), ny.data(), nz.data());
   }
 };
 
@@ -34,9 +34,9 @@ struct TwoPlanes {
 
 TEST(LowResolution, DownsampleTakesOnePixelOfEveryBlock) {
   auto v = fixtures::synthetic_view(37, 21, 0, 1);
-  const ao::GBuffer g = ao::gbuffer_from_view(v);
+  const screen_space::GBuffer g = screen_space::gbuffer_from_view(v);
   for (int s : {2, 4}) {
-    const ao::LowResGBuffer lr = ao::downsample_gbuffer(g, s);
+    const screen_space::LowResGBuffer lr = screen_space::downsample_gbuffer(g, s);
     EXPECT_EQ(lr.g.width, (37 + s - 1) / s);
     EXPECT_EQ(lr.g.height, (21 + s - 1) / s);
     EXPECT_EQ(lr.g.sx, g.sx);
@@ -53,10 +53,10 @@ TEST(LowResolution, DownsampleTakesOnePixelOfEveryBlock) {
 
 TEST(LowResolution, UpsampleOfAConstantIsThatConstant) {
   auto v = fixtures::synthetic_view(40, 24, 3, 1);
-  const ao::GBuffer g = ao::gbuffer_from_view(v);
-  const ao::LowResGBuffer lr = ao::downsample_gbuffer(g, 2);
+  const screen_space::GBuffer g = screen_space::gbuffer_from_view(v);
+  const screen_space::LowResGBuffer lr = screen_space::downsample_gbuffer(g, 2);
   std::vector<float> low(size_t(lr.g.pixels()), 0.37f), out(size_t(g.pixels()));
-  ao::upsample(g, lr, low.data(), out.data());
+  screen_space::upsample(g, lr, low.data(), out.data());
   int64_t surface = 0;
   for (int64_t i = 0; i < g.pixels(); ++i) {
     if (g.sky(i)) {
@@ -75,10 +75,10 @@ TEST(LowResolution, UpsampleDoesNotCarryLightAcrossADepthStep) {
   // neighbours lie on the other plane. A plain bilinear upsample mixes them.
   for (int edge : {9, 10, 11}) {
     TwoPlanes f(24, 8, edge);
-    const ao::LowResGBuffer lr = ao::downsample_gbuffer(f.g, 2);
+    const screen_space::LowResGBuffer lr = screen_space::downsample_gbuffer(f.g, 2);
     std::vector<float> low(size_t(lr.g.pixels())), out(size_t(f.g.pixels()));
     for (size_t i = 0; i < low.size(); ++i) low[i] = lr.z[i] < 3 ? 0.0f : 1.0f;
-    ao::upsample(f.g, lr, low.data(), out.data());
+    screen_space::upsample(f.g, lr, low.data(), out.data());
     for (int y = 0; y < f.h; ++y)
       for (int x = 0; x < f.w; ++x) EXPECT_NEAR(out[size_t(y * f.w + x)], x < edge ? 0.0f : 1.0f, 1e-6f) << edge << " " << x;
   }
@@ -88,19 +88,19 @@ TEST(LowResolution, VectorUpsampleMatchesTheScalarLoop) {
   for (int variant : {0, 3})
     for (int s : {2, 4}) {
       auto v = fixtures::synthetic_view(53, 29, variant, 1);
-      const ao::GBuffer g = ao::gbuffer_from_view(v);
-      const ao::LowResGBuffer lr = ao::downsample_gbuffer(g, s);
+      const screen_space::GBuffer g = screen_space::gbuffer_from_view(v);
+      const screen_space::LowResGBuffer lr = screen_space::downsample_gbuffer(g, s);
       std::vector<float> low(size_t(lr.g.pixels()));
       for (size_t i = 0; i < low.size(); ++i) low[i] = float((i * 7919) % 101) / 100.0f;
       std::vector<float> a(size_t(g.pixels())), b(a.size()), c(a.size());
       for (int normal_power : {0, 2, 8}) {
-        const ao::UpsampleEdges e{0.3f, normal_power};
+        const screen_space::UpsampleEdges e{0.3f, normal_power};
         set_num_threads(1);
-        ao::upsample(g, lr, low.data(), a.data(), e);
+        screen_space::upsample(g, lr, low.data(), a.data(), e);
         set_num_threads(2);
-        ao::upsample(g, lr, low.data(), c.data(), e);
+        screen_space::upsample(g, lr, low.data(), c.data(), e);
         EXPECT_EQ(a, c);
-        ao::upsample_reference(g, lr, low.data(), b.data(), e);
+        screen_space::upsample_reference(g, lr, low.data(), b.data(), e);
         double worst = 0;
         for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(double(a[i]) - b[i]));
         // exp_nonpositive against std::exp: a few float ulps in each weight.
@@ -117,7 +117,7 @@ TEST(LowResolution, LowResolutionModelMatchesItsReference) {
     const auto m = nnao::NnaoWeights::from_blob(blob);
     ASSERT_EQ(m.downsample, s);
     auto v = fixtures::synthetic_view(64, 36, 3, 1);
-    const ao::GBuffer g = ao::gbuffer_from_view(v);
+    const screen_space::GBuffer g = screen_space::gbuffer_from_view(v);
     std::vector<float> a(size_t(g.pixels())), b(a.size());
     nnao::infer_exact(m, g, a.data());
     nnao::infer_exact_reference(m, g, b.data());

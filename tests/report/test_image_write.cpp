@@ -24,7 +24,7 @@ TEST(ImageWrite, GrayRoundTripWithClampAndNaNMarker) {
   std::string p = temp("gray.png");
   write_png_gray(p, v, 3, 2);
   int w, h;
-  auto px = nns::test::read_rgb8(p, &w, &h);
+  auto px = nns::testing::read_rgb8(p, &w, &h);
   fs::remove(p);
   ASSERT_EQ(w, 3);
   ASSERT_EQ(h, 2);
@@ -46,7 +46,7 @@ TEST(ImageWrite, ToneMapIsReinhardThenSrgb) {
   std::string p = temp("rgb.png");
   write_png_rgb(p, r, g, b, 1, 1);
   int w, h;
-  auto px = nns::test::read_rgb8(p, &w, &h);
+  auto px = nns::testing::read_rgb8(p, &w, &h);
   fs::remove(p);
   EXPECT_EQ(px[0], srgb_encode(0.5f));   // 1 / (1 + 1)
   EXPECT_EQ(px[1], srgb_encode(0.75f));  // 3 / (1 + 3)
@@ -138,6 +138,6 @@ TEST(ImageWrite, FailedWriteLeavesTheOldFileAndNoTemporary) {
   EXPECT_EQ(files, 1) << "a temporary was left in " << dir;
   write_png_gray(p, v, 2, 1);
   int w, h;
-  EXPECT_EQ(nns::test::read_rgb8(p, &w, &h)[3], 255);
+  EXPECT_EQ(nns::testing::read_rgb8(p, &w, &h)[3], 255);
   fs::remove_all(dir);
 }

@@ -31,7 +31,7 @@ TEST(GiEvaluate, DistanceBandsFollowDepthJumpsAndCreases) {
   EXPECT_EQ(DistanceBands::band_of(7), 2);
   EXPECT_EQ(DistanceBands::band_of(15), 3);
   EXPECT_EQ(DistanceBands::band_of(16), 4);
-  EXPECT_EQ(DistanceBands::band_of(ao::kNoSeed), 4);
+  EXPECT_EQ(DistanceBands::band_of(screen_space::kNoSeed), 4);
 
   // 48 x 4: a wall at depth 10 (normal +z) for x < 40; x >= 40 a side wall at depth 10,
   // normal +x (a crease at x = 39|40); column 0 sky.

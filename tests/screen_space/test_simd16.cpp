@@ -22,7 +22,7 @@
 #include "data/view.h"
 #include "screen_space/simd16.h"
 
-using namespace nns::ao::simd;
+using namespace nns::screen_space::simd;
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace nns::test {
+namespace nns::testing {
 
 inline std::vector<uint8_t> read_rgb8(const std::string& path, int* width, int* height) {
   auto in = OIIO::ImageInput::open(path);
@@ -27,4 +27,4 @@ inline std::vector<uint8_t> read_rgb8(const std::string& path, int* width, int* 
   return rgb;
 }
 
-}  // namespace nns::test
+}  // namespace nns::testing

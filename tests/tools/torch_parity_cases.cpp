@@ -59,7 +59,7 @@ void nnao_case(const std::string& name, Blob model) {
   // radius 0.7, not 1: with 1, the floor one unit below the camera puts grid samples
   // exactly on pixel edges (r kx is then a half-integer on every floor row).
   const data::View v = fixtures::synthetic_view(40, 24, 1, /*spp=*/1, /*radius=*/0.7f);
-  const ao::GBuffer g = ao::gbuffer_from_view(v);
+  const screen_space::GBuffer g = screen_space::gbuffer_from_view(v);
   std::vector<float> ao_image(size_t(g.pixels()));
   nnao::infer_exact_per_pixel(m, g, ao_image.data());
   const int64_t F = m.features();

@@ -91,15 +91,15 @@ void write_outputs(std::FILE* f) {
     grid.set_config("downsample", downsample);
     models.push_back(nnao::NnaoWeights::from_blob(grid));
   }
-  const ao::ClassicalParams params;
+  const classical_ao::ClassicalParams params;
   // Widths that leave a row's last block part empty (the masked loads and stores).
   for (auto [w, h, variant] : {std::tuple{67, 45, 0}, std::tuple{96, 40, 1}, std::tuple{53, 37, 2}}) {
     const data::View view = fixtures::synthetic_view(w, h, variant, 1);
-    const ao::GBuffer g = ao::gbuffer_from_view(view);
+    const screen_space::GBuffer g = screen_space::gbuffer_from_view(view);
     std::vector<float> out(size_t(g.pixels()));
     auto put = [&] { std::fwrite(out.data(), sizeof(float), out.size(), f); };
-    for (auto& c : ao::classical_methods())
-      for (int n : c.sample_counts) ao::run_classical(c.name, params, g, n, out.data(), false), put();
+    for (auto& c : classical_ao::classical_methods())
+      for (int n : c.sample_counts) classical_ao::run_classical(c.name, params, g, n, out.data(), false), put();
     for (const auto& m : models) {
       nnao::infer_exact(m, g, out.data()), put();
       if (!m.input.is_horizon()) nnao::infer_shader_style(m, g, 16, out.data()), put();
@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ao_outputs: cannot write %s\n", argv[1]);
     return 1;
   }
-  std::printf("simd16 backend: %s\n", ao::simd::kBackend);
+  std::printf("simd16 backend: %s\n", screen_space::simd::kBackend);
   try {
     write_outputs(f);
   } catch (const std::exception& e) {
