@@ -50,16 +50,12 @@ namespace nns::classical_ao {
 
 using screen_space::GBuffer;
 using screen_space::NoiseTile;
-using screen_space::Vec3;
 using screen_space::box_blur_4x4;
 using screen_space::box_blur_4x4_reference;
-using screen_space::cross;
-using screen_space::dot;
 using screen_space::for_each_surface_pixel;
 using screen_space::hash_unit;
-using screen_space::length;
 using screen_space::noise_angle_4x4;
-using screen_space::normalize;
+using screen_space::normalize_or_facing;
 using screen_space::pixel_hash;
 using screen_space::saturate;
 
@@ -101,7 +97,7 @@ inline void gtao_reference_with(const GBuffer& g, int samples, float* out, const
   std::vector<float> raw(size_t(g.pixels()));
   const float R = g.radius * p.radius_scale, slope = falloff_slope(p, R), zscale = 1.0f + p.thickness;
   for_each_surface_pixel(g, raw.data(), [&](int x, int y, int64_t i, const Vec3& P, const Vec3& N) -> float {
-    const Vec3 V = normalize(-1.0f * P);
+    const Vec3 V = normalize_or_facing(-1.0f * P);
     const float R_px = R * 0.5f * float(g.width) / (g.sx * -P.z);
     if (R_px < 1.0f) {  // the radius covers less than a pixel: nothing to march
       return 1;
@@ -110,7 +106,7 @@ inline void gtao_reference_with(const GBuffer& g, int samples, float* out, const
     const float jitter = hash_unit(pixel_hash(uint32_t(x & 3), uint32_t(y & 3), 13));
     float sum = 0;
     // A frame around V (V.z > 0: the pixel is in front of the camera).
-    const Vec3 e1 = normalize(Vec3{V.z, 0, -V.x}), e2 = cross(V, e1);
+    const Vec3 e1 = normalize_or_facing(Vec3{V.z, 0, -V.x}), e2 = cross(V, e1);
     for (int k = 0; k < slices; ++k) {
       const float phi = slice_angle(k, slices, noise), c = std::cos(phi), s = std::sin(phi);
       // The slice plane is span(V, T), T = cos phi e1 + sin phi e2 (positive angles on
@@ -225,9 +221,9 @@ inline void gtao_with(const GBuffer& g, int samples, float* out, const GtaoParam
       VF nx, ny, nz;
       load_unit_normals(g, b.i0, valid, nx, ny, nz);
       VF vx = zero - b.px, vy = zero - b.py, vz = b.z;  // -P (P = (px, py, -z))
-      normalize(vx, vy, vz);
+      normalize_or_facing(vx, vy, vz);
       VF e1x = vz, e1y = zero, e1z = zero - vx;
-      normalize(e1x, e1y, e1z);
+      normalize_or_facing(e1x, e1y, e1z);
       const VF e2x = vy * e1z - vz * e1y, e2y = vz * e1x - vx * e1z, e2z = vx * e1y - vy * e1x;
       const VF inv_vz = one / vz;
       for (int k = 0; k < slices; ++k) {

@@ -20,10 +20,8 @@ namespace nns::classical_ao {
 
 using screen_space::GBuffer;
 using screen_space::NoiseTile;
-using screen_space::Vec3;
 using screen_space::box_blur_4x4;
 using screen_space::box_blur_4x4_reference;
-using screen_space::dot;
 using screen_space::for_each_surface_pixel;
 using screen_space::hash_unit;
 using screen_space::noise_angle_4x4;

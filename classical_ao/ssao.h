@@ -20,7 +20,6 @@ namespace nns::classical_ao {
 
 using screen_space::GBuffer;
 using screen_space::NoiseTile;
-using screen_space::Vec3;
 using screen_space::box_blur_4x4;
 using screen_space::box_blur_4x4_reference;
 using screen_space::for_each_surface_pixel;

@@ -16,22 +16,18 @@ namespace nns::classical_ao {
 
 using screen_space::GBuffer;
 using screen_space::NoiseTile;
-using screen_space::Vec3;
 using screen_space::box_blur_4x4;
 using screen_space::box_blur_4x4_reference;
-using screen_space::cross;
-using screen_space::dot;
 using screen_space::for_each_surface_pixel;
-using screen_space::length;
 using screen_space::noise_angle_4x4;
-using screen_space::normalize;
+using screen_space::normalize_or_facing;
 using screen_space::saturate;
 using screen_space::sphere_kernel;
 
 inline std::vector<Vec3> hemisphere_kernel(int n, uint64_t seed) {
   std::vector<Vec3> k = sphere_kernel(n, seed);
   for (int i = 0; i < n; ++i) {
-    Vec3 v = normalize(k[size_t(i)]);
+    Vec3 v = normalize_or_facing(k[size_t(i)]);
     v.z = std::abs(v.z);
     float t = float(i) / float(n);
     float scale = 0.1f + 0.9f * t * t;
@@ -61,7 +57,7 @@ inline void ssao_plus_reference_with(const GBuffer& g, int samples, float* out, 
     Vec3 rv{std::cos(a), std::sin(a), 0};
     Vec3 T = rv - dot(rv, N) * N;
     if (dot(T, T) < 1e-6f) T = Vec3{0, 0, 1} - N.z * N;
-    T = normalize(T);
+    T = normalize_or_facing(T);
     const Vec3 B = cross(N, T);
     float occlusion = 0;
     for (const Vec3& k : kernel) {
@@ -93,7 +89,7 @@ inline void ssao_plus_with(const GBuffer& g, int samples, float* out, const Ssao
   for_each_block(g, [&](int x0, int y, Mask valid) {
     const Block b(g, x0, y, valid);
     const VF zero = splat(0.0f), one = splat(1.0f), R = splat(r);
-    // normalize(N), with normalize's fallback (0, 0, 1) for a zero vector.
+    // normalize_or_facing(N), with its fallback (0, 0, 1) for a zero vector.
     VF nx, ny, nz;
     load_unit_normals(g, b.i0, valid, nx, ny, nz);
     const VF rvx = load(noise.cos[y & 3]), rvy = load(noise.sin[y & 3]);
@@ -103,7 +99,7 @@ inline void ssao_plus_with(const GBuffer& g, int samples, float* out, const Ssao
     tx = select(degenerate, zero - nz * nx, tx);
     ty = select(degenerate, zero - nz * ny, ty);
     tz = select(degenerate, one - nz * nz, tz);
-    normalize(tx, ty, tz);
+    normalize_or_facing(tx, ty, tz);
     const VF bx = ny * tz - nz * ty, by = nz * tx - nx * tz, bz = nx * ty - ny * tx;
     const VF pz = -b.z;
     VF occlusion = zero;

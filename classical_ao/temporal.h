@@ -27,7 +27,6 @@
 namespace nns::classical_ao {
 
 using screen_space::GBuffer;
-using screen_space::Vec3;
 
 // prev_index[i] = pixel of the previous frame, or -1.
 inline std::vector<int64_t> reproject_to_previous(const GBuffer& cur, const std::optional<std::array<float, 16>>& cur_w2c,

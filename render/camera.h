@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "render/sampling.h"
-#include "render/vec3.h"
+#include "core/vec3.h"
 
 namespace nns::render {
 

@@ -13,7 +13,7 @@
 // surface_albedo() (render/scene.h), so the ground truth and the G-buffer agree.
 #include <cstdint>
 
-#include "render/vec3.h"
+#include "core/vec3.h"
 
 namespace nns::render {
 

@@ -4,7 +4,7 @@
 // (render/material_texture.h). Pure functions of (seed, position): no global state.
 #include <cstdint>
 
-#include "render/vec3.h"
+#include "core/vec3.h"
 
 namespace nns::render {
 

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "render/vec3.h"
+#include "core/vec3.h"
 
 namespace nns::render {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "render/material_texture.h"
-#include "render/vec3.h"
+#include "core/vec3.h"
 
 namespace nns::render {
 

@@ -33,7 +33,7 @@ void for_each_surface_pixel(const GBuffer& g, float* raw, F&& f) {
       return;
     }
     const Vec3 P = g.position(x, y);
-    const Vec3 N = normalize(g.normal(i));
+    const Vec3 N = normalize_or_facing(g.normal(i));
     raw[size_t(i)] = f(x, y, i, P, N);
   });
 }

@@ -13,22 +13,15 @@
 #include <string>
 #include <vector>
 
+#include "core/vec3.h"
 #include "data/view.h"
 
 namespace nns::screen_space {
 
-struct Vec3 {
-  float x = 0, y = 0, z = 0;
-};
-inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator*(float s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
-inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
-inline Vec3 cross(Vec3 a, Vec3 b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-inline Vec3 normalize(Vec3 a) {
+// A normal from the G-buffer as a unit vector: (1/l) * a (one division for three
+// products, in the inner loops), and for a zero vector (a pixel without a normal) the
+// direction that faces the camera, (0, 0, 1), not nns::normalize's zero.
+inline Vec3 normalize_or_facing(Vec3 a) {
   float l = length(a);
   return l > 0 ? (1.0f / l) * a : Vec3{0, 0, 1};
 }

@@ -62,8 +62,8 @@ inline VF exp_nonpositive(VF x) {
   return select(lt(x, splat(-87.0f)), splat(0.0f), scale2_normal(p, n));
 }
 
-// normalize() (gbuffer.h) on 16 vectors in place, with its (0, 0, 1) for a zero vector.
-inline void normalize(VF& x, VF& y, VF& z) {
+// normalize_or_facing() (gbuffer.h) on 16 vectors in place, with its (0, 0, 1) for a zero vector.
+inline void normalize_or_facing(VF& x, VF& y, VF& z) {
   const VF len = sqrt(x * x + y * y + z * z);
   const Mask ok = gt(len, splat(0.0f));
   const VF inv = splat(1.0f) / len;
@@ -73,7 +73,7 @@ inline void normalize(VF& x, VF& y, VF& z) {
 // The unit normals of the 16 pixels from index i0 (tail lanes: (0, 0, 1)).
 inline void load_unit_normals(const GBuffer& g, int64_t i0, Mask valid, VF& x, VF& y, VF& z) {
   x = load(g.nx + i0, valid, 0.0f), y = load(g.ny + i0, valid, 0.0f), z = load(g.nz + i0, valid, 1.0f);
-  normalize(x, y, z);
+  normalize_or_facing(x, y, z);
 }
 
 // View-space position of 16 pixels (pixel coordinates px, py as floats, depth d): the

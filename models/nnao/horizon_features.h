@@ -69,7 +69,7 @@ inline int64_t horizon_base_index(const HorizonLayout& L) { return L.features() 
 // Writes L.features() floats for centre pixel (px, py), which must not be sky.
 inline void compute_horizon_features(const screen_space::GBuffer& g, int px, int py, const HorizonLayout& L, float* out) {
   const int64_t c = int64_t(py) * g.width + px;
-  const screen_space::Vec3 P = g.position(px, py), N = screen_space::normalize(g.normal(c));
+  const Vec3 P = g.position(px, py), N = screen_space::normalize_or_facing(g.normal(c));
   const float r = g.radius, r2 = r * r;
   const float R_px = r * 0.5f * float(g.width) / (g.sx * g.z[c]);
   // The normal's direction on the screen (y down); facing the camera, any start will do.
@@ -93,9 +93,9 @@ inline void compute_horizon_features(const screen_space::GBuffer& g, int px, int
           g.clamped_pixel(qx, qy, jx, jy);
           const int64_t j = int64_t(jy) * g.width + jx;
           if (!g.sky(j)) {
-            const screen_space::Vec3 d = g.position(jx, jy) - P;
-            const float d2 = screen_space::dot(d, d);
-            if (d2 > 0 && d2 <= r2) horizon = std::fmax(horizon, screen_space::dot(N, d) / std::sqrt(d2));
+            const Vec3 d = g.position(jx, jy) - P;
+            const float d2 = dot(d, d);
+            if (d2 > 0 && d2 <= r2) horizon = std::fmax(horizon, dot(N, d) / std::sqrt(d2));
           }
         }
       }
@@ -103,7 +103,7 @@ inline void compute_horizon_features(const screen_space::GBuffer& g, int px, int
     }
   }
   const int64_t extra = int64_t(L.directions) * L.bands;
-  out[extra] = screen_space::dot(N, screen_space::normalize(-1.0f * P));
+  out[extra] = dot(N, screen_space::normalize_or_facing(-1.0f * P));
   out[extra + 1] = std::fmin(L.radius_term_max, std::log2(1.0f + R_px) / 8.0f);
   for (int b = 0; b < L.bands; ++b) {
     float occluded = 0;

@@ -74,7 +74,7 @@ inline VF horizon_march(const NnaoWeights& m, const screen_space::GBuffer& g_in,
   }
   const int64_t extra = int64_t(L.directions) * L.bands;
   VF vx = zero - b.px, vy = zero - b.py, vz = b.z;  // -P
-  normalize(vx, vy, vz);
+  normalize_or_facing(vx, vy, vz);
   f[extra] = nx * vx + ny * vy + nz * vz;
   alignas(64) float rp[kLanes];
   store(rp, R_px, Mask(0xffff));

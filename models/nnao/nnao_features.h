@@ -34,7 +34,7 @@ struct FeatureCentre {
   int w;
   float z, r, inv_r, cx, cy, kx, ky;
   float step;  // grid spacing 2r/(w-1): offset(i) = -r + i * step
-  screen_space::Vec3 P, N;
+  Vec3 P, N;
 
   FeatureCentre(const screen_space::GBuffer& gb, int px, int py, int window) : g(&gb), w(window) {
     const int64_t c = int64_t(py) * gb.width + px;
@@ -66,8 +66,8 @@ struct FeatureCentre {
       o[0] = o[1] = o[2] = o[3] = 0;
       return false;
     }
-    const screen_space::Vec3 D = g->position(ix, iy) - P;
-    const float d2 = screen_space::dot(D, D) * (inv_r * inv_r);
+    const Vec3 D = g->position(ix, iy) - P;
+    const float d2 = dot(D, D) * (inv_r * inv_r);
     if (!(d2 < 1.0f)) {
       o[0] = o[1] = o[2] = o[3] = 0;
       return false;

@@ -34,7 +34,7 @@ inline void bilateral_blur_reference(const screen_space::GBuffer& g, const float
         return;
       }
       const float z = g.z[i];
-      const screen_space::Vec3 n = g.normal(i);
+      const Vec3 n = g.normal(i);
       float s = 0, ws = 0;
       for (int k = -2; k <= 2; ++k) {
         const int sx = x + k * ddx, sy = y + k * ddy;
@@ -42,7 +42,7 @@ inline void bilateral_blur_reference(const screen_space::GBuffer& g, const float
         const int64_t j = int64_t(sy) * g.width + sx;
         if (g.sky(j)) continue;
         const float dz = (g.z[j] - z) * inv_dz;
-        const float nd = pow_by_squaring(std::max(0.0f, screen_space::dot(n, g.normal(j))), e.normal_power, 1.0f);
+        const float nd = pow_by_squaring(std::max(0.0f, dot(n, g.normal(j))), e.normal_power, 1.0f);
         const float w = spatial[k + 2] * std::exp(-dz * dz) * nd;
         s += w * src[j];
         ws += w;

@@ -30,8 +30,8 @@ data::View floor_view(int w, int h, float cam_x) {
   return v;
 }
 
-screen_space::Vec3 world(const screen_space::GBuffer& g, int64_t i, float cam_x) {
-  screen_space::Vec3 p = g.position(int(i % g.width), int(i / g.width));
+Vec3 world(const screen_space::GBuffer& g, int64_t i, float cam_x) {
+  Vec3 p = g.position(int(i % g.width), int(i / g.width));
   p.x += cam_x;
   return p;
 }
@@ -56,8 +56,8 @@ TEST(AoTemporal, ReprojectionFindsTheSameSurfacePoint) {
     shifted += j != i;
     // The two pixels show the same floor point, to within a pixel's footprint there.
     const float footprint = gc.z[i] * 2 * gc.sx / float(gc.width);
-    const screen_space::Vec3 d = world(gc, i, x1) - world(gp, j, x0);
-    EXPECT_LT(screen_space::length(d), 1.5f * footprint) << "pixel " << i;
+    const Vec3 d = world(gc, i, x1) - world(gp, j, x0);
+    EXPECT_LT(length(d), 1.5f * footprint) << "pixel " << i;
   }
   EXPECT_GT(mapped, floor_px * 8 / 10);  // only the strip that entered the screen is lost
   EXPECT_LT(mapped, floor_px);

@@ -107,7 +107,7 @@ TEST(ClassicalAo, GBufferRejectsNanDepthAndMissingRadius) {
 TEST(ClassicalAo, ProjectionInvertsPosition) {
   auto v = open_plane(40, 30);
   auto g = screen_space::gbuffer_from_view(v);
-  screen_space::Vec3 p = g.position(7.0f, 25.0f, 3.5f);
+  Vec3 p = g.position(7.0f, 25.0f, 3.5f);
   float px, py;
   g.project(p, px, py);
   EXPECT_NEAR(px, 7.0f, 1e-4);

@@ -21,11 +21,11 @@ std::vector<float> reference_features(const screen_space::GBuffer& g, int px, in
   tie.assign(size_t(w) * w, false);
   const int64_t c = int64_t(py) * g.width + px;
   const double r = g.radius;
-  screen_space::Vec3 P = g.position(px, py);
+  Vec3 P = g.position(px, py);
   for (int j = 0; j < w; ++j)
     for (int i = 0; i < w; ++i) {
       double ox = w == 1 ? 0 : r * (2.0 * i / (w - 1) - 1), oy = w == 1 ? 0 : r * (1 - 2.0 * j / (w - 1));
-      screen_space::Vec3 S{float(P.x + ox), float(P.y + oy), P.z};
+      Vec3 S{float(P.x + ox), float(P.y + oy), P.z};
       float sx, sy;
       g.project(S, sx, sy);
       auto near_half = [](float t) { return std::abs(t - std::floor(t) - 0.5f) < 1e-3f; };
@@ -35,8 +35,8 @@ std::vector<float> reference_features(const screen_space::GBuffer& g, int px, in
       int64_t s = int64_t(iy) * g.width + ix;
       float* o = &out[(size_t(j) * w + i) * 4];
       if (g.sky(s)) continue;
-      screen_space::Vec3 Ps = g.position(ix, iy);
-      double dist = std::sqrt(double(screen_space::dot(Ps - P, Ps - P)));
+      Vec3 Ps = g.position(ix, iy);
+      double dist = std::sqrt(double(dot(Ps - P, Ps - P)));
       double f = 1 - std::clamp(dist / r, 0.0, 1.0);
       o[0] = float(f * (g.nx[s] - g.nx[c]));
       o[1] = float(f * (g.ny[s] - g.ny[c]));

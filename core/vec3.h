@@ -1,10 +1,12 @@
 #pragma once
-// Vec3: the renderer's 3-vector (positions, directions, RGB). Float, because Embree
-// traces in float; the integrators accumulate their estimates in double.
+// Vec3: the one 3-vector of the project: the renderer's positions, directions and RGB,
+// and the G-buffer's view-space positions and normals. Float, because Embree traces in
+// float and the screen-space methods run 16 float lanes; the integrators accumulate
+// their estimates in double (Accum3).
 #include <algorithm>
 #include <cmath>
 
-namespace nns::render {
+namespace nns {
 
 struct Vec3 {
   float x = 0, y = 0, z = 0;
@@ -29,6 +31,8 @@ inline constexpr Vec3 cross(Vec3 a, Vec3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
+// The unit vector along a, and the zero vector for a zero a. (A G-buffer normal that
+// may be zero uses screen_space::normalize_or_facing, which faces the camera instead.)
 inline Vec3 normalize(Vec3 a) {
   float l = length(a);
   return l > 0 ? a / l : Vec3(0, 0, 0);
@@ -46,4 +50,4 @@ struct Accum3 {
   Vec3 mean(double n) const { return n > 0 ? Vec3(float(r / n), float(g / n), float(b / n)) : Vec3(); }
 };
 
-}  // namespace nns::render
+}  // namespace nns
