@@ -138,8 +138,8 @@ class Args {
   // A finite number in [lo, hi]. Every real-valued flag ends up a float somewhere, so the
   // range never reaches past the largest float: 1e39 passed a check in double and became
   // inf (an infinite radius, every pixel sky).
-  double get_double(const std::string& name, double def, const std::string& help,
-                    double lo = -HUGE_VAL, double hi = HUGE_VAL) {
+  double get_double(const std::string& name, double def, const std::string& help, double lo = -HUGE_VAL,
+                    double hi = HUGE_VAL) {
     lo = std::max(lo, -double(FLT_MAX));
     hi = std::min(hi, double(FLT_MAX));
     char buf[32];
@@ -173,8 +173,8 @@ class Args {
     return false;
   }
   // A value from a fixed set, e.g. --mode front|surround.
-  std::string get_choice(const std::string& name, const std::string& def,
-                         const std::vector<std::string>& choices, const std::string& help) {
+  std::string get_choice(const std::string& name, const std::string& def, const std::vector<std::string>& choices,
+                         const std::string& help) {
     std::string alts;
     for (auto& c : choices) alts += (alts.empty() ? "" : "|") + c;
     add_usage(name, alts, def, help);
@@ -192,9 +192,8 @@ class Args {
   // Call after every get_*: prints usage for --help (exit 0); exits 2 on any problem.
   void done(const std::string& positional_usage = "") {
     if (help_) {
-      std::printf("usage: %s [flags]%s\n%s\n\nflags:\n%s  --help              this text\n",
-                  program_.c_str(), positional_usage.empty() ? "" : (" " + positional_usage).c_str(),
-                  summary_.c_str(), usage_.c_str());
+      std::printf("usage: %s [flags]%s\n%s\n\nflags:\n%s  --help              this text\n", program_.c_str(),
+                  positional_usage.empty() ? "" : (" " + positional_usage).c_str(), summary_.c_str(), usage_.c_str());
       std::exit(0);
     }
     for (auto& [name, v] : values_)
@@ -232,8 +231,7 @@ class Args {
     auto it = values_.find(name);
     return it == values_.end() || it->second.empty() ? nullptr : &it->second.back();
   }
-  void add_usage(const std::string& name, const std::string& meta, const std::string& def,
-                 const std::string& help) {
+  void add_usage(const std::string& name, const std::string& meta, const std::string& def, const std::string& help) {
     std::string left = "  " + name + (meta.empty() ? "" : " " + meta);
     if (left.size() < 22) left.resize(22, ' ');
     else left += "  ";

@@ -9,18 +9,22 @@
 
 int main(int argc, char** argv) {
   nns::apps::Args args(argc, argv, "dataset-info",
-                      "Validate a G-buffer EXR dataset and print views, resolutions, channels, "
-                      "scenes, value ranges and every problem found.");
+                       "Validate a G-buffer EXR dataset and print views, resolutions, channels, "
+                       "scenes, value ranges and every problem found.");
   std::string purpose = args.get_choice("--purpose", "any", {"any", "nnao", "gi"},
                                         "which trainer the data is for (decides required channels)");
   int max_problems = args.get_int("--max-problems", 50, "problems listed before '... and N more'", 0, 1000000);
-  std::string sheet = args.get_string("--contact-sheet", "", "also write a PNG of the ground truth: albedo | shaded | "
+  std::string sheet = args.get_string("--contact-sheet", "",
+                                      "also write a PNG of the ground truth: albedo | shaded | "
                                       "indirect of each front view (GI data)");
-  std::string sheet_split = args.get_choice("--sheet-split", "train", {"train", "test", "holdout"}, "the split the sheet shows");
+  std::string sheet_split =
+      args.get_choice("--sheet-split", "train", {"train", "test", "holdout"}, "the split the sheet shows");
   std::string sheet_family = args.get_string("--sheet-family", "", "only frames of this scene family on the sheet");
   int sheet_frames = args.get_int("--sheet-frames", 12, "frames on the sheet", 1, 1000);
-  int sheet_per_scene = args.get_int("--sheet-per-scene", 1, "frames of one scene on the sheet (a camera path's look alike)", 1, 1000);
-  if (args.positional().size() > 1) args.error("expected one dataset folder, got " + std::to_string(args.positional().size()));
+  int sheet_per_scene =
+      args.get_int("--sheet-per-scene", 1, "frames of one scene on the sheet (a camera path's look alike)", 1, 1000);
+  if (args.positional().size() > 1)
+    args.error("expected one dataset folder, got " + std::to_string(args.positional().size()));
   args.done("DIR");
   if (args.positional().empty()) {
     std::fprintf(stderr, "dataset-info: error: missing the dataset folder\nrun 'dataset-info --help' for usage\n");
@@ -35,19 +39,23 @@ int main(int argc, char** argv) {
   return nns::apps::run_main("dataset-info", [&] {
     nns::data::ValidateOptions o;
     o.purpose = purpose == "nnao" ? nns::data::Purpose::nnao
-              : purpose == "gi"   ? nns::data::Purpose::gi
+                : purpose == "gi" ? nns::data::Purpose::gi
                                   : nns::data::Purpose::any;
     o.max_problems = max_problems;
     auto report = nns::data::validate_dataset(dir, o);
     nns::data::print_report(stdout, report);
     if (!sheet.empty()) {
       auto listing = nns::data::list_dataset(dir);
-      const auto& split = sheet_split == "train" ? listing.train : sheet_split == "test" ? listing.test : listing.holdout;
+      const auto& split = sheet_split == "train"  ? listing.train
+                          : sheet_split == "test" ? listing.test
+                                                  : listing.holdout;
       int n = nns::runs::write_contact_sheet(sheet, split, sheet_family, sheet_frames, sheet_per_scene);
-      if (n == 0) throw std::runtime_error(dir + ": no " + sheet_split + " view or frame with indirect.*" +
-                                           (sheet_family.empty() ? "" : " of family '" + sheet_family + "'") +
-                                           " for --contact-sheet");
-      std::printf("contact sheet: %s (%d %s frames; albedo | shaded | indirect)\n", sheet.c_str(), n, sheet_split.c_str());
+      if (n == 0)
+        throw std::runtime_error(dir + ": no " + sheet_split + " view or frame with indirect.*" +
+                                 (sheet_family.empty() ? "" : " of family '" + sheet_family + "'") +
+                                 " for --contact-sheet");
+      std::printf("contact sheet: %s (%d %s frames; albedo | shaded | indirect)\n", sheet.c_str(), n,
+                  sheet_split.c_str());
     }
     return report.clean() ? 0 : 1;
   });

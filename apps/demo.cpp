@@ -20,7 +20,7 @@ using namespace nns;
 int main(int argc, char** argv) {
   return apps::run_main("demo", [&] {
     apps::Args a(argc, argv, "demo",
-                "Train a small conv net on built-in synthetic data, save its weights, reload them.");
+                 "Train a small conv net on built-in synthetic data, save its weights, reload them.");
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
     int seed = a.get_int("--seed", 1, "random seed (weights and data)", 0, INT_MAX);
     int epochs = a.get_int("--epochs", 20, "training epochs", 1, 100000);

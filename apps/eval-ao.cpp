@@ -26,26 +26,43 @@ using namespace nns;
 int main(int argc, char** argv) {
   return apps::run_main("eval-ao", [&]() -> int {
     apps::Args args(argc, argv, "eval-ao",
-                   "Time and score NNAO and the classical SSAO methods against ground-truth AO.");
+                    "Time and score NNAO and the classical SSAO methods against ground-truth AO.");
     runs::EvalAoOptions o;
-    std::string data_dir = args.get_string("--data", "", "dataset: a split folder, a flat folder, or a root with test/ (default: the built-in default nnao dataset)");
-    std::string model = args.get_string("--model", "", "nnao.blob from train-nnao (omit to run only the classical methods)");
-    o.ladder = args.get_string("--ladder", "", "a trained NNAO ladder's folder (train-nnao --ladder): every rung as NNAO-exact, drawn as one curve (instead of --model)");
+    std::string data_dir = args.get_string(
+        "--data", "",
+        "dataset: a split folder, a flat folder, or a root with test/ (default: the built-in default nnao dataset)");
+    std::string model =
+        args.get_string("--model", "", "nnao.blob from train-nnao (omit to run only the classical methods)");
+    o.ladder = args.get_string("--ladder", "",
+                               "a trained NNAO ladder's folder (train-nnao --ladder): every rung as NNAO-exact, drawn "
+                               "as one curve (instead of --model)");
     std::string out = args.get_path("--out", "eval-out", "output folder");
     std::string methods_flag;
     for (const std::string& m : args.get_names("--methods", "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO", "methods"))
       methods_flag += (methods_flag.empty() ? "" : ",") + m;
-    std::vector<int> nnao_samples = args.get_int_list("--nnao-samples", "16,32,64,128,256", "shader-style NNAO sample counts", 1, INT_MAX);
+    std::vector<int> nnao_samples =
+        args.get_int_list("--nnao-samples", "16,32,64,128,256", "shader-style NNAO sample counts", 1, INT_MAX);
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     int previews = args.get_int("--previews", 3, "views to write preview PNGs for", 0, 100000);
     int max_views = args.get_int("--max-views", 0, "evaluate at most this many views (0 = all)", 0, INT_MAX);
-    int repeat = args.get_int("--repeat", 3, "time each method this many times per view and keep the fastest (>= 1)", 1, 1000);
-    std::string params_file = args.get_string("--classical-params", "", "parameter file from tune-classical-ao (default: the built-in parameters)");
-    const std::string split = args.get_choice("--split", "both", {"test", "holdout", "both"},
-                                              "both: the test split into OUT and, if the data has one, the held-out families into OUT/holdout");
-    o.temporal_blend = args.get_double("--temporal-blend", 0, "> 0: also score every method with temporal accumulation ('<method>+TA': out = a * this frame + (1 - a) * the previous output reprojected, on camera paths); a = this value", 0, 1);
-    o.vary_pattern = args.get_flag("--vary-pattern", "shader-style NNAO: a jitter pattern per camera-path frame (for --temporal-blend to average), instead of one fixed pattern");
-    bool scalar = args.get_flag("--scalar", "run the scalar per-pixel reference loops instead of the vectorised ones (to measure the speed-up)");
+    int repeat =
+        args.get_int("--repeat", 3, "time each method this many times per view and keep the fastest (>= 1)", 1, 1000);
+    std::string params_file = args.get_string(
+        "--classical-params", "", "parameter file from tune-classical-ao (default: the built-in parameters)");
+    const std::string split = args.get_choice(
+        "--split", "both", {"test", "holdout", "both"},
+        "both: the test split into OUT and, if the data has one, the held-out families into OUT/holdout");
+    o.temporal_blend =
+        args.get_double("--temporal-blend", 0,
+                        "> 0: also score every method with temporal accumulation ('<method>+TA': out = a * this frame "
+                        "+ (1 - a) * the previous output reprojected, on camera paths); a = this value",
+                        0, 1);
+    o.vary_pattern = args.get_flag("--vary-pattern",
+                                   "shader-style NNAO: a jitter pattern per camera-path frame (for --temporal-blend to "
+                                   "average), instead of one fixed pattern");
+    bool scalar = args.get_flag(
+        "--scalar",
+        "run the scalar per-pixel reference loops instead of the vectorised ones (to measure the speed-up)");
     args.done();
     set_num_threads(threads);
     if (data_dir.empty()) data_dir = render::ensure_default_dataset("nnao", threads);

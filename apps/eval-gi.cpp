@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   return apps::run_main("eval-gi", [&] {
     apps::Args a(argc, argv, "eval-gi", "Evaluate GI generators against ray-traced ground truth.");
     runs::EvalOptions o;
-    o.data = a.get_string("--data", "", "dataset folder (its test split is scored, its train split fits the ambient term)");
+    o.data =
+        a.get_string("--data", "", "dataset folder (its test split is scored, its train split fits the ambient term)");
     o.models = a.get_list("--model", "a generator blob (G.blob) from train-gan");
     o.out = a.get_path("--out", "eval-gi-out", "output folder");
     o.split = a.get_choice("--split", "test", {"test", "validation", "holdout"},
@@ -30,13 +31,19 @@ int main(int argc, char** argv) {
     int max_frames = a.get_int("--max-frames", 0, "score at most N test frames (0: all)", 0, INT_MAX);
     o.previews = a.get_int("--previews", 3, "frames with preview PNGs per model", 0, 100000);
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
-    o.offscreen_share = float(a.get_double("--offscreen-share", 1.0 / 6,
-                                           "a frame is off-screen-lit when its front face holds less than this share of its direct light", 0, 1));
-    o.size = a.get_int("--size", 0, "score at this face size, the views box-filtered to it (0: each model at the face it "
-                       "was trained at); a model trained at another size runs fully convolutionally", 0, 16384);
-    o.upsample_from = a.get_int("--upsample-from", 0, "run each model at this face size and bring its indirect light up "
-                                "to the scored size with an upsample guided by depth and normals (0: off)", 0, 16384);
-    if (o.upsample_from > 0 && o.size == 0) a.error("--upsample-from needs --size (the face the light is brought up to)");
+    o.offscreen_share = float(a.get_double(
+        "--offscreen-share", 1.0 / 6,
+        "a frame is off-screen-lit when its front face holds less than this share of its direct light", 0, 1));
+    o.size = a.get_int("--size", 0,
+                       "score at this face size, the views box-filtered to it (0: each model at the face it "
+                       "was trained at); a model trained at another size runs fully convolutionally",
+                       0, 16384);
+    o.upsample_from = a.get_int("--upsample-from", 0,
+                                "run each model at this face size and bring its indirect light up "
+                                "to the scored size with an upsample guided by depth and normals (0: off)",
+                                0, 16384);
+    if (o.upsample_from > 0 && o.size == 0)
+      a.error("--upsample-from needs --size (the face the light is brought up to)");
     if (o.upsample_from > 0 && o.size > 0 && (o.upsample_from >= o.size || o.size % o.upsample_from))
       a.error("--upsample-from must be a proper divisor of --size (" + std::to_string(o.size) + ")");
     if (o.data.empty()) a.error("--data is required");

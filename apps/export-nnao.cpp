@@ -22,7 +22,8 @@ namespace {
 
 // The rung of `ladder` to ship within the budget, its choice printed with every rung's
 // time; "" when none fits.
-std::string pick_from_ladder(const std::string& ladder, double budget_ms, int w, int h, std::string view_file, int threads) {
+std::string pick_from_ladder(const std::string& ladder, double budget_ms, int w, int h, std::string view_file,
+                             int threads) {
   if (view_file.empty()) {
     const data::DatasetListing d = data::list_dataset(render::ensure_default_dataset("nnao", threads));
     view_file = d.test.views.empty() ? d.train.views.at(0) : d.test.views[0];
@@ -42,15 +43,22 @@ std::string pick_from_ladder(const std::string& ladder, double budget_ms, int w,
 
 int main(int argc, char** argv) {
   return apps::run_main("export-nnao", [&]() -> int {
-    apps::Args args(argc, argv, "export-nnao", "Export NNAO as GLSL passes (and a grid model's filter texture) for engines.");
+    apps::Args args(argc, argv, "export-nnao",
+                    "Export NNAO as GLSL passes (and a grid model's filter texture) for engines.");
     std::string model = args.get_string("--model", "", "nnao.blob from train-nnao");
-    const std::string ladder = args.get_string("--ladder", "", "instead of --model: a trained ladder (train-nnao --ladder); exports its highest (most accurate) rung that fits --budget-ms at --size on this machine");
-    const double budget = args.get_double("--budget-ms", 0, "--ladder: the AO budget per frame in ms (timed here, on this machine's threads)", 1e-3, 1e6);
+    const std::string ladder =
+        args.get_string("--ladder", "",
+                        "instead of --model: a trained ladder (train-nnao --ladder); exports its highest (most "
+                        "accurate) rung that fits --budget-ms at --size on this machine");
+    const double budget = args.get_double(
+        "--budget-ms", 0, "--ladder: the AO budget per frame in ms (timed here, on this machine's threads)", 1e-3, 1e6);
     const std::string size = args.get_string("--size", "1280x720", "--ladder: the frame size the budget is for, WxH");
-    const std::string view = args.get_string("--view", "", "--ladder: the view timed, resized to --size (default: the default dataset's first test view)");
+    const std::string view = args.get_string(
+        "--view", "", "--ladder: the view timed, resized to --size (default: the default dataset's first test view)");
     const int threads = args.get_int("--threads", 2, "--ladder: worker threads for the timing", 1, 256);
     std::string out = args.get_path("--out", "nnao-export", "output folder");
-    int samples = args.get_int("--samples", 64, "grid models: the shader's default filter samples per pixel (uSamples)", 1, INT_MAX);
+    int samples = args.get_int("--samples", 64, "grid models: the shader's default filter samples per pixel (uSamples)",
+                               1, INT_MAX);
     int w = 0, h = 0;
     char tail = 0;
     if (std::sscanf(size.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
@@ -62,7 +70,8 @@ int main(int argc, char** argv) {
       set_num_threads(threads);
       model = pick_from_ladder(ladder, budget, w, h, view, threads);
       if (model.empty()) {
-        std::fprintf(stderr, "export-nnao: no rung of %s fits %.3g ms at %dx%d on this machine (times above)\n", ladder.c_str(), budget, w, h);
+        std::fprintf(stderr, "export-nnao: no rung of %s fits %.3g ms at %dx%d on this machine (times above)\n",
+                     ladder.c_str(), budget, w, h);
         return 1;
       }
     }
@@ -71,8 +80,9 @@ int main(int argc, char** argv) {
     std::string files;
     for (const std::string& f : runs::write_export(m, out, samples)) files += (files.empty() ? "" : ", ") + f;
     std::printf("wrote %s into %s (%s)\n", files.c_str(), out.c_str(),
-                m.input.is_horizon() ? (std::to_string(m.input.samples()) + " depth samples per pixel, fixed by the model").c_str()
-                                     : ("default " + std::to_string(samples) + " filter samples per pixel").c_str());
+                m.input.is_horizon()
+                    ? (std::to_string(m.input.samples()) + " depth samples per pixel, fixed by the model").c_str()
+                    : ("default " + std::to_string(samples) + " filter samples per pixel").c_str());
     return 0;
   });
 }

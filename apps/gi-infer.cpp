@@ -20,20 +20,20 @@ using namespace nns;
 int main(int argc, char** argv) {
   return apps::run_main("gi-infer", [&] {
     apps::Args a(argc, argv, "gi-infer",
-                "Predict indirect light and the lit image of one G-buffer frame with a trained GI generator.\n"
-                "--in: a view EXR (front-mode model) or a folder with front/back/left/right/up/down.exr\n"
-                "(surround model); needs Z, N.X/Y/Z, albedo.R/G/B, direct.R/G/B (emission, env optional),\n"
-                "no indirect.*. Or the frame as your own images, --channel (below): TARGET=FILE for a\n"
-                "front-mode model, FACE.TARGET=FILE on each of the six faces for a surround model.\n"
-                "Views larger than the model's face size are box-filtered down by an integer\n"
-                "factor. Writes OUT.exr (light.*, indirect.* = light - direct - env, signed; shaded.* =\n"
-                "albedo * light + emission; Z), OUT_shaded.png and OUT_indirect.png; on error, nothing.");
+                 "Predict indirect light and the lit image of one G-buffer frame with a trained GI generator.\n"
+                 "--in: a view EXR (front-mode model) or a folder with front/back/left/right/up/down.exr\n"
+                 "(surround model); needs Z, N.X/Y/Z, albedo.R/G/B, direct.R/G/B (emission, env optional),\n"
+                 "no indirect.*. Or the frame as your own images, --channel (below): TARGET=FILE for a\n"
+                 "front-mode model, FACE.TARGET=FILE on each of the six faces for a surround model.\n"
+                 "Views larger than the model's face size are box-filtered down by an integer\n"
+                 "factor. Writes OUT.exr (light.*, indirect.* = light - direct - env, signed; shaded.* =\n"
+                 "albedo * light + emission; Z), OUT_shaded.png and OUT_indirect.png; on error, nothing.");
     runs::InferOptions o;
     o.model = a.get_string("--model", "", "generator blob (G.blob) from train-gan");
     o.in = a.get_string("--in", "", "the frame: a view .exr or a folder of six faces (or --channel)");
     apps::ImageInputFlags images =
         apps::image_input_flags(a, "gi-infer", {"depth", "normal", "albedo", "direct"}, {"emission", "env"},
-                                                           /*surround=*/true);
+                                /*surround=*/true);
     o.channels = images.channels;
     o.images = images.view;
     o.out = a.get_path("--out", "", "output .exr (default: <input name>_gi.exr in the current folder)");
@@ -51,9 +51,10 @@ int main(int argc, char** argv) {
     for (auto& note : r.notes) std::printf("gi-infer: %s\n", note.c_str());
     std::printf("gi-infer: %s model, %s %dx%d -> %dx%d (box filter %d), network %.1f ms\n", r.mode.c_str(),
                 r.front_file.c_str(), r.in_width, r.in_height, r.width, r.height, r.reduction, r.ms);
-    std::printf("gi-infer: predicted light below direct+env (negative indirect, kept signed in the EXR) on "
-                "%lld of %lld geometry pixels, minimum %.4g\n",
-                (long long)r.negative_indirect_pixels, (long long)r.geometry_pixels, double(r.min_indirect));
+    std::printf(
+        "gi-infer: predicted light below direct+env (negative indirect, kept signed in the EXR) on "
+        "%lld of %lld geometry pixels, minimum %.4g\n",
+        (long long)r.negative_indirect_pixels, (long long)r.geometry_pixels, double(r.min_indirect));
     std::printf("gi-infer: wrote %s, %s, %s\n", r.exr.c_str(), r.shaded_png.c_str(), r.indirect_png.c_str());
     return 0;
   });

@@ -40,9 +40,8 @@ inline ImageInputFlags image_input_flags(Args& a, const std::string& command, st
       "with --channel: the camera's vertical field of view, degrees" +
           std::string(surround ? " (a surround frame's faces: 90, the default for them; no other value)" : ""),
       0, 179.999));
-  f.view.depth_scale = float(a.get_double("--depth-scale", 0,
-                                          "with --channel and an integer depth file: the depth of its largest code",
-                                          0, HUGE_VAL));
+  f.view.depth_scale = float(a.get_double(
+      "--depth-scale", 0, "with --channel and an integer depth file: the depth of its largest code", 0, HUGE_VAL));
   f.view.targets = std::move(targets);
   f.view.optional = std::move(optional);
   f.view.command = command;

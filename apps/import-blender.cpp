@@ -35,7 +35,8 @@ std::vector<Job> plan(const std::vector<std::string>& inputs, const std::string&
     } else if (fs::is_directory(in)) {
       std::vector<fs::path> found;
       for (auto& e : fs::recursive_directory_iterator(in))
-        if (e.is_regular_file() && e.path().extension() == ".exr" && e.path().string().find(".partial-") == std::string::npos)
+        if (e.is_regular_file() && e.path().extension() == ".exr" &&
+            e.path().string().find(".partial-") == std::string::npos)
           found.push_back(e.path());
       if (found.empty()) throw std::runtime_error(in + ": folder holds no .exr file");
       std::sort(found.begin(), found.end());
@@ -56,14 +57,17 @@ std::vector<Job> plan(const std::vector<std::string>& inputs, const std::string&
 
 int main(int argc, char** argv) {
   nns::apps::Args args(argc, argv, "import-blender",
-                      "Convert Blender multilayer EXR renders (ViewLayer.Depth.Z, ViewLayer.Normal.X, "
-                      "DiffCol, DiffDir, DiffInd, Emit, AO) into the nnshade dataset format. Files rendered by "
-                      "tools/blender_capture.py carry their camera in the header; a flag given here overrides it "
-                      "(with a note). Inputs are files or folders (converted whole, sub-folders kept).");
+                       "Convert Blender multilayer EXR renders (ViewLayer.Depth.Z, ViewLayer.Normal.X, "
+                       "DiffCol, DiffDir, DiffInd, Emit, AO) into the nnshade dataset format. Files rendered by "
+                       "tools/blender_capture.py carry their camera in the header; a flag given here overrides it "
+                       "(with a note). Inputs are files or folders (converted whole, sub-folders kept).");
   std::string out = args.get_path("--out", "", "output .exr (one input file) or folder (required)");
-  double fov = args.get_double("--fov-y", 0, "vertical field of view in degrees (default: the file's capture note)", 0, 179);
-  double ao_radius = args.get_double("--ao-radius", 0, "Blender's AO distance (default: the file's capture note)", 0, HUGE_VAL);
-  std::string scene = args.get_string("--scene", "", "scene name for splits (default: capture note, else the file name)");
+  double fov =
+      args.get_double("--fov-y", 0, "vertical field of view in degrees (default: the file's capture note)", 0, 179);
+  double ao_radius =
+      args.get_double("--ao-radius", 0, "Blender's AO distance (default: the file's capture note)", 0, HUGE_VAL);
+  std::string scene =
+      args.get_string("--scene", "", "scene name for splits (default: capture note, else the file name)");
   std::string w2c = args.get_string("--world-to-camera", "",
                                     "16 numbers, row by row: camera.matrix_world.inverted() (default: capture note, "
                                     "else a worldToCamera attribute)");

@@ -25,8 +25,10 @@ int main(int argc, char** argv) {
     apps::ImageInputFlags images = apps::image_input_flags(args, "nnao-infer", {"depth", "normal"});
     std::string out = args.get_path("--out", "", "output EXR (channel AO)");
     std::string png = args.get_string("--png", "", "also write a PNG preview");
-    int samples = args.get_int("--samples", 0, "0 = exact; else shader-style filter samples (64, 128, 256, ...)", 0, INT_MAX);
-    double radius = args.get_double("--radius", 0, "AO radius (0 = the view's aoRadius, else the model's)", 0, HUGE_VAL);
+    int samples =
+        args.get_int("--samples", 0, "0 = exact; else shader-style filter samples (64, 128, 256, ...)", 0, INT_MAX);
+    double radius =
+        args.get_double("--radius", 0, "AO radius (0 = the view's aoRadius, else the model's)", 0, HUGE_VAL);
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     if (!in.empty() && !images.channels.empty()) args.error("--in and --channel are alternatives; give one");
     args.done();

@@ -44,42 +44,55 @@ int main(int argc, char** argv) {
       "procedural scene families (default: surround-v4 and v5 all, surround-v3 generations 1-3, nnao-v2 and "
       "surround-v2 generations 1-2, other presets the first eight; generation 3 is corridor, courtyard, multiroom, "
       "generation 4 cloister, basilica: ";
-  for (auto& f : render::scene_families()) families_help += f.name + (&f == &render::scene_families().back() ? ")" : ", ");
+  for (auto& f : render::scene_families())
+    families_help += f.name + (&f == &render::scene_families().back() ? ")" : ", ");
   apps::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
   render::DatasetJob job;
   job.out = args.get_path("--out", "", "output dataset folder (required)");
-  job.preset = args.get_choice("--preset", "nnao",
-                               {"nnao", "nnao-v2", "gi", "surround", "surround-v2", "surround-v3", "surround-v4",
-                                "surround-v5"},
-                               "channels: nnao = Z N albedo AO; nnao-v2 = nnao over all families with per-view fov, "
-                               "aspect, size, AO radius and pitch varied; gi = + direct emission env indirect; "
-                               "surround = gi as cube frames; surround-v2 = surround over generations 1-2, albedos, lights, sun "
-                               "and extra lamps varied per scene, pitch widened; surround-v3 = surround-v2 plus the third generation "
-                               "(corridor, courtyard, multiroom); surround-v4 = surround-v3 plus the fourth generation (cloister, basilica) "
-                               "and procedural albedo textures on most materials; surround-v5 = surround-v4's frames "
-                               "rendered faster: fewer AO and env rays on the side faces (--side-spp)");
+  job.preset = args.get_choice(
+      "--preset", "nnao",
+      {"nnao", "nnao-v2", "gi", "surround", "surround-v2", "surround-v3", "surround-v4", "surround-v5"},
+      "channels: nnao = Z N albedo AO; nnao-v2 = nnao over all families with per-view fov, "
+      "aspect, size, AO radius and pitch varied; gi = + direct emission env indirect; "
+      "surround = gi as cube frames; surround-v2 = surround over generations 1-2, albedos, lights, sun "
+      "and extra lamps varied per scene, pitch widened; surround-v3 = surround-v2 plus the third generation "
+      "(corridor, courtyard, multiroom); surround-v4 = surround-v3 plus the fourth generation (cloister, basilica) "
+      "and procedural albedo textures on most materials; surround-v5 = surround-v4's frames "
+      "rendered faster: fewer AO and env rays on the side faces (--side-spp)");
   job.views = args.get_int("--views", 80, "views (surround: frames) over train + test", 1, 1000000);
-  std::string size = args.get_string("--size", "", "image size WxH, each side 1 to " + std::to_string(kMaxSide) + " (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
+  std::string size = args.get_string(
+      "--size", "",
+      "image size WxH, each side 1 to " + std::to_string(kMaxSide) +
+          " (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
   job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel", 1, 65536);
   job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel", 1, 65536);
   job.settings.side_spp = args.get_int("--side-spp", 0,
                                        "AO and env rays per pixel on the five side faces of a surround frame (0: the "
                                        "preset's: surround-v5 64 x 64 / face size, 8 to 64; the others --spp and "
-                                       "min(--gi-spp, 64))", 0, 65536);
+                                       "min(--gi-spp, 64))",
+                                       0, 65536);
   job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)", 1, 64);
   job.settings.seed = uint64_t(args.get_int("--seed", 1, "seed: scenes, cameras and noise", 0, INT_MAX));
-  int noise_seed = args.get_int("--noise-seed", -1, "seed of the Monte-Carlo noise alone (-1: --seed): the same scenes and cameras with independent noise", -1, INT_MAX);
+  int noise_seed = args.get_int(
+      "--noise-seed", -1,
+      "seed of the Monte-Carlo noise alone (-1: --seed): the same scenes and cameras with independent noise", -1,
+      INT_MAX);
   job.noise_seed = noise_seed;
   int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
   job.scene_files = args.get_list("--scene", "an OBJ or glTF scene file instead of the procedural families");
   job.families = args.get_names("--families", "", families_help);
-  job.holdout_families = args.get_names("--holdout-families", "", "families rendered only into holdout/ (leave-families-out)");
-  job.holdout_fraction = args.get_double("--holdout-fraction", 0.2, "share of views in holdout/ (with --holdout-families)", 0.01, 0.9);
-  job.path_frames = args.get_int("--path-frames", 1, "> 1: views come as smooth camera paths of this many frames", 1, 10000);
+  job.holdout_families =
+      args.get_names("--holdout-families", "", "families rendered only into holdout/ (leave-families-out)");
+  job.holdout_fraction =
+      args.get_double("--holdout-fraction", 0.2, "share of views in holdout/ (with --holdout-families)", 0.01, 0.9);
+  job.path_frames =
+      args.get_int("--path-frames", 1, "> 1: views come as smooth camera paths of this many frames", 1, 10000);
   job.views_per_scene = args.get_int("--views-per-scene", 4, "views rendered in one scene before the next", 1, 1000000);
   job.test_fraction = args.get_double("--test-fraction", 0.2, "share of views from held-out scenes (test/)", 0, 0.95);
-  job.fov_y_deg = float(args.get_double("--fov", 60, "vertical field of view in degrees (not surround; nnao-v2 draws one per view)", 1, 179));
-  const bool replace = args.get_flag("--replace", "remove the views of an earlier render in --out first (without it such a folder is refused)");
+  job.fov_y_deg = float(args.get_double(
+      "--fov", 60, "vertical field of view in degrees (not surround; nnao-v2 draws one per view)", 1, 179));
+  const bool replace = args.get_flag(
+      "--replace", "remove the views of an earlier render in --out first (without it such a folder is refused)");
   args.done();
   if (job.out.empty()) args.error("--out is required"), args.done();
 
@@ -105,8 +118,8 @@ int main(int argc, char** argv) {
     runs::barrier();
     set_num_threads(threads);
     render::DatasetReport r = render::render_dataset(job);
-    std::vector<double> sums = {double(r.train_views), double(r.test_views), double(r.holdout_views), double(r.rays),
-                                r.render_seconds, r.cpu_seconds};
+    std::vector<double> sums = {double(r.train_views), double(r.test_views), double(r.holdout_views),
+                                double(r.rays),        r.render_seconds,     r.cpu_seconds};
     runs::sum_over_ranks(sums);  // the report counts every rank's views
     r.train_views = int(sums[0]), r.test_views = int(sums[1]), r.holdout_views = int(sums[2]);
     r.rays = uint64_t(sums[3]), r.render_seconds = sums[4], r.cpu_seconds = sums[5];
@@ -114,13 +127,13 @@ int main(int argc, char** argv) {
     int n = std::max(1, r.train_views + r.test_views + r.holdout_views);
     std::string held = r.holdout_views ? " + " + std::to_string(r.holdout_views) + " holdout" : "";
     std::string held_scenes = r.holdout_views ? " + " + std::to_string(r.holdout_scenes.size()) : "";
-    std::printf("%s: %d train + %d test%s %s (%zu + %zu%s scenes), %.1f s; per %s %.2f s wall, %.2f CPU-s; "
-                "%.2f Mrays/s wall, %.2f Mrays per CPU-s\n",
-                job.out.c_str(), r.train_views, r.test_views, held.c_str(), surround ? "frames" : "views",
-                r.train_scenes.size(), r.test_scenes.size(), held_scenes.c_str(), r.total_seconds,
-                surround ? "frame" : "view", r.render_seconds / n, r.cpu_seconds / n,
-                r.render_seconds > 0 ? r.rays / r.render_seconds * 1e-6 : 0.0,
-                r.cpu_seconds > 0 ? r.rays / r.cpu_seconds * 1e-6 : 0.0);
+    std::printf(
+        "%s: %d train + %d test%s %s (%zu + %zu%s scenes), %.1f s; per %s %.2f s wall, %.2f CPU-s; "
+        "%.2f Mrays/s wall, %.2f Mrays per CPU-s\n",
+        job.out.c_str(), r.train_views, r.test_views, held.c_str(), surround ? "frames" : "views",
+        r.train_scenes.size(), r.test_scenes.size(), held_scenes.c_str(), r.total_seconds, surround ? "frame" : "view",
+        r.render_seconds / n, r.cpu_seconds / n, r.render_seconds > 0 ? r.rays / r.render_seconds * 1e-6 : 0.0,
+        r.cpu_seconds > 0 ? r.rays / r.cpu_seconds * 1e-6 : 0.0);
     return 0;
   }));
 }

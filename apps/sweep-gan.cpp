@@ -29,16 +29,19 @@ int main(int argc, char** argv) {
     auto sizes = a.get_int_list("--sizes", "16,32", "face sizes", 4, 4096);
     auto ngfs = a.get_int_list("--ngf", "8,16,32", "generator widths (ndf follows ngf)", 1, 1024);
     auto levels = a.get_int_list("--levels", "4,5", "U-Net levels", 1, 12);
-    std::string points_s = a.get_string("--points", "", "explicit size:ngf:levels list instead of the grid, e.g. 32:16:5,64:16:5");
+    std::string points_s =
+        a.get_string("--points", "", "explicit size:ngf:levels list instead of the grid, e.g. 32:16:5,64:16:5");
     int epochs = a.get_int("--epochs", 6, "epochs per model", 1, 100000);
     std::string loss = a.get_choice("--loss", "gan", {"gan", "l1", "dssim"}, "training loss of every point");
     std::string arch = a.get_choice("--arch", "pix2pix", {"pix2pix", "deepshading"}, "generator architecture");
-    std::string residual = a.get_choice("--residual", TrainGanOptions{}.residual, {"off", "mapped", "linear"}, "residual output (docs/gan.md)");
+    std::string residual = a.get_choice("--residual", TrainGanOptions{}.residual, {"off", "mapped", "linear"},
+                                        "residual output (docs/gan.md)");
     int max_frames = a.get_int("--max-frames", 0, "at most N train and N test frames (0: all)", 0, INT_MAX);
     double tolerance = a.get_double("--ssim-tolerance", 0.01, "how far below the best SSIM still counts", 0, 1);
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
     int seed = a.get_int("--seed", 1, "random seed", 0, INT_MAX);
-    double val_fraction = a.get_double("--validation-fraction", 0.15, "share of train/'s scenes every point is scored on", 0.01, 0.9);
+    double val_fraction =
+        a.get_double("--validation-fraction", 0.15, "share of train/'s scenes every point is scored on", 0.01, 0.9);
     a.done();
     set_num_threads(threads);
     if (data_dir.empty()) data_dir = render::ensure_default_dataset("surround", threads);

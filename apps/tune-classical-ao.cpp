@@ -25,14 +25,17 @@ using namespace nns;
 int main(int argc, char** argv) {
   return apps::run_main("tune-classical-ao", [&]() -> int {
     apps::Args args(argc, argv, "tune-classical-ao",
-                   "Fit the classical AO methods' parameters for minimum MSE on a dataset's training split.");
-    std::string data_dir = args.get_string("--data", "", "dataset root with train/ (default: the built-in default nnao dataset)");
-    std::string out = args.get_path("--out", "classical-params.txt", "parameter file to write (eval-ao --classical-params)");
+                    "Fit the classical AO methods' parameters for minimum MSE on a dataset's training split.");
+    std::string data_dir =
+        args.get_string("--data", "", "dataset root with train/ (default: the built-in default nnao dataset)");
+    std::string out =
+        args.get_path("--out", "classical-params.txt", "parameter file to write (eval-ao --classical-params)");
     std::vector<std::string> methods = args.get_names("--methods", "SSAO,SSAO+,HBAO,Alchemy,GTAO", "methods to tune");
     std::string start = args.get_string("--start", "", "parameter file to start from (default: the built-in values)");
     // Past ~30 rounds the halved steps are below a float's resolution of the parameters.
     int rounds = args.get_int("--rounds", 3, "coordinate-descent rounds (the steps halve after each)", 1, 100);
-    int max_views = args.get_int("--max-views", 0, "use at most this many training views, evenly spread (0 = all)", 0, INT_MAX);
+    int max_views =
+        args.get_int("--max-views", 0, "use at most this many training views, evenly spread (0 = all)", 0, INT_MAX);
     int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
     args.done();
     set_num_threads(threads);
@@ -56,7 +59,8 @@ int main(int argc, char** argv) {
       screen_space::gbuffer_from_view(views.back());  // the G-buffer checks, before any time is spent
     }
 
-    classical_ao::ClassicalParams params = start.empty() ? classical_ao::ClassicalParams{} : classical_ao::read_classical_params(start);
+    classical_ao::ClassicalParams params =
+        start.empty() ? classical_ao::ClassicalParams{} : classical_ao::read_classical_params(start);
     std::ostringstream summary;
     std::set<std::string> seen;
     for (const std::string& name : methods) {
@@ -66,8 +70,10 @@ int main(int argc, char** argv) {
       for (int n : m.sample_counts) std::printf(" %d", n);
       std::printf(" on %zu training views\n", views.size());
       const auto t0 = std::chrono::steady_clock::now();
-      auto r = classical_ao::tune_classical(name, m.sample_counts, views, params, rounds,
-                                  [](const std::string& s) { std::printf("  %s\n", s.c_str()); std::fflush(stdout); });
+      auto r = classical_ao::tune_classical(name, m.sample_counts, views, params, rounds, [](const std::string& s) {
+        std::printf("  %s\n", s.c_str());
+        std::fflush(stdout);
+      });
       char line[256];
       std::snprintf(line, sizeof line, "%s: train MSE %.6g -> %.6g (%d parameter sets, %.0f s)", name.c_str(),
                     r.mse_before, r.mse_after, r.evaluations,

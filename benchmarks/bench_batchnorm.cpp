@@ -34,13 +34,21 @@ struct Case {
   int64_t N, C, HW;
   Tensor<float> x, y, dy, dx, gamma, beta, mean, var, rstd;
   explicit Case(benchmark::State& s)
-      : N(s.range(0)), C(s.range(1)), HW(s.range(2) * s.range(2)),
-        x(randn({N, C, HW}, 1, 0.5)), y(Shape{N, C, HW}), dy(randn({N, C, HW}, 2)),
-        dx(Tensor<float>::zeros({N, C, HW})), gamma(randn({C}, 3, 1.0)), beta(randn({C}, 4)),
-        mean(Shape{C}), var(Shape{C}), rstd(Shape{C}) {}
+      : N(s.range(0)),
+        C(s.range(1)),
+        HW(s.range(2) * s.range(2)),
+        x(randn({N, C, HW}, 1, 0.5)),
+        y(Shape{N, C, HW}),
+        dy(randn({N, C, HW}, 2)),
+        dx(Tensor<float>::zeros({N, C, HW})),
+        gamma(randn({C}, 3, 1.0)),
+        beta(randn({C}, 4)),
+        mean(Shape{C}),
+        var(Shape{C}),
+        rstd(Shape{C}) {}
   void forward() {
-    batch_norm_forward_train(y.data(), mean.data(), var.data(), rstd.data(), x.data(), gamma.data(),
-                             beta.data(), N, C, HW, 1e-5);
+    batch_norm_forward_train(y.data(), mean.data(), var.data(), rstd.data(), x.data(), gamma.data(), beta.data(), N, C,
+                             HW, 1e-5);
   }
   // Worst deviation of y from (x - mean) / sqrt(var + eps) * gamma + beta in double.
   double check() {
@@ -92,8 +100,8 @@ void BM_BatchNormBackward(benchmark::State& state) {
   k.forward();
   Tensor<float> dg = Tensor<float>::zeros({k.C}), db = Tensor<float>::zeros({k.C});
   for (auto _ : state) {
-    batch_norm_backward(k.dx.data(), dg.data(), db.data(), k.dy.data(), k.x.data(), k.gamma.data(),
-                        k.mean.data(), k.rstd.data(), k.N, k.C, k.HW, true);
+    batch_norm_backward(k.dx.data(), dg.data(), db.data(), k.dy.data(), k.x.data(), k.gamma.data(), k.mean.data(),
+                        k.rstd.data(), k.N, k.C, k.HW, true);
     benchmark::DoNotOptimize(k.dx.data());
     benchmark::ClobberMemory();
   }

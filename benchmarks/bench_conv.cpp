@@ -46,8 +46,7 @@ struct Sum {
 };
 
 // out[n][co][oh][ow] of the convolution (no bias).
-Sum conv_out_at(const ConvGeometry& g, const float* x, const float* w, int64_t n, int64_t co,
-                int64_t oh, int64_t ow) {
+Sum conv_out_at(const ConvGeometry& g, const float* x, const float* w, int64_t n, int64_t co, int64_t oh, int64_t ow) {
   Sum s;
   const int64_t grp = co / g.cout_g();
   for (int64_t c = 0; c < g.cin_g(); ++c)
@@ -62,8 +61,8 @@ Sum conv_out_at(const ConvGeometry& g, const float* x, const float* w, int64_t n
 }
 
 // d(out)/d(inp) applied to dy at inp[n][ci][ih][iw].
-Sum conv_dinp_at(const ConvGeometry& g, const float* dy, const float* w, int64_t n, int64_t ci,
-                 int64_t ih, int64_t iw) {
+Sum conv_dinp_at(const ConvGeometry& g, const float* dy, const float* w, int64_t n, int64_t ci, int64_t ih,
+                 int64_t iw) {
   Sum s;
   const int64_t grp = ci / g.cin_g(), c = ci % g.cin_g();
   for (int64_t co = grp * g.cout_g(); co < (grp + 1) * g.cout_g(); ++co)
@@ -80,8 +79,8 @@ Sum conv_dinp_at(const ConvGeometry& g, const float* dy, const float* w, int64_t
 }
 
 // d(out)/d(weight) applied to dy at weight[co][c][ki][kj].
-Sum conv_dweight_at(const ConvGeometry& g, const float* dy, const float* x, int64_t co, int64_t c,
-                    int64_t ki, int64_t kj) {
+Sum conv_dweight_at(const ConvGeometry& g, const float* dy, const float* x, int64_t co, int64_t c, int64_t ki,
+                    int64_t kj) {
   Sum s;
   const int64_t ci = co / g.cout_g() * g.cin_g() + c;
   for (int64_t n = 0; n < g.N; ++n)
@@ -89,15 +88,12 @@ Sum conv_dweight_at(const ConvGeometry& g, const float* dy, const float* x, int6
       for (int64_t ow = 0; ow < g.W_out; ++ow) {
         int64_t ih = oh * g.stride_h - g.pad_h + ki * g.dil_h, iw = ow * g.stride_w - g.pad_w + kj * g.dil_w;
         if (ih < 0 || ih >= g.H || iw < 0 || iw >= g.W) continue;
-        s.add(dy[((n * g.C_out + co) * g.H_out + oh) * g.W_out + ow],
-              x[((n * g.C_in + ci) * g.H + ih) * g.W + iw]);
+        s.add(dy[((n * g.C_out + co) * g.H_out + oh) * g.W_out + ow], x[((n * g.C_in + ci) * g.H + ih) * g.W + iw]);
       }
   return s;
 }
 
-bool close(float got, const Sum& want) {
-  return std::abs(got - want.value) <= 1e-5 * want.magnitude + 1e-5;
-}
+bool close(float got, const Sum& want) { return std::abs(got - want.value) <= 1e-5 * want.magnitude + 1e-5; }
 
 // Buffers of one layer in the forward convolution's terms: x (conv input), y (conv output).
 struct Layer {
@@ -126,8 +122,8 @@ std::string check(Layer& L, bool transposed, Rng& rng) {
     conv2d_backward(dinp.data(), dw.data(), static_cast<float*>(nullptr), L.y.data(), L.x.data(), L.w.data(), g);
   } else {
     conv_transpose2d_forward(out.data(), L.y.data(), L.w.data(), static_cast<const float*>(nullptr), g);
-    conv_transpose2d_backward(dinp.data(), dw.data(), static_cast<float*>(nullptr), L.x.data(), L.y.data(),
-                              L.w.data(), g);
+    conv_transpose2d_backward(dinp.data(), dw.data(), static_cast<float*>(nullptr), L.x.data(), L.y.data(), L.w.data(),
+                              g);
   }
   for (int s = 0; s < 48; ++s) {
     int64_t n = rng.below(g.N);
@@ -135,8 +131,7 @@ std::string check(Layer& L, bool transposed, Rng& rng) {
     int64_t co = rng.below(g.C_out), oh = rng.below(g.H_out), ow = rng.below(g.W_out);
     const Tensor<float>& yv = transposed ? dinp : out;
     const float* xsrc = L.x.data();
-    if (!close(yv[((n * g.C_out + co) * g.H_out + oh) * g.W_out + ow],
-               conv_out_at(g, xsrc, L.w.data(), n, co, oh, ow)))
+    if (!close(yv[((n * g.C_out + co) * g.H_out + oh) * g.W_out + ow], conv_out_at(g, xsrc, L.w.data(), n, co, oh, ow)))
       return transposed ? "input gradient differs from the definition" : "forward differs from the definition";
     int64_t ci = rng.below(g.C_in), ih = rng.below(g.H), iw = rng.below(g.W);
     const Tensor<float>& xv = transposed ? out : dinp;
@@ -154,16 +149,14 @@ std::string check(Layer& L, bool transposed, Rng& rng) {
 
 enum Pass { kForward, kForwardBackward };
 
-void run(benchmark::State& state, bool transposed, Pass pass,
-         Precision precision = Precision::fp32) {
-  const int64_t cin = state.range(0), cout = state.range(1), k = state.range(2), s = state.range(3),
-                p = state.range(4), hw = state.range(5);
+void run(benchmark::State& state, bool transposed, Pass pass, Precision precision = Precision::fp32) {
+  const int64_t cin = state.range(0), cout = state.range(1), k = state.range(2), s = state.range(3), p = state.range(4),
+                hw = state.range(5);
   const int threads = int(state.range(6));
   const double peak = peak_gflops(threads);
   set_num_threads(threads);
-  ConvGeometry g = transposed
-      ? conv_transpose2d_geometry(1, cin, hw, hw, cout, k, k, s, s, p, p, 0, 0, 1, 1, 1)
-      : conv2d_geometry(1, cin, hw, hw, cout, k, k, s, s, p, p, 1, 1, 1);
+  ConvGeometry g = transposed ? conv_transpose2d_geometry(1, cin, hw, hw, cout, k, k, s, s, p, p, 0, 0, 1, 1, 1)
+                              : conv2d_geometry(1, cin, hw, hw, cout, k, k, s, s, p, p, 1, 1, 1);
   Rng rng(42);
   Layer L(g, rng);
   // bf16 (gemm_precision.h): operands that are bf16 already, so the check against the
@@ -212,27 +205,39 @@ void BM_Conv2dFwdBwd(benchmark::State& s) { run(s, false, kForwardBackward); }
 void BM_ConvTranspose2dFwd(benchmark::State& s) { run(s, true, kForward); }
 void BM_ConvTranspose2dFwdBwd(benchmark::State& s) { run(s, true, kForwardBackward); }
 void BM_Conv2dFwdBwdBf16(benchmark::State& s) { run(s, false, kForwardBackward, Precision::bf16); }
-void BM_ConvTranspose2dFwdBwdBf16(benchmark::State& s) {
-  run(s, true, kForwardBackward, Precision::bf16);
-}
+void BM_ConvTranspose2dFwdBwdBf16(benchmark::State& s) { run(s, true, kForwardBackward, Precision::bf16); }
 
 // {Cin, Cout, k, stride, pad, HW}
 const std::vector<std::vector<int64_t>> kConvShapes = {
     {64, 128, 4, 2, 1, 128},  // the headline shape; U-Net down 2
     // k3 s1 p1, 16..512 channels, 64 MFLOP-ish each
-    {16, 16, 3, 1, 1, 256}, {32, 32, 3, 1, 1, 128}, {64, 64, 3, 1, 1, 128},
-    {128, 128, 3, 1, 1, 64}, {256, 256, 3, 1, 1, 32}, {512, 512, 3, 1, 1, 16},
+    {16, 16, 3, 1, 1, 256},
+    {32, 32, 3, 1, 1, 128},
+    {64, 64, 3, 1, 1, 128},
+    {128, 128, 3, 1, 1, 64},
+    {256, 256, 3, 1, 1, 32},
+    {512, 512, 3, 1, 1, 16},
     // pix2pix U-Net (ngf 64, 12 input channels) down path at 256x256
-    {12, 64, 4, 2, 1, 256}, {128, 256, 4, 2, 1, 64}, {256, 512, 4, 2, 1, 32},
-    {512, 512, 4, 2, 1, 16}, {512, 512, 4, 2, 1, 8}, {512, 512, 4, 2, 1, 2},
+    {12, 64, 4, 2, 1, 256},
+    {128, 256, 4, 2, 1, 64},
+    {256, 512, 4, 2, 1, 32},
+    {512, 512, 4, 2, 1, 16},
+    {512, 512, 4, 2, 1, 8},
+    {512, 512, 4, 2, 1, 2},
     // PatchGAN n=3 (15 input channels): stride-1 tail layers
-    {15, 64, 4, 2, 1, 256}, {256, 512, 4, 1, 1, 32}, {512, 1, 4, 1, 1, 31},
+    {15, 64, 4, 2, 1, 256},
+    {256, 512, 4, 1, 1, 32},
+    {512, 1, 4, 1, 1, 31},
 };
 const std::vector<std::vector<int64_t>> kConvTransposeShapes = {
     {128, 64, 4, 2, 1, 64},  // the headline shape
     // pix2pix U-Net up path: innermost, 1024-channel skips, outermost
-    {512, 512, 4, 2, 1, 1}, {1024, 512, 4, 2, 1, 4}, {1024, 512, 4, 2, 1, 8},
-    {1024, 256, 4, 2, 1, 16}, {512, 128, 4, 2, 1, 32}, {256, 64, 4, 2, 1, 64},
+    {512, 512, 4, 2, 1, 1},
+    {1024, 512, 4, 2, 1, 4},
+    {1024, 512, 4, 2, 1, 8},
+    {1024, 256, 4, 2, 1, 16},
+    {512, 128, 4, 2, 1, 32},
+    {256, 64, 4, 2, 1, 64},
     {128, 3, 4, 2, 1, 128},
 };
 

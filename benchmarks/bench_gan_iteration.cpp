@@ -90,14 +90,15 @@ GanTrainConfig thesis_config(int64_t S, int ngf, int levels) {
 }
 
 void set_counters(benchmark::State& state, double flops, int threads) {
-  state.counters["s_per_iter"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["s_per_iter"] =
+      benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["GFLOP/s"] = benchmark::Counter(flops * double(state.iterations()) / 1e9, benchmark::Counter::kIsRate);
   state.counters["GFLOP_per_iter"] = flops / 1e9;
   const double peak = peak_flops(threads);
   state.counters["peak_GFLOP/s"] = peak / 1e9;
   // A rate counter divides by the elapsed time: 100 * achieved / peak.
-  state.counters["pct_of_peak"] = benchmark::Counter(100.0 * flops * double(state.iterations()) / peak,
-                                                     benchmark::Counter::kIsRate);
+  state.counters["pct_of_peak"] =
+      benchmark::Counter(100.0 * flops * double(state.iterations()) / peak, benchmark::Counter::kIsRate);
   state.counters["peak_RSS_MiB"] = peak_rss_mib();
 }
 
@@ -158,8 +159,25 @@ void BM_PatchGanStep(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_GanIteration)->Args({256, 64, 8, 2})->Args({256, 64, 8, 1})->Args({128, 16, 5, 2})->Unit(benchmark::kSecond)->MinTime(1.0)->UseRealTime();
-BENCHMARK(BM_GanIterationBf16)->Args({256, 64, 8, 2})->Args({256, 64, 8, 1})->Args({128, 16, 5, 2})->Unit(benchmark::kSecond)->MinTime(1.0)->UseRealTime();
-BENCHMARK(BM_UnetStep)->Args({256, 64, 8, 2})->Args({256, 64, 8, 1})->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
+BENCHMARK(BM_GanIteration)
+    ->Args({256, 64, 8, 2})
+    ->Args({256, 64, 8, 1})
+    ->Args({128, 16, 5, 2})
+    ->Unit(benchmark::kSecond)
+    ->MinTime(1.0)
+    ->UseRealTime();
+BENCHMARK(BM_GanIterationBf16)
+    ->Args({256, 64, 8, 2})
+    ->Args({256, 64, 8, 1})
+    ->Args({128, 16, 5, 2})
+    ->Unit(benchmark::kSecond)
+    ->MinTime(1.0)
+    ->UseRealTime();
+BENCHMARK(BM_UnetStep)
+    ->Args({256, 64, 8, 2})
+    ->Args({256, 64, 8, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(1.0)
+    ->UseRealTime();
 BENCHMARK(BM_PatchGanStep)->Args({256, 2})->Args({256, 1})->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
 BENCHMARK_MAIN();

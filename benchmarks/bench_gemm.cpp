@@ -33,11 +33,10 @@ double peak_gflops(int threads) {
 }
 
 // Relative error of C*t against A*(B*t) (double), worst over the rows.
-double probe_error(bool ta, bool tb, int64_t M, int64_t N, int64_t K, const float* A, int64_t lda,
-                   const float* B, int64_t ldb, const float* C, int64_t ldc) {
+double probe_error(bool ta, bool tb, int64_t M, int64_t N, int64_t K, const float* A, int64_t lda, const float* B,
+                   int64_t ldb, const float* C, int64_t ldc) {
   nns::Rng rng(5);
-  std::vector<double> t(static_cast<size_t>(N)), bt(static_cast<size_t>(K), 0.0),
-      bt_abs(static_cast<size_t>(K), 0.0);
+  std::vector<double> t(static_cast<size_t>(N)), bt(static_cast<size_t>(K), 0.0), bt_abs(static_cast<size_t>(K), 0.0);
   for (auto& x : t) x = rng.normal();
   for (int64_t k = 0; k < K; ++k)
     for (int64_t j = 0; j < N; ++j) {
@@ -79,9 +78,7 @@ void run_gemm(benchmark::State& state, nns::Precision precision) {
     state.SetLabel(nns::bf16_isa_description());
   }
   const int64_t lda = ta ? M : K, ldb = tb ? K : N;
-  auto run = [&] {
-    nns::gemm<float>(ta, tb, M, N, K, 1.0f, A.data(), lda, B.data(), ldb, 0.0f, C.data(), N);
-  };
+  auto run = [&] { nns::gemm<float>(ta, tb, M, N, K, 1.0f, A.data(), lda, B.data(), ldb, 0.0f, C.data(), N); };
   run();
   const double err = probe_error(ta, tb, M, N, K, A.data(), lda, B.data(), ldb, C.data(), N);
   if (!(err < double(K) * FLT_EPSILON)) {
@@ -94,8 +91,7 @@ void run_gemm(benchmark::State& state, nns::Precision precision) {
     benchmark::ClobberMemory();
   }
   const double flops = 2.0 * double(M) * double(N) * double(K);
-  state.counters["GFLOP/s"] =
-      benchmark::Counter(flops * double(state.iterations()) / 1e9, benchmark::Counter::kIsRate);
+  state.counters["GFLOP/s"] = benchmark::Counter(flops * double(state.iterations()) / 1e9, benchmark::Counter::kIsRate);
   state.counters["peak_GFLOP/s"] = peak;
   state.counters["flops"] = flops;
 }
@@ -110,17 +106,17 @@ void square_and_unet_shapes(benchmark::internal::Benchmark* b) {
   for (int threads : {1, 2}) {
     for (int64_t s : {64, 128, 256, 512, 1024, 2048}) b->Args({s, s, s, 0, 0, threads});
     // U-Net ngf=64 at 256x256, im2col GEMMs: forward M=Cout, N=Hout*Wout, K=Cin*16.
-    b->Args({64, 16384, 48, 0, 0, threads});     // down1 3->64, 128x128
-    b->Args({128, 4096, 1024, 0, 0, threads});   // down2 64->128, 64x64
-    b->Args({256, 1024, 2048, 0, 0, threads});   // down3 128->256, 32x32
-    b->Args({512, 256, 4096, 0, 0, threads});    // down4 256->512, 16x16
-    b->Args({512, 64, 8192, 0, 0, threads});     // down5 512->512, 8x8
+    b->Args({64, 16384, 48, 0, 0, threads});    // down1 3->64, 128x128
+    b->Args({128, 4096, 1024, 0, 0, threads});  // down2 64->128, 64x64
+    b->Args({256, 1024, 2048, 0, 0, threads});  // down3 128->256, 32x32
+    b->Args({512, 256, 4096, 0, 0, threads});   // down4 256->512, 16x16
+    b->Args({512, 64, 8192, 0, 0, threads});    // down5 512->512, 8x8
     // Transposed conv (decoder) as W^T x: M=Cout*16, N=Hin*Win, K=Cin.
-    b->Args({2048, 1024, 512, 1, 0, threads});   // up 512->128, 32x32 -> 64x64
-    b->Args({1024, 4096, 256, 1, 0, threads});   // up 256->64, 64x64 -> 128x128
+    b->Args({2048, 1024, 512, 1, 0, threads});  // up 512->128, 32x32 -> 64x64
+    b->Args({1024, 4096, 256, 1, 0, threads});  // up 256->64, 64x64 -> 128x128
     // Weight gradient dW = dout col^T: M=Cout, N=Cin*16, K=Hout*Wout.
-    b->Args({128, 1024, 4096, 0, 1, threads});   // down2
-    b->Args({256, 2048, 1024, 0, 1, threads});   // down3
+    b->Args({128, 1024, 4096, 0, 1, threads});  // down2
+    b->Args({256, 2048, 1024, 0, 1, threads});  // down3
   }
 }
 

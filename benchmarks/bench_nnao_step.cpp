@@ -65,8 +65,7 @@ static void BM_NnaoTrainStepAutograd(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(step());
   state.counters["samples/s"] = benchmark::Counter(double(state.iterations()) * batch, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_NnaoTrainStepAutograd)->Args({31, 16, 1})->Args({31, 16, 2})->UseRealTime()
-    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_NnaoTrainStepAutograd)->Args({31, 16, 1})->Args({31, 16, 2})->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 // What train-nnao runs: gather 16 rows, fused forward/backward, Adam.
 // args: window, batch, threads (benchmarks/compare reads all three from the name).
@@ -104,8 +103,12 @@ static void BM_NnaoTrainStep(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(step());
   state.counters["samples/s"] = benchmark::Counter(double(state.iterations()) * batch, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_NnaoTrainStep)->Args({31, 16, 1})->Args({15, 16, 1})->Args({7, 16, 1})
-    ->Args({31, 16, 2})->UseRealTime()
+BENCHMARK(BM_NnaoTrainStep)
+    ->Args({31, 16, 1})
+    ->Args({15, 16, 1})
+    ->Args({7, 16, 1})
+    ->Args({31, 16, 2})
+    ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
 
 // Args: samples (0 = exact), threads, vectorised (1) or the scalar reference (0).
@@ -125,10 +128,17 @@ static void BM_NnaoInferFrame(benchmark::State& state) {
   }
   state.counters["frames/s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_NnaoInferFrame)->ArgNames({"samples", "threads", "vec"})
-    ->Args({0, 2, 1})->Args({64, 2, 1})->Args({256, 2, 1})
-    ->Args({0, 1, 1})->Args({64, 1, 1})->Args({64, 1, 0})->Args({0, 1, 0})
-    ->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NnaoInferFrame)
+    ->ArgNames({"samples", "threads", "vec"})
+    ->Args({0, 2, 1})
+    ->Args({64, 2, 1})
+    ->Args({256, 2, 1})
+    ->Args({0, 1, 1})
+    ->Args({64, 1, 1})
+    ->Args({64, 1, 0})
+    ->Args({0, 1, 0})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 // Args: method index in classical_methods(), samples, vectorised (1) or scalar (0); one
 // thread. Checks first that the two paths agree on this frame.
@@ -154,9 +164,16 @@ static void BM_ClassicalAoFrame(benchmark::State& state) {
   }
   state.SetLabel(method.name);
 }
-BENCHMARK(BM_ClassicalAoFrame)->ArgNames({"method", "samples", "vec"})
-    ->Args({0, 32, 1})->Args({0, 32, 0})->Args({1, 32, 1})->Args({1, 32, 0})
-    ->Args({2, 64, 1})->Args({2, 64, 0})->Args({3, 32, 1})->Args({3, 32, 0})
+BENCHMARK(BM_ClassicalAoFrame)
+    ->ArgNames({"method", "samples", "vec"})
+    ->Args({0, 32, 1})
+    ->Args({0, 32, 0})
+    ->Args({1, 32, 1})
+    ->Args({1, 32, 0})
+    ->Args({2, 64, 1})
+    ->Args({2, 64, 0})
+    ->Args({3, 32, 1})
+    ->Args({3, 32, 0})
     ->Unit(benchmark::kMillisecond);
 
 // The default NNAO (horizon features, 16 x 8 = 128 depth samples, hidden 16, exact with
@@ -204,7 +221,8 @@ static void BM_HorizonVsHbaoPerSample(benchmark::State& state) {
   state.counters["per_sample_vs_hbao64"] = median(ratio);
   if (median(ratio) > kHorizonPerSampleTarget)
     state.SkipWithError(("NNAO costs " + std::to_string(median(ratio)) + "x HBAO-64 per depth sample, above the " +
-                         std::to_string(kHorizonPerSampleTarget) + "x target").c_str());
+                         std::to_string(kHorizonPerSampleTarget) + "x target")
+                            .c_str());
 }
 BENCHMARK(BM_HorizonVsHbaoPerSample)->UseManualTime()->MinTime(2.0)->Unit(benchmark::kMillisecond);
 

@@ -24,10 +24,11 @@ int main(int argc, char** argv) {
   const int steps = argc > 1 ? std::atoi(argv[1]) : 50;
   set_num_threads(1);
   const TrainGanOptions def;
-  std::printf("bf16 GEMM on %s; %d steps of the default GAN (synthetic inputs)\n",
-              bf16_isa_description().c_str(), steps);
-  std::printf("| precision | gradient entries | zero | 0 < |g| < 2^-126 | |g| < 2^-14 (fp16 normal) | "
-              "smallest nonzero |g| |\n|---|---:|---:|---:|---:|---:|\n");
+  std::printf("bf16 GEMM on %s; %d steps of the default GAN (synthetic inputs)\n", bf16_isa_description().c_str(),
+              steps);
+  std::printf(
+      "| precision | gradient entries | zero | 0 < |g| < 2^-126 | |g| < 2^-14 (fp16 normal) | "
+      "smallest nonzero |g| |\n|---|---:|---:|---:|---:|---:|\n");
   for (Precision p : {Precision::fp32, Precision::bf16}) {
     const ScopedGemmPrecision mode(p);
     GanTrainConfig c;
@@ -65,9 +66,9 @@ int main(int argc, char** argv) {
       count(t.G.parameters());
       if (t.D) count(t.D->parameters());
     }
-    std::printf("| %s | %lld | %lld (%.3g%%) | %lld | %lld (%.3g%%) | %.3g |\n", precision_name(p),
-                (long long)total, (long long)zero, 100.0 * double(zero) / double(total), (long long)tiny,
-                (long long)below_fp16, 100.0 * double(below_fp16) / double(total), smallest);
+    std::printf("| %s | %lld | %lld (%.3g%%) | %lld | %lld (%.3g%%) | %.3g |\n", precision_name(p), (long long)total,
+                (long long)zero, 100.0 * double(zero) / double(total), (long long)tiny, (long long)below_fp16,
+                100.0 * double(below_fp16) / double(total), smallest);
   }
   return 0;
 }

@@ -37,17 +37,15 @@ using namespace nns::runs;
 
 namespace {
 
-double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 struct Item {
   std::string name;
-  double flops;                  // per call (0: report time only)
+  double flops;  // per call (0: report time only)
   std::function<void()> call;
-  bool repeat;                   // repeat for >= 0.2 s (cheap calls) or time one call
-  std::vector<double> t[2];      // CPU seconds per call, [fp32, bf16], one per round
-  std::vector<double> wall[2];   // wall seconds per call
+  bool repeat;                  // repeat for >= 0.2 s (cheap calls) or time one call
+  std::vector<double> t[2];     // CPU seconds per call, [fp32, bf16], one per round
+  std::vector<double> wall[2];  // wall seconds per call
 };
 
 double cpu_now() { return pool_cpu_ms() * 1e-3; }
@@ -95,22 +93,18 @@ int main(int argc, char** argv) {
 
   if (what == "all" || what == "gemm") {
     const std::vector<std::array<int64_t, 5>> shapes = {
-        {256, 256, 256, 0, 0},     {512, 512, 512, 0, 0},      {1024, 1024, 1024, 0, 0},
-        {2048, 2048, 2048, 0, 0},  {64, 16384, 48, 0, 0},      {128, 4096, 1024, 0, 0},
-        {256, 1024, 2048, 0, 0},   {512, 256, 4096, 0, 0},     {512, 64, 8192, 0, 0},
-        {2048, 1024, 512, 1, 0},   {1024, 4096, 256, 1, 0},    {128, 1024, 4096, 0, 1},
+        {256, 256, 256, 0, 0},  {512, 512, 512, 0, 0},   {1024, 1024, 1024, 0, 0}, {2048, 2048, 2048, 0, 0},
+        {64, 16384, 48, 0, 0},  {128, 4096, 1024, 0, 0}, {256, 1024, 2048, 0, 0},  {512, 256, 4096, 0, 0},
+        {512, 64, 8192, 0, 0},  {2048, 1024, 512, 1, 0}, {1024, 4096, 256, 1, 0},  {128, 1024, 4096, 0, 1},
         {256, 2048, 1024, 0, 1}};
     for (auto [M, N, K, ta, tb] : shapes) {
       const float* A = buf(size_t(M * K));
       const float* B = buf(size_t(K * N));
       float* C = buf(size_t(M * N));
-      items.push_back({"sgemm " + std::to_string(M) + "," + std::to_string(N) + "," + std::to_string(K) +
-                           "," + std::to_string(ta) + "," + std::to_string(tb),
+      items.push_back({"sgemm " + std::to_string(M) + "," + std::to_string(N) + "," + std::to_string(K) + "," +
+                           std::to_string(ta) + "," + std::to_string(tb),
                        2.0 * double(M * N * K),
-                       [=] {
-                         gemm<float>(ta, tb, M, N, K, 1.0f, A, ta ? M : K, B, tb ? K : N, 0.0f, C, N);
-                       },
-                       true});
+                       [=] { gemm<float>(ta, tb, M, N, K, 1.0f, A, ta ? M : K, B, tb ? K : N, 0.0f, C, N); }, true});
     }
   }
   if (what == "all" || what == "conv") {
@@ -129,8 +123,8 @@ int main(int argc, char** argv) {
       float* dx = buf(size_t(g.N * g.C_in * g.H * g.W));
       float* dw = buf(size_t(g.C_out * g.cin_g() * k * k));
       float* db = buf(size_t(g.C_out));
-      items.push_back({"conv2d " + std::to_string(ci) + "," + std::to_string(co) + "," + std::to_string(k) +
-                           "," + std::to_string(s) + "," + std::to_string(p) + "," + std::to_string(hw),
+      items.push_back({"conv2d " + std::to_string(ci) + "," + std::to_string(co) + "," + std::to_string(k) + "," +
+                           std::to_string(s) + "," + std::to_string(p) + "," + std::to_string(hw),
                        6.0 * double(g.macs()),
                        [=] {
                          conv2d_forward(y, x, w, b, g);
@@ -173,8 +167,9 @@ int main(int argc, char** argv) {
         it.wall[m].push_back(wall);
       }
   std::printf("CPU time (all threads); wall-time ratio of the medians in the last column\n");
-  std::printf("| row | threads | fp32 | bf16 | fp32 / bf16 (median) | per-round range | wall fp32 / bf16 |\n"
-              "|---|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "| row | threads | fp32 | bf16 | fp32 / bf16 (median) | per-round range | wall fp32 / bf16 |\n"
+      "|---|---:|---:|---:|---:|---:|---:|\n");
   for (auto& it : items) {
     std::vector<double> ratio;
     for (int r = 0; r < rounds; ++r) ratio.push_back(it.t[0][size_t(r)] / it.t[1][size_t(r)]);
@@ -185,8 +180,8 @@ int main(int argc, char** argv) {
       else std::snprintf(c, sizeof c, "%.3f s", s);
       return std::string(c);
     };
-    std::printf("| %s | %d | %s | %s | %.2fx | %.2f-%.2fx | %.2fx |\n", it.name.c_str(), threads,
-                cell(f).c_str(), cell(b).c_str(), f / b, *std::min_element(ratio.begin(), ratio.end()),
+    std::printf("| %s | %d | %s | %s | %.2fx | %.2f-%.2fx | %.2fx |\n", it.name.c_str(), threads, cell(f).c_str(),
+                cell(b).c_str(), f / b, *std::min_element(ratio.begin(), ratio.end()),
                 *std::max_element(ratio.begin(), ratio.end()), median(it.wall[0]) / median(it.wall[1]));
     std::fflush(stdout);
   }

@@ -67,9 +67,7 @@ inline double measure_fma_peak_gflops(int threads, int64_t iters = 20'000'000 / 
   double best = 0;
   for (int rep = 0; rep < 5; ++rep) {
     auto t0 = std::chrono::steady_clock::now();
-    ThreadPool::global().run([&](int w, int) {
-      sink.store(fma_chains(iters, float(w)), std::memory_order_relaxed);
-    });
+    ThreadPool::global().run([&](int w, int) { sink.store(fma_chains(iters, float(w)), std::memory_order_relaxed); });
     auto t1 = std::chrono::steady_clock::now();
     double s = std::chrono::duration<double>(t1 - t0).count();
     best = std::max(best, fma_flops_per_iter() * double(iters) * threads / s / 1e9);

@@ -64,8 +64,7 @@ View block_average(const View& v, int k) {
             sum += plane[i];
             sky |= !std::isfinite(v.channel("Z")[i]);
           }
-        dst[size_t(y) * size_t(out.width) + size_t(x)] =
-            name == "Z" && sky ? INFINITY : float(sum / (k * k));
+        dst[size_t(y) * size_t(out.width) + size_t(x)] = name == "Z" && sky ? INFINITY : float(sum / (k * k));
       }
   }
   return out;
@@ -219,7 +218,7 @@ int main(int argc, char** argv) {
                   f.c_str(), frames[f], st[0].n, st[0].mean(), st[1].mean(), st[1].se(),
                   st[1].se() > 0 ? st[1].mean() / st[1].se() : 0.0, var_ref);
       for (size_t e = 0; e < E; ++e) {
-        const Stat& sq = st[3 + e];  // per pixel: mean over channels of the squared error
+        const Stat& sq = st[3 + e];     // per pixel: mean over channels of the squared error
         const Stat& s = st[3 + E + e];  // per pixel: mean over channels of the error
         double mse = sq.mean() - var_ref;
         std::printf("    %-40s MSE %.5g (raw %.5g, rel %.4g)  bias %+.3g +- %.2g (%.2f se)\n", dirs[e + 2].c_str(), mse,

@@ -64,14 +64,17 @@ int main(int argc, char** argv) {
   const std::string which = argc > 3 ? argv[3] : "all";
   const std::string view_arg = argc > 4 ? argv[4] : "320x180";
   if (threads < 1 || rounds < 1) {
-    std::fprintf(stderr, "usage: profile_ao_frame [threads>=1] [rounds>=1] [all|every|PREFIX] [WxH|VIEW.exr[@WxH]] [model.blob|LADDER_DIR]\n");
+    std::fprintf(stderr,
+                 "usage: profile_ao_frame [threads>=1] [rounds>=1] [all|every|PREFIX] [WxH|VIEW.exr[@WxH]] "
+                 "[model.blob|LADDER_DIR]\n");
     return 2;
   }
   try {
     set_num_threads(threads);
     std::vector<std::pair<std::string, nnao::NnaoWeights>> models;
     if (argc > 5 && std::filesystem::is_directory(argv[5])) {
-      for (const auto& r : runs::read_ladder(argv[5])) models.emplace_back("NNAO " + r.name, nnao::NnaoWeights::load(r.blob));
+      for (const auto& r : runs::read_ladder(argv[5]))
+        models.emplace_back("NNAO " + r.name, nnao::NnaoWeights::load(r.blob));
     } else if (argc > 5) {
       models.emplace_back("NNAO", nnao::NnaoWeights::from_blob(Blob::load(argv[5])));
     } else {
@@ -82,13 +85,20 @@ int main(int argc, char** argv) {
     const data::View view = load_view(view_arg);
     const screen_space::GBuffer g = screen_space::gbuffer_from_view(view);
     std::vector<Method> methods;
-    for (auto& [name, m] : models) methods.push_back({name, [&m = m](const screen_space::GBuffer& gb, float* o) { nnao::infer_exact(m, gb, o); }, {}, {}});
+    for (auto& [name, m] : models)
+      methods.push_back(
+          {name, [&m = m](const screen_space::GBuffer& gb, float* o) { nnao::infer_exact(m, gb, o); }, {}, {}});
     const classical_ao::ClassicalParams params;
     for (auto& c : classical_ao::classical_methods())
       for (int n : c.sample_counts) {
         const std::string name = c.name + "-" + std::to_string(n);
         if (which == "all" && name != "HBAO-64" && name != "GTAO-32") continue;
-        methods.push_back({name, [&c, &params, n](const screen_space::GBuffer& gb, float* o) { classical_ao::run_classical(c.name, params, gb, n, o, false); }, {}, {}});
+        methods.push_back({name,
+                           [&c, &params, n](const screen_space::GBuffer& gb, float* o) {
+                             classical_ao::run_classical(c.name, params, gb, n, o, false);
+                           },
+                           {},
+                           {}});
       }
     std::vector<float> out(size_t(g.pixels()));
     auto selected = [&](const Method& m) { return which == "all" || which == "every" || m.name.rfind(which, 0) == 0; };
@@ -106,8 +116,8 @@ int main(int argc, char** argv) {
     std::printf("%-30s %9s %9s %9s %12s\n", "method", "best ms", "median ms", "CPU ms", "threads used");
     for (const auto& m : methods) {
       if (m.ms.empty()) continue;
-      std::printf("%-30s %9.3f %9.3f %9.3f %12.2f\n", m.name.c_str(), *std::min_element(m.ms.begin(), m.ms.end()), median(m.ms),
-                  median(m.cpu), median(m.cpu) / median(m.ms));
+      std::printf("%-30s %9.3f %9.3f %9.3f %12.2f\n", m.name.c_str(), *std::min_element(m.ms.begin(), m.ms.end()),
+                  median(m.ms), median(m.cpu), median(m.cpu) / median(m.ms));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "profile_ao_frame: %s\n", e.what());

@@ -62,9 +62,10 @@ int main(int argc, char** argv) {
     sum_wall += w, sum_cpu += cpu;
   }
   const auto& a = CachingAllocator::instance();
-  std::printf("threads %d, %s: wall best %.3f mean %.3f s; CPU best %.3f mean %.3f s; "
-              "allocator peak %.0f MiB\n",
-              threads, precision_name(gemm_precision()), best_wall, sum_wall / iters, best_cpu, sum_cpu / iters,
-              double(a.peak_bytes_in_use()) / 1048576.0);
+  std::printf(
+      "threads %d, %s: wall best %.3f mean %.3f s; CPU best %.3f mean %.3f s; "
+      "allocator peak %.0f MiB\n",
+      threads, precision_name(gemm_precision()), best_wall, sum_wall / iters, best_cpu, sum_cpu / iters,
+      double(a.peak_bytes_in_use()) / 1048576.0);
   return 0;
 }

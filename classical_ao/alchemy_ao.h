@@ -16,12 +16,12 @@
 
 namespace nns::classical_ao {
 
-using screen_space::GBuffer;
-using screen_space::NoiseTile;
 using screen_space::box_blur_4x4;
 using screen_space::box_blur_4x4_reference;
 using screen_space::for_each_surface_pixel;
+using screen_space::GBuffer;
 using screen_space::noise_angle_4x4;
+using screen_space::NoiseTile;
 
 // Free parameters (tune-classical-ao fits them; the defaults are the values used before).
 // kappa is the paper's contrast exponent, A^kappa (1: none).

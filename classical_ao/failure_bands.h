@@ -16,9 +16,9 @@
 
 namespace nns::classical_ao {
 
-using screen_space::GBuffer;
 using screen_space::chebyshev_distance;
 using screen_space::discontinuity_pixels;
+using screen_space::GBuffer;
 
 struct FailureBands {
   std::vector<std::string> names = {"halo", "border", "thin"};
@@ -30,11 +30,10 @@ inline FailureBands failure_bands(const GBuffer& g) {
   const int64_t n = g.pixels();
   auto depth = [&](int x, int y) { return g.z[int64_t(y) * W + x]; };
   auto jump = [&](float a, float b) {
-    return data::is_sky(a) != data::is_sky(b) ||
-           (!data::is_sky(a) && std::abs(a - b) > g.radius);
+    return data::is_sky(a) != data::is_sky(b) || (!data::is_sky(a) && std::abs(a - b) > g.radius);
   };
-  const std::vector<int> to_edge = chebyshev_distance(
-      discontinuity_pixels(W, H, [&](int64_t i, int64_t j) { return jump(g.z[i], g.z[j]); }), W, H);
+  const std::vector<int> to_edge =
+      chebyshev_distance(discontinuity_pixels(W, H, [&](int64_t i, int64_t j) { return jump(g.z[i], g.z[j]); }), W, H);
   FailureBands b;
   b.masks.assign(3, std::vector<uint8_t>(size_t(n), 0));
   const int halo = 3, border = std::max(1, int(0.08 * W)), thin = 6;

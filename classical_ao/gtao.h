@@ -23,8 +23,8 @@
 // the slice), with sin e = N.d / (|d| |proj n|), since N.d = proj n . d for d in the
 // slice. Samples are snapped to pixel centres, up to half a pixel off the slice plane;
 // measured from V, such a sample of an open plane can sit above the slice's tangent line
-// and darken it; measured as an elevation it reads exactly 0, as the plane's points should. Starting e at 0 is the paper's clamp of the
-// horizons to the normal's hemisphere.
+// and darken it; measured as an elevation it reads exactly 0, as the plane's points should. Starting e at 0 is the
+// paper's clamp of the horizons to the normal's hemisphere.
 //
 // A sample's elevation fades to 0 over the last `falloff` fraction of the radius
 // R = radius_scale * r (XeGTAO's falloff, which avoids a visible edge at R); `thickness`
@@ -48,13 +48,13 @@
 
 namespace nns::classical_ao {
 
-using screen_space::GBuffer;
-using screen_space::NoiseTile;
 using screen_space::box_blur_4x4;
 using screen_space::box_blur_4x4_reference;
 using screen_space::for_each_surface_pixel;
+using screen_space::GBuffer;
 using screen_space::hash_unit;
 using screen_space::noise_angle_4x4;
+using screen_space::NoiseTile;
 using screen_space::normalize_or_facing;
 using screen_space::pixel_hash;
 using screen_space::saturate;
@@ -157,7 +157,9 @@ inline void gtao_reference_with(const GBuffer& g, int samples, float* out, const
   for (int64_t i = 0; i < g.pixels(); ++i) out[i] = std::min(out[i], 1.0f);
 }
 
-inline void gtao_reference(const GBuffer& g, int samples, float* out) { gtao_reference_with(g, samples, out, GtaoParams{}); }
+inline void gtao_reference(const GBuffer& g, int samples, float* out) {
+  gtao_reference_with(g, samples, out, GtaoParams{});
+}
 
 // acos and asin on 16 lanes, beside the screen-space kit's vector operations.
 namespace simd {
@@ -269,8 +271,8 @@ inline void gtao_with(const GBuffer& g, int samples, float* out, const GtaoParam
         const VF e2 = asin(s2), e1 = asin(s1);
         const VF half_pi = splat(0.5f * kPi);
         const VF h2 = n + half_pi - e2, h1 = n - half_pi + e1;
-        const VF cos_a2 = cos_n * (one - two * s2 * s2) + sin_n * (two * s2 * c2);   // cos(n - 2 e2)
-        const VF cos_a1 = cos_n * (one - two * s1 * s1) - sin_n * (two * s1 * c1);   // cos(n + 2 e1)
+        const VF cos_a2 = cos_n * (one - two * s2 * s2) + sin_n * (two * s2 * c2);  // cos(n - 2 e2)
+        const VF cos_a1 = cos_n * (one - two * s1 * s1) - sin_n * (two * s1 * c1);  // cos(n + 2 e1)
         const VF a = quarter * (cos_a1 + cos_n + two * h1 * sin_n) + quarter * (cos_a2 + cos_n + two * h2 * sin_n);
         sum = sum + select(has_n, plen * a, zero);
       }

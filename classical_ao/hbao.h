@@ -18,13 +18,13 @@
 
 namespace nns::classical_ao {
 
-using screen_space::GBuffer;
-using screen_space::NoiseTile;
 using screen_space::box_blur_4x4;
 using screen_space::box_blur_4x4_reference;
 using screen_space::for_each_surface_pixel;
+using screen_space::GBuffer;
 using screen_space::hash_unit;
 using screen_space::noise_angle_4x4;
+using screen_space::NoiseTile;
 using screen_space::pixel_hash;
 using screen_space::saturate;
 
@@ -83,7 +83,9 @@ inline void hbao_reference_with(const GBuffer& g, int samples, float* out, const
   box_blur_4x4_reference(g, raw.data(), out);
 }
 
-inline void hbao_reference(const GBuffer& g, int samples, float* out) { hbao_reference_with(g, samples, out, HbaoParams{}); }
+inline void hbao_reference(const GBuffer& g, int samples, float* out) {
+  hbao_reference_with(g, samples, out, HbaoParams{});
+}
 
 inline void hbao_with(const GBuffer& g, int samples, float* out, const HbaoParams& p) {
   using namespace screen_space::simd;

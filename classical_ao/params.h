@@ -68,8 +68,8 @@ inline std::vector<Tunable> tunables(ClassicalParams& p, const std::string& meth
 }
 
 // The method `name` with parameters p (the vectorised form, or its scalar reference).
-inline void run_classical(const std::string& name, const ClassicalParams& p, const GBuffer& g, int samples,
-                          float* out, bool reference = false) {
+inline void run_classical(const std::string& name, const ClassicalParams& p, const GBuffer& g, int samples, float* out,
+                          bool reference = false) {
   if (name == "SSAO") (reference ? ssao_reference_with : ssao_with)(g, samples, out, p.ssao);
   else if (name == "SSAO+") (reference ? ssao_plus_reference_with : ssao_plus_with)(g, samples, out, p.ssao_plus);
   else if (name == "HBAO") (reference ? hbao_reference_with : hbao_with)(g, samples, out, p.hbao);
@@ -119,8 +119,8 @@ inline ClassicalParams read_classical_params(const std::string& path) {
     // (found by fuzz_classical_params).
     const float f = float(v);
     if (!(f >= float(t->lo) && f <= float(t->hi)))
-      throw std::runtime_error(where + key + " = " + std::to_string(v) + " is outside [" + std::to_string(t->lo) + ", " +
-                               std::to_string(t->hi) + "]");
+      throw std::runtime_error(where + key + " = " + std::to_string(v) + " is outside [" + std::to_string(t->lo) +
+                               ", " + std::to_string(t->hi) + "]");
     *t->value = f;
   }
   return p;

@@ -18,12 +18,12 @@
 
 namespace nns::classical_ao {
 
-using screen_space::GBuffer;
-using screen_space::NoiseTile;
 using screen_space::box_blur_4x4;
 using screen_space::box_blur_4x4_reference;
 using screen_space::for_each_surface_pixel;
+using screen_space::GBuffer;
 using screen_space::noise_angle_4x4;
+using screen_space::NoiseTile;
 using screen_space::saturate;
 using screen_space::sphere_kernel;
 
@@ -55,7 +55,9 @@ inline void ssao_reference_with(const GBuffer& g, int samples, float* out, const
   box_blur_4x4_reference(g, raw.data(), out);
 }
 
-inline void ssao_reference(const GBuffer& g, int samples, float* out) { ssao_reference_with(g, samples, out, SsaoParams{}); }
+inline void ssao_reference(const GBuffer& g, int samples, float* out) {
+  ssao_reference_with(g, samples, out, SsaoParams{});
+}
 
 inline void ssao_with(const GBuffer& g, int samples, float* out, const SsaoParams& p) {
   using namespace screen_space::simd;

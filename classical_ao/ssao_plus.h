@@ -14,12 +14,12 @@
 
 namespace nns::classical_ao {
 
-using screen_space::GBuffer;
-using screen_space::NoiseTile;
 using screen_space::box_blur_4x4;
 using screen_space::box_blur_4x4_reference;
 using screen_space::for_each_surface_pixel;
+using screen_space::GBuffer;
 using screen_space::noise_angle_4x4;
+using screen_space::NoiseTile;
 using screen_space::normalize_or_facing;
 using screen_space::saturate;
 using screen_space::sphere_kernel;

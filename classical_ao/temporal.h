@@ -29,8 +29,10 @@ namespace nns::classical_ao {
 using screen_space::GBuffer;
 
 // prev_index[i] = pixel of the previous frame, or -1.
-inline std::vector<int64_t> reproject_to_previous(const GBuffer& cur, const std::optional<std::array<float, 16>>& cur_w2c,
-                                                  const GBuffer& prev, const std::optional<std::array<float, 16>>& prev_w2c) {
+inline std::vector<int64_t> reproject_to_previous(const GBuffer& cur,
+                                                  const std::optional<std::array<float, 16>>& cur_w2c,
+                                                  const GBuffer& prev,
+                                                  const std::optional<std::array<float, 16>>& prev_w2c) {
   std::vector<int64_t> map(size_t(cur.pixels()), -1);
   const bool same_size = cur.width == prev.width && cur.height == prev.height;
   // rel = prev_w2c * inverse(cur_w2c); both are rigid (rotation + translation).
@@ -42,8 +44,8 @@ inline std::vector<int64_t> reproject_to_previous(const GBuffer& cur, const std:
     double inv[12];  // inverse of a rigid [R t]: [R^T, -R^T t]
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) inv[r * 4 + c] = a[size_t(c * 4 + r)];
-      inv[r * 4 + 3] = -(double(a[size_t(0 * 4 + r)]) * a[3] + double(a[size_t(4 + r)]) * a[7] +
-                         double(a[size_t(8 + r)]) * a[11]);
+      inv[r * 4 + 3] =
+          -(double(a[size_t(0 * 4 + r)]) * a[3] + double(a[size_t(4 + r)]) * a[7] + double(a[size_t(8 + r)]) * a[11]);
     }
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c) {

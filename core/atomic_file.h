@@ -160,10 +160,12 @@ inline int remove_stale_temporaries(const std::string& dir, bool recursive = fal
     stale.push_back(e.path());
   };
   if (recursive) {
-    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec))
       consider(*it);
   } else {
-    for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) consider(*it);
+    for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
+      consider(*it);
   }
   for (auto& p : stale)
     if (std::error_code rm_ec; fs::remove(p, rm_ec)) ++removed;
@@ -225,8 +227,11 @@ inline std::string read_file(const std::string& path, uint64_t max_bytes = kMaxR
   if (::fstat(fd, &st) != 0) throw std::runtime_error("cannot read '" + path + "': " + std::strerror(errno));
   if (S_ISDIR(st.st_mode)) throw std::runtime_error("cannot read '" + path + "': it is a folder, not a file");
   if (!S_ISREG(st.st_mode)) {
-    const char* kind = S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISCHR(st.st_mode) ? "a character device"
-                       : S_ISBLK(st.st_mode) ? "a block device" : S_ISSOCK(st.st_mode) ? "a socket" : "not a file";
+    const char* kind = S_ISFIFO(st.st_mode)   ? "a FIFO"
+                       : S_ISCHR(st.st_mode)  ? "a character device"
+                       : S_ISBLK(st.st_mode)  ? "a block device"
+                       : S_ISSOCK(st.st_mode) ? "a socket"
+                                              : "not a file";
     throw std::runtime_error("cannot read '" + path + "': it is " + std::string(kind) +
                              ", not a regular file (only regular files of at most " + byte_count_text(max_bytes) +
                              " are read)");

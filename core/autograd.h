@@ -113,8 +113,7 @@ class Var {
   // Back-propagates from this scalar (seed 1) or from any tensor with an explicit seed.
   void backward() const {
     if (value().numel() != 1)
-      throw std::logic_error("backward() without a seed needs a scalar, got shape " +
-                             shape().str());
+      throw std::logic_error("backward() without a seed needs a scalar, got shape " + shape().str());
     backward(Tensor<T>::ones(shape()));
   }
   void backward(const Tensor<T>& seed) const {
@@ -130,7 +129,7 @@ class Var {
     Tensor<T>& g = node_->grad_buffer();
     for (int64_t i = 0; i < g.numel(); ++i) g[i] += seed[i];
     for (auto it = order.rbegin(); it != order.rend(); ++it) {
-      Node<T>& n = **it;  // `order` owns every node until the loop ends
+      Node<T>& n = **it;          // `order` owns every node until the loop ends
       if (!n.backward) continue;  // a leaf: keep its gradient
       if (n.grad.defined()) n.backward(n);
       if (!pending.empty())
@@ -156,8 +155,7 @@ class Var {
       auto& [n, next] = stack.back();
       if (next < n->parents.size()) {
         const auto& p = n->parents[next++];
-        if (p && n->parent_wants_grad[next - 1] && visited.insert(p.get()).second)
-          stack.push_back({p, 0});
+        if (p && n->parent_wants_grad[next - 1] && visited.insert(p.get()).second) stack.push_back({p, 0});
       } else {
         order.push_back(std::move(n));
         stack.pop_back();
@@ -173,8 +171,7 @@ class Var {
 // node.parents[i]->grad_buffer() for the parents that require grad. When no parent
 // requires grad (or grad mode is off) the result is a plain constant.
 template <class T, class Backward>
-Var<T> make_result(Tensor<T> value, std::vector<Var<T>> parents, const char* op,
-                   Backward&& backward) {
+Var<T> make_result(Tensor<T> value, std::vector<Var<T>> parents, const char* op, Backward&& backward) {
   Var<T> out(std::move(value));
   out.node()->op = op;
   if (!grad_mode_enabled()) return out;

@@ -43,19 +43,36 @@ enum class DType : uint32_t { F32 = 1, F64 = 2, U64 = 3, I64 = 4 };
 
 inline const char* dtype_name(DType d) {
   switch (d) {
-    case DType::F32: return "f32";
-    case DType::F64: return "f64";
-    case DType::U64: return "u64";
-    case DType::I64: return "i64";
+    case DType::F32:
+      return "f32";
+    case DType::F64:
+      return "f64";
+    case DType::U64:
+      return "u64";
+    case DType::I64:
+      return "i64";
   }
   return "unknown";
 }
 inline size_t dtype_size(DType d) { return d == DType::F32 ? 4 : 8; }
-template <class T> constexpr DType dtype_of();
-template <> constexpr DType dtype_of<float>() { return DType::F32; }
-template <> constexpr DType dtype_of<double>() { return DType::F64; }
-template <> constexpr DType dtype_of<uint64_t>() { return DType::U64; }
-template <> constexpr DType dtype_of<int64_t>() { return DType::I64; }
+template <class T>
+constexpr DType dtype_of();
+template <>
+constexpr DType dtype_of<float>() {
+  return DType::F32;
+}
+template <>
+constexpr DType dtype_of<double>() {
+  return DType::F64;
+}
+template <>
+constexpr DType dtype_of<uint64_t>() {
+  return DType::U64;
+}
+template <>
+constexpr DType dtype_of<int64_t>() {
+  return DType::I64;
+}
 
 struct BlobTensor {
   DType dtype = DType::F32;
@@ -167,8 +184,7 @@ class Blob {
   void read(const std::string& name, const Shape& expected, T* out) const {
     const BlobTensor& t = at(name);
     Shape got(t.dims.begin(), t.dims.end());
-    if (got != expected)
-      throw error("tensor '" + name + "' has shape " + got.str() + ", expected " + expected.str());
+    if (got != expected) throw error("tensor '" + name + "' has shape " + got.str() + ", expected " + expected.str());
     const size_t n = size_t(t.numel());
     if (t.dtype == dtype_of<T>()) {
       std::memcpy(out, t.bytes.data(), n * sizeof(T));
@@ -181,8 +197,7 @@ class Blob {
                     dtype_name(dtype_of<T>()));
       check_finite(name, out, n);
     } else {
-      throw error("tensor '" + name + "' has dtype " + dtype_name(t.dtype) + ", expected " +
-                  dtype_name(dtype_of<T>()));
+      throw error("tensor '" + name + "' has dtype " + dtype_name(t.dtype) + ", expected " + dtype_name(dtype_of<T>()));
     }
   }
   template <class T>
@@ -242,19 +257,16 @@ class Blob {
       throw b.error(prefix ? "truncated: " + std::to_string(n) + " bytes, shorter than the header"
                            : std::string("not an nnshade blob (bad magic; expected \"NNSBLOB\\0\")"));
     }
-    if (n < kFixedHeader)
-      throw b.error("truncated: " + std::to_string(n) + " bytes, shorter than the header");
+    if (n < kFixedHeader) throw b.error("truncated: " + std::to_string(n) + " bytes, shorter than the header");
     r.pos = 8;
     uint32_t version = r.u32();
     if (version != kVersion)
-      throw b.error("format version " + std::to_string(version) +
-                    " is not supported (this build reads version " + std::to_string(kVersion) + ")");
+      throw b.error("format version " + std::to_string(version) + " is not supported (this build reads version " +
+                    std::to_string(kVersion) + ")");
     r.u32();  // flags: none defined in version 1
     uint64_t declared = r.u64();
-    if (declared > n)
-      throw b.error("truncated: " + std::to_string(n) + " of " + std::to_string(declared) + " bytes");
-    if (declared < n)
-      throw b.error(std::to_string(n - declared) + " unexpected bytes after the end of the blob");
+    if (declared > n) throw b.error("truncated: " + std::to_string(n) + " of " + std::to_string(declared) + " bytes");
+    if (declared < n) throw b.error(std::to_string(n - declared) + " unexpected bytes after the end of the blob");
     if (declared < kFixedHeader + 4) throw b.error("malformed: declared size is too small");
     uint32_t stored, computed = crc32(bytes.data(), n - 4);
     std::memcpy(&stored, bytes.data() + n - 4, 4);

@@ -31,7 +31,8 @@ class FolderLock {
   FolderLock(const std::string& dir, const std::string& app) {
     const std::string path = (std::filesystem::path(dir) / kFileName).string();
     fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-    if (fd_ < 0) throw std::runtime_error(app + ": cannot lock the output folder '" + dir + "': " + std::strerror(errno));
+    if (fd_ < 0)
+      throw std::runtime_error(app + ": cannot lock the output folder '" + dir + "': " + std::strerror(errno));
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       const int err = errno;
       char buf[32] = {};

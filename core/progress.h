@@ -33,9 +33,7 @@ class Progress {
   void finish(const std::string& status = "") {
     if (done_ < total_) update(total_, status);
   }
-  double elapsed_seconds() const {
-    return std::chrono::duration<double>(clock::now() - start_).count();
-  }
+  double elapsed_seconds() const { return std::chrono::duration<double>(clock::now() - start_).count(); }
 
   static std::string format_seconds(double s) {
     char buf[32];
@@ -55,9 +53,8 @@ class Progress {
     int filled = int(frac * width);
     std::string bar(size_t(filled), '#');
     bar.resize(width, '.');
-    std::fprintf(stderr, "%s%s [%s] %3.0f%% %lld/%lld %s %s %s%s", tty_ ? "\r" : "", label_.c_str(),
-                 bar.c_str(), 100 * frac, (long long)done_, (long long)total_,
-                 format_seconds(el).c_str(),
+    std::fprintf(stderr, "%s%s [%s] %3.0f%% %lld/%lld %s %s %s%s", tty_ ? "\r" : "", label_.c_str(), bar.c_str(),
+                 100 * frac, (long long)done_, (long long)total_, format_seconds(el).c_str(),
                  finished ? "done" : ("ETA " + format_seconds(eta)).c_str(), status.c_str(),
                  tty_ && !finished ? "\033[K" : "\n");
     std::fflush(stderr);

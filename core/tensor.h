@@ -41,8 +41,7 @@ class Tensor {
 
   Tensor() = default;
   // Uninitialised contents: use zeros()/full() when the values matter.
-  explicit Tensor(const Shape& shape)
-      : shape_(shape), storage_(std::make_shared<Storage<T>>(shape.numel())) {}
+  explicit Tensor(const Shape& shape) : shape_(shape), storage_(std::make_shared<Storage<T>>(shape.numel())) {}
 
   static Tensor empty(const Shape& s) { return Tensor(s); }
   static Tensor zeros(const Shape& s) { return full(s, T(0)); }
@@ -54,8 +53,7 @@ class Tensor {
   }
   static Tensor from(const Shape& s, const std::vector<T>& values) {
     if (int64_t(values.size()) != s.numel())
-      throw std::invalid_argument("Tensor::from: " + std::to_string(values.size()) +
-                                  " values for shape " + s.str());
+      throw std::invalid_argument("Tensor::from: " + std::to_string(values.size()) + " values for shape " + s.str());
     Tensor t(s);
     std::copy(values.begin(), values.end(), t.data());
     return t;
@@ -80,19 +78,19 @@ class Tensor {
   // thread writing 100 MB of zeros left the other idle for ~3% of a GAN iteration.
   void fill(T v) {
     T* p = data();
-    parallel_for(numel(), [&](int64_t b, int64_t e) { std::fill(p + b, p + e, v); }, kParallelFill);
+    parallel_for(
+        numel(), [&](int64_t b, int64_t e) { std::fill(p + b, p + e, v); }, kParallelFill);
   }
   void zero() {
     T* p = data();
-    parallel_for(numel(), [&](int64_t b, int64_t e) {
-      std::memset(static_cast<void*>(p + b), 0, sizeof(T) * size_t(e - b));
-    }, kParallelFill);
+    parallel_for(
+        numel(), [&](int64_t b, int64_t e) { std::memset(static_cast<void*>(p + b), 0, sizeof(T) * size_t(e - b)); },
+        kParallelFill);
   }
 
   // A view of the same storage with another shape of the same size.
   Tensor reshape(const Shape& s) const {
-    if (s.numel() != numel())
-      throw std::invalid_argument("reshape: " + shape_.str() + " to " + s.str());
+    if (s.numel() != numel()) throw std::invalid_argument("reshape: " + shape_.str() + " to " + s.str());
     Tensor t = *this;
     t.shape_ = s;
     return t;
@@ -120,8 +118,7 @@ class Tensor {
 template <class T>
 inline void check_shape(const Tensor<T>& t, const Shape& s, const char* what) {
   if (t.shape() != s)
-    throw std::invalid_argument(std::string(what) + ": expected shape " + s.str() + ", got " +
-                                t.shape().str());
+    throw std::invalid_argument(std::string(what) + ": expected shape " + s.str() + ", got " + t.shape().str());
 }
 
 }  // namespace nns

@@ -140,8 +140,7 @@ class ThreadPool {
     for (;;) {
       // Spin for a short while before sleeping, so back-to-back kernels of a training
       // step do not pay a futex wake-up each.
-      for (int spin = 0; spin < 20000 && generation_.load(std::memory_order_acquire) == seen; ++spin)
-        pause();
+      for (int spin = 0; spin < 20000 && generation_.load(std::memory_order_acquire) == seen; ++spin) pause();
       if (generation_.load(std::memory_order_acquire) == seen) {
         std::unique_lock<std::mutex> lock(mu_);
         cv_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });

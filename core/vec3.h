@@ -46,7 +46,11 @@ inline Vec3 lerp(Vec3 a, Vec3 b, float t) { return a + (b - a) * t; }
 // the low bits that the noise measurements look at.
 struct Accum3 {
   double r = 0, g = 0, b = 0;
-  void add(Vec3 v, double w = 1) { r += w * v.x; g += w * v.y; b += w * v.z; }
+  void add(Vec3 v, double w = 1) {
+    r += w * v.x;
+    g += w * v.y;
+    b += w * v.z;
+  }
   Vec3 mean(double n) const { return n > 0 ? Vec3(float(r / n), float(g / n), float(b / n)) : Vec3(); }
 };
 

@@ -36,7 +36,6 @@ namespace nns::data {
 
 namespace blender {
 
-
 struct ImportSettings {
   float fov_y = 0;  // 0: from the file's capture note
   std::optional<float> ao_radius;
@@ -59,7 +58,8 @@ inline std::string find_layer(const View& in, const std::string& wanted) {
   if (!wanted.empty()) {
     for (auto& l : layers)
       if (l == wanted) return l;
-    throw std::runtime_error(in.source + ": no channel '" + wanted + ".Depth.Z' (enable the Z pass in that view layer)");
+    throw std::runtime_error(in.source + ": no channel '" + wanted +
+                             ".Depth.Z' (enable the Z pass in that view layer)");
   }
   if (layers.empty())
     throw std::runtime_error(in.source + ": no '<ViewLayer>.Depth.Z' channel; enable Passes > Data > Z in Blender");
@@ -93,7 +93,8 @@ inline ImportSettings with_capture_note(const ImportSettings& flags, const std::
 
 inline void require_fov(const ImportSettings& s, const std::string& file) {
   if (!(s.fov_y > 0 && s.fov_y < 180))
-    throw std::runtime_error(file + ": no field of view: render with tools/blender_capture.py (it writes the "
+    throw std::runtime_error(file +
+                             ": no field of view: render with tools/blender_capture.py (it writes the "
                              "camera into the file) or give --fov-y (docs/blender.md)");
 }
 
@@ -120,13 +121,15 @@ inline View convert(const View& in, const ImportSettings& s) {
   // no distance at all, and made sky it would hide a broken render.
   for (size_t i = 0; i < z.size(); ++i) {
     float& v = z[i];
-    if (std::isnan(v) || v < 0) throw at(pass("Depth.Z"), i, "depth " + std::to_string(v) + " is no distance (NaN or negative)");
+    if (std::isnan(v) || v < 0)
+      throw at(pass("Depth.Z"), i, "depth " + std::to_string(v) + " is no distance (NaN or negative)");
     if (v == 0 || v >= s.sky_depth) v = INFINITY;
   }
 
   if (in.has(pass("Normal.X"))) {
     if (!out.world_to_camera)
-      throw std::runtime_error(in.source + ": world-space normals need the camera: render with "
+      throw std::runtime_error(in.source +
+                               ": world-space normals need the camera: render with "
                                "tools/blender_capture.py, or pass --world-to-camera (docs/blender.md)");
     const auto& m = *out.world_to_camera;
     // The rotation part must turn a direction into one: 16 zeros made every normal zero.
@@ -136,7 +139,8 @@ inline View convert(const View& in, const ImportSettings& s) {
     if (!(std::fabs(det) > 1e-12) || !std::isfinite(det))
       throw std::runtime_error(in.source + ": the world-to-camera matrix's upper-left 3x3 is singular (determinant " +
                                std::to_string(det) + "): it rotates no normal into camera space");
-    const auto &wx = in.channel(pass("Normal.X")), &wy = in.channel(pass("Normal.Y")), &wz = in.channel(pass("Normal.Z"));
+    const auto &wx = in.channel(pass("Normal.X")), &wy = in.channel(pass("Normal.Y")),
+               &wz = in.channel(pass("Normal.Z"));
     auto &nx = out.add_channel("N.X"), &ny = out.add_channel("N.Y"), &nz = out.add_channel("N.Z");
     for (size_t i = 0; i < n; ++i) {
       if (is_sky(z[i])) continue;  // zero on sky, as the spec allows
@@ -145,12 +149,17 @@ inline View convert(const View& in, const ImportSettings& s) {
       // lost the digits that make the result unit (a fuzzer found 1e-20-sized normals).
       double c[3];
       for (int r = 0; r < 3; ++r)
-        c[r] = double(m[size_t(4 * r)]) * wx[i] + double(m[size_t(4 * r + 1)]) * wy[i] + double(m[size_t(4 * r + 2)]) * wz[i];
+        c[r] = double(m[size_t(4 * r)]) * wx[i] + double(m[size_t(4 * r + 1)]) * wy[i] +
+               double(m[size_t(4 * r + 2)]) * wz[i];
       const double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
       if (!(len > 0 && std::isfinite(len))) {
-        const char* axis = !std::isfinite(wx[i]) ? "Normal.X" : !std::isfinite(wy[i]) ? "Normal.Y" : !std::isfinite(wz[i]) ? "Normal.Z" : "Normal.X";
-        throw at(pass(axis), i, "the normal (" + std::to_string(wx[i]) + ", " + std::to_string(wy[i]) + ", " +
-                                    std::to_string(wz[i]) + ") has no direction (NaN, infinite or zero)");
+        const char* axis = !std::isfinite(wx[i])   ? "Normal.X"
+                           : !std::isfinite(wy[i]) ? "Normal.Y"
+                           : !std::isfinite(wz[i]) ? "Normal.Z"
+                                                   : "Normal.X";
+        throw at(pass(axis), i,
+                 "the normal (" + std::to_string(wx[i]) + ", " + std::to_string(wy[i]) + ", " + std::to_string(wz[i]) +
+                     ") has no direction (NaN, infinite or zero)");
       }
       nx[i] = float(c[0] / len), ny[i] = float(c[1] / len), nz[i] = float(c[2] / len);
     }
@@ -166,7 +175,8 @@ inline View convert(const View& in, const ImportSettings& s) {
   for (const char* ao : {"AO.R", "AO.X", "AO.V"})
     if (in.has(pass(ao))) {
       if (!s.ao_radius)
-        throw std::runtime_error(in.source + ": has an AO pass; give its distance with --ao-radius (Blender 3.x: "
+        throw std::runtime_error(in.source +
+                                 ": has an AO pass; give its distance with --ao-radius (Blender 3.x: "
                                  "Render Properties > Light Paths > Fast GI Approximation > AO Distance, "
                                  "world.light_settings.distance, default 10), or render with tools/blender_capture.py");
       out.add_channel("AO") = in.channel(pass(ao));

@@ -155,8 +155,8 @@ void check_frame_sizes(const std::array<View, 6>& faces) {
                                std::to_string(faces[i].width) + "x" + std::to_string(faces[i].height));
     if (faces[i].width != faces[0].width)
       throw std::runtime_error(faces[i].source + ": face is " + std::to_string(faces[i].width) + "x" +
-                               std::to_string(faces[i].height) + " but front is " +
-                               std::to_string(faces[0].width) + "x" + std::to_string(faces[0].height));
+                               std::to_string(faces[i].height) + " but front is " + std::to_string(faces[0].width) +
+                               "x" + std::to_string(faces[0].height));
   }
 }
 

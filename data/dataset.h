@@ -20,27 +20,27 @@ inline constexpr std::array<const char*, 6> kFaceNames = {"front", "back", "left
 // A surround frame: a folder holding <face>.exr for each face.
 struct FrameEntry {
   std::string dir;
-  std::array<std::string, 6> faces;   // paths in Face order; empty where missing
-  std::vector<std::string> missing;   // face names without a file
+  std::array<std::string, 6> faces;  // paths in Face order; empty where missing
+  std::vector<std::string> missing;  // face names without a file
   bool complete() const { return missing.empty(); }
 };
 
 struct SplitListing {
   std::string dir;
-  std::vector<std::string> views;   // <view>.exr files, sorted by name
-  std::vector<FrameEntry> frames;   // sub-folders with at least one <face>.exr, sorted
+  std::vector<std::string> views;  // <view>.exr files, sorted by name
+  std::vector<FrameEntry> frames;  // sub-folders with at least one <face>.exr, sorted
   size_t size() const { return views.size() + frames.size(); }
 };
 
 struct DatasetListing {
   std::string root;
-  bool flat = false;                // no train/ and test/: everything is in `train`
+  bool flat = false;  // no train/ and test/: everything is in `train`
   SplitListing train, test;
   // holdout/: views of whole scene families kept out of train/ and test/
   // (render-dataset --holdout-families); trainers never read it.
   SplitListing holdout;
   bool has_holdout = false;
-  std::vector<std::string> notes;   // e.g. "DATA/train/x: folder without face files, ignored"
+  std::vector<std::string> notes;  // e.g. "DATA/train/x: folder without face files, ignored"
 };
 
 // Throws "<root>: ..." if root is not a readable folder. Files written half-way

@@ -29,8 +29,8 @@ class HeaderReader {
   int64_t left() const { return left_; }
   std::string bytes(int64_t n, const char* what) {
     if (n < 0 || n > left_)
-      fail(std::string(what) + " declares " + std::to_string(n) + " bytes, more than the " +
-           std::to_string(left_) + " left in the file");
+      fail(std::string(what) + " declares " + std::to_string(n) + " bytes, more than the " + std::to_string(left_) +
+           " left in the file");
     std::string s(size_t(n), '\0');
     if (n && !in_.read(s.data(), std::streamsize(n))) fail("cannot read " + std::string(what));
     left_ -= n;
@@ -75,11 +75,14 @@ class HeaderReader {
 // others (chlist, preview and stringvector are walked; string, floatvector and unknown
 // types are read by their declared size).
 int fixed_size(const std::string& type) {
-  static const std::pair<const char*, int> sizes[] = {
-      {"box2i", 16}, {"box2f", 16}, {"chromaticities", 32}, {"compression", 1}, {"double", 8},
-      {"envmap", 1}, {"float", 4}, {"int", 4}, {"keycode", 28}, {"lineOrder", 1}, {"m33f", 36},
-      {"m33d", 72}, {"m44f", 64}, {"m44d", 128}, {"rational", 8}, {"tiledesc", 9}, {"timecode", 8},
-      {"v2i", 8}, {"v2f", 8}, {"v2d", 16}, {"v3i", 12}, {"v3f", 12}, {"v3d", 24}, {"deepImageState", 1}};
+  static const std::pair<const char*, int> sizes[] = {{"box2i", 16},      {"box2f", 16},   {"chromaticities", 32},
+                                                      {"compression", 1}, {"double", 8},   {"envmap", 1},
+                                                      {"float", 4},       {"int", 4},      {"keycode", 28},
+                                                      {"lineOrder", 1},   {"m33f", 36},    {"m33d", 72},
+                                                      {"m44f", 64},       {"m44d", 128},   {"rational", 8},
+                                                      {"tiledesc", 9},    {"timecode", 8}, {"v2i", 8},
+                                                      {"v2f", 8},         {"v2d", 16},     {"v3i", 12},
+                                                      {"v3f", 12},        {"v3d", 24},     {"deepImageState", 1}};
   for (auto& [t, n] : sizes)
     if (type == t) return n;
   return -1;
@@ -122,8 +125,8 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
     if (int expected = fixed_size(type); expected >= 0 && size != expected)
       r.fail(what + " of type " + type + " declares " + std::to_string(size) + " bytes, the type has " +
              std::to_string(expected));
-    const bool needed = type == "box2i" || type == "chlist" || type == "tiledesc" || type == "preview" ||
-                        type == "stringvector";
+    const bool needed =
+        type == "box2i" || type == "chlist" || type == "tiledesc" || type == "preview" || type == "stringvector";
     if (type == "floatvector" && size % 4 != 0)
       r.fail(what + " of type floatvector declares " + std::to_string(size) + " bytes, not a multiple of 4");
     if (!needed) {
@@ -143,12 +146,12 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
       for (;;) {
         size_t end = v.find('\0', p);
         if (end == std::string::npos) r.fail("the channel list runs past its attribute");
-        if (end == p) {       // the empty name closes the list, and must end the value
+        if (end == p) {  // the empty name closes the list, and must end the value
           if (end + 1 != v.size()) r.fail("the channel list ends before its attribute does");
           break;
         }
         if (end - p > 255) r.fail("a channel name is longer than 255 characters");
-        p = end + 1 + 16;     // pixel type, pLinear + 3 reserved, x and y sampling
+        p = end + 1 + 16;  // pixel type, pLinear + 3 reserved, x and y sampling
         if (p > v.size()) r.fail("the channel list runs past its attribute");
         ++channels;
       }
@@ -166,8 +169,8 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
       std::memcpy(&pw, v.data(), 4);
       std::memcpy(&ph, v.data() + 4, 4);
       if (uint64_t(pw) * uint64_t(ph) * 4 + 8 != uint64_t(v.size()))
-        r.fail(what + " declares a " + std::to_string(pw) + "x" + std::to_string(ph) +
-               " preview that its " + std::to_string(v.size()) + " bytes do not hold");
+        r.fail(what + " declares a " + std::to_string(pw) + "x" + std::to_string(ph) + " preview that its " +
+               std::to_string(v.size()) + " bytes do not hold");
     } else if (type == "stringvector") {
       // OpenEXR sizes each string from its own length field.
       size_t p = 0;
@@ -210,7 +213,8 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
                                std::to_string(f.tile_height) + " is outside 1.." + std::to_string(limits.max_side));
     if (f.tile_width * f.tile_height * per_pixel > limit)
       throw std::runtime_error(path + ": tile size " + std::to_string(f.tile_width) + "x" +
-                               std::to_string(f.tile_height) + " declares more than the file can hold; refused "
+                               std::to_string(f.tile_height) +
+                               " declares more than the file can hold; refused "
                                "before allocating");
   }
   return f;

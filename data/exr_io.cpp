@@ -35,17 +35,28 @@ std::runtime_error file_error(const std::string& path, const std::string& what) 
 
 std::string compression_name(Imf::Compression c) {
   switch (c) {
-    case Imf::NO_COMPRESSION: return "none";
-    case Imf::RLE_COMPRESSION: return "rle";
-    case Imf::ZIPS_COMPRESSION: return "zips";
-    case Imf::ZIP_COMPRESSION: return "zip";
-    case Imf::PIZ_COMPRESSION: return "piz";
-    case Imf::PXR24_COMPRESSION: return "pxr24";
-    case Imf::B44_COMPRESSION: return "b44";
-    case Imf::B44A_COMPRESSION: return "b44a";
-    case Imf::DWAA_COMPRESSION: return "dwaa";
-    case Imf::DWAB_COMPRESSION: return "dwab";
-    default: return "unknown";
+    case Imf::NO_COMPRESSION:
+      return "none";
+    case Imf::RLE_COMPRESSION:
+      return "rle";
+    case Imf::ZIPS_COMPRESSION:
+      return "zips";
+    case Imf::ZIP_COMPRESSION:
+      return "zip";
+    case Imf::PIZ_COMPRESSION:
+      return "piz";
+    case Imf::PXR24_COMPRESSION:
+      return "pxr24";
+    case Imf::B44_COMPRESSION:
+      return "b44";
+    case Imf::B44A_COMPRESSION:
+      return "b44a";
+    case Imf::DWAA_COMPRESSION:
+      return "dwaa";
+    case Imf::DWAB_COMPRESSION:
+      return "dwab";
+    default:
+      return "unknown";
   }
 }
 
@@ -108,7 +119,8 @@ View read_view(const std::string& path, const ReadOptions& options, ExrInfo* inf
     local.has_scene = scene != nullptr;
     local.has_world_to_camera = v.world_to_camera.has_value();
     for (auto it = h.begin(); it != h.end(); ++it)
-      if (auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) local.strings[it.name()] = text->value();
+      if (auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+        local.strings[it.name()] = text->value();
     if (fov) v.fov_y_deg = *fov;
     v.ao_radius = radius;
     if (scene) v.scene = scene->value();
@@ -130,14 +142,12 @@ View read_view(const std::string& path, const ReadOptions& options, ExrInfo* inf
       bool is_half = it.channel().type == Imf::HALF;
       local.channels.push_back({name, is_half});
       if (!options.only_channels.empty() &&
-          std::find(options.only_channels.begin(), options.only_channels.end(), name) ==
-              options.only_channels.end())
+          std::find(options.only_channels.begin(), options.only_channels.end(), name) == options.only_channels.end())
         continue;
       if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
         throw file_error(path, "channel '" + name + "' is subsampled; the format needs full-resolution planes");
       if (name == "Z" && is_half && options.warn_half_depth)
-        std::fprintf(stderr, "warning: %s: channel 'Z' is HALF; depth loses precision (store FLOAT)\n",
-                     path.c_str());
+        std::fprintf(stderr, "warning: %s: channel 'Z' is HALF; depth loses precision (store FLOAT)\n", path.c_str());
       auto& plane = v.add_channel(name);
       // The slice base is shifted so that data-window pixel (min.x, min.y) lands at index 0.
       char* base = reinterpret_cast<char*>(plane.data()) -
@@ -160,13 +170,12 @@ View read_view(const std::string& path, const ReadOptions& options, ExrInfo* inf
 
 void write_view(const std::string& path, const View& v, const WriteOptions& options) {
   if (v.width <= 0 || v.height <= 0)
-    throw file_error(path, "cannot write a view of size " + std::to_string(v.width) + "x" +
-                               std::to_string(v.height));
+    throw file_error(path, "cannot write a view of size " + std::to_string(v.width) + "x" + std::to_string(v.height));
   const size_t n = size_t(v.width) * size_t(v.height);
   for (auto& [name, plane] : v.channels)
     if (plane.size() != n)
-      throw file_error(path, "channel '" + name + "' has " + std::to_string(plane.size()) +
-                                 " values, expected " + std::to_string(n));
+      throw file_error(path, "channel '" + name + "' has " + std::to_string(plane.size()) + " values, expected " +
+                                 std::to_string(n));
 
   Imf::Header h(v.width, v.height);
   h.compression() = Imf::ZIP_COMPRESSION;
@@ -189,11 +198,11 @@ void write_view(const std::string& path, const View& v, const WriteOptions& opti
     h.channels().insert(name, Imf::Channel(store_half ? Imf::HALF : Imf::FLOAT));
     if (store_half) {
       halves.emplace_back(plane.begin(), plane.end());
-      fb.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(halves.back().data()),
-                                 sizeof(half), sizeof(half) * size_t(v.width)));
+      fb.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(halves.back().data()), sizeof(half),
+                                 sizeof(half) * size_t(v.width)));
     } else {
-      fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(plane.data())),
-                                 sizeof(float), sizeof(float) * size_t(v.width)));
+      fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(plane.data())), sizeof(float),
+                                 sizeof(float) * size_t(v.width)));
     }
   }
 

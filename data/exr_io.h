@@ -33,7 +33,7 @@ struct ReadOptions {
 struct ExrInfo {
   struct Channel {
     std::string name;
-    bool half = false;   // stored as HALF (else FLOAT or UINT)
+    bool half = false;  // stored as HALF (else FLOAT or UINT)
   };
   std::vector<Channel> channels;  // every channel in the file, sorted by name
   bool tiled = false;

@@ -12,9 +12,7 @@ bool face_prefixed(const ChannelMapping& m) { return m.target.find('.') != std::
 
 namespace {
 
-std::string faces_list() {
-  return comma_list(std::vector<std::string>(kFaceNames.begin(), kFaceNames.end()));
-}
+std::string faces_list() { return comma_list(std::vector<std::string>(kFaceNames.begin(), kFaceNames.end())); }
 
 }  // namespace
 
@@ -25,17 +23,21 @@ std::array<View, 6> frame_from_images(const std::vector<ChannelMapping>& mapping
     throw std::runtime_error("--channel: " + comma_list(plain) + (plain.size() == 1 ? " names" : " name") +
                              " no face but " + prefixed[0] + (prefixed.size() == 1 ? " does" : " and others do") +
                              "; a surround frame gives every target with its face: FACE.TARGET=FILE, "
-                             "FACE one of " + faces_list());
+                             "FACE one of " +
+                             faces_list());
   if (prefixed.empty())
-    throw std::runtime_error("--channel without faces gives one view, but a surround frame has six: give every "
-                             "target with its face, --channel FACE.TARGET=FILE (FACE one of " + faces_list() +
-                             "; e.g. front.depth=f_depth.exr, back.normal=b_normal.png), or --in a folder of six "
-                             "view EXRs");
+    throw std::runtime_error(
+        "--channel without faces gives one view, but a surround frame has six: give every "
+        "target with its face, --channel FACE.TARGET=FILE (FACE one of " +
+        faces_list() +
+        "; e.g. front.depth=f_depth.exr, back.normal=b_normal.png), or --in a folder of six "
+        "view EXRs");
   // A cube map's faces each cover 90 degrees; any other angle would not be a surround frame.
   if (o.fov_y_deg != 0 && o.fov_y_deg != 90) {
     char fov[32];
     std::snprintf(fov, sizeof fov, "%g", double(o.fov_y_deg));
-    throw std::runtime_error("--fov-y " + std::string(fov) + ": the faces of a surround frame are "
+    throw std::runtime_error("--fov-y " + std::string(fov) +
+                             ": the faces of a surround frame are "
                              "square 90-degree views (a cube map around the camera); give --fov-y 90 or leave it "
                              "out");
   }
@@ -46,8 +48,7 @@ std::array<View, 6> frame_from_images(const std::vector<ChannelMapping>& mapping
     const std::string face = m.target.substr(0, dot), target = m.target.substr(dot + 1);
     const auto f = std::find(kFaceNames.begin(), kFaceNames.end(), face);
     if (f == kFaceNames.end())
-      throw std::runtime_error("--channel '" + m.text + "': unknown face '" + face + "' (faces: " + faces_list() +
-                               ")");
+      throw std::runtime_error("--channel '" + m.text + "': unknown face '" + face + "' (faces: " + faces_list() + ")");
     // An unknown target is refused by view_from_images, naming the mapping as given.
     ChannelMapping face_mapping = m;  // `text` stays as given, for view_from_images's messages
     face_mapping.target = target;

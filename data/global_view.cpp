@@ -11,12 +11,18 @@ namespace nns::data {
 
 FaceBasis face_basis(Face f) {
   switch (f) {
-    case Face::front: return {{0, 0, -1}, {1, 0, 0}, {0, 1, 0}};
-    case Face::back: return {{0, 0, 1}, {-1, 0, 0}, {0, 1, 0}};
-    case Face::left: return {{-1, 0, 0}, {0, 0, -1}, {0, 1, 0}};
-    case Face::right: return {{1, 0, 0}, {0, 0, 1}, {0, 1, 0}};
-    case Face::up: return {{0, 1, 0}, {1, 0, 0}, {0, 0, 1}};
-    case Face::down: return {{0, -1, 0}, {1, 0, 0}, {0, 0, -1}};
+    case Face::front:
+      return {{0, 0, -1}, {1, 0, 0}, {0, 1, 0}};
+    case Face::back:
+      return {{0, 0, 1}, {-1, 0, 0}, {0, 1, 0}};
+    case Face::left:
+      return {{-1, 0, 0}, {0, 0, -1}, {0, 1, 0}};
+    case Face::right:
+      return {{1, 0, 0}, {0, 0, 1}, {0, 1, 0}};
+    case Face::up:
+      return {{0, 1, 0}, {1, 0, 0}, {0, 0, 1}};
+    case Face::down:
+      return {{0, -1, 0}, {1, 0, 0}, {0, 0, -1}};
   }
   throw std::invalid_argument("face_basis: bad face");
 }
@@ -43,18 +49,26 @@ constexpr Face kRing[4] = {Face::left, Face::front, Face::right, Face::back};
 // the two faces' directions agree along the shared edge).
 std::array<double, 2> up_edge(int k, double u) {
   switch (k) {
-    case 0: return {0, u};        // left  face top row  <-> up's left column
-    case 1: return {u, 1};        // front face top row  <-> up's bottom row
-    case 2: return {1, 1 - u};    // right face top row  <-> up's right column
-    default: return {1 - u, 0};   // back  face top row  <-> up's top row
+    case 0:
+      return {0, u};  // left  face top row  <-> up's left column
+    case 1:
+      return {u, 1};  // front face top row  <-> up's bottom row
+    case 2:
+      return {1, 1 - u};  // right face top row  <-> up's right column
+    default:
+      return {1 - u, 0};  // back  face top row  <-> up's top row
   }
 }
 std::array<double, 2> down_edge(int k, double u) {
   switch (k) {
-    case 0: return {0, 1 - u};
-    case 1: return {u, 0};
-    case 2: return {1, u};
-    default: return {1 - u, 1};
+    case 0:
+      return {0, 1 - u};
+    case 1:
+      return {u, 0};
+    case 2:
+      return {1, u};
+    default:
+      return {1 - u, 1};
   }
 }
 

@@ -56,7 +56,8 @@ Image read_image(const std::string& path) {
   // of a user's bytes. Given a format name it makes that reader and nothing else.
   const std::string format = format_of(path);
   if (format.empty())
-    throw std::runtime_error(path + ": not a PNG, TIFF, Radiance HDR or OpenEXR file name (.png, .tif, .tiff, "
+    throw std::runtime_error(path +
+                             ": not a PNG, TIFF, Radiance HDR or OpenEXR file name (.png, .tif, .tiff, "
                              ".hdr, .exr)");
   // OpenEXR allocates each header attribute at the size the file declares before reading
   // it (a 200-byte file can ask for 1.7 GB): the project's bounded header pass goes first,
@@ -79,8 +80,8 @@ Image read_image(const std::string& path) {
   if (spec.depth > 1) throw std::runtime_error(path + ": a volume (" + std::to_string(spec.depth) + " slices)");
   const long long values = (long long)spec.width * spec.height * spec.nchannels;
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    throw std::runtime_error(path + ": empty image (" + std::to_string(spec.width) + "x" +
-                             std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) + " channels)");
+    throw std::runtime_error(path + ": empty image (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                             ", " + std::to_string(spec.nchannels) + " channels)");
   if (spec.width > kMaxImageSide || spec.height > kMaxImageSide || values > kMaxImageValues)
     throw std::runtime_error(path + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
                              std::to_string(spec.nchannels) + " channels is larger than the " +
@@ -156,9 +157,7 @@ std::string comma_list(const std::vector<std::string>& v) {
 
 namespace {
 
-float srgb_decode(float s) {
-  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
-}
+float srgb_decode(float s) { return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f); }
 
 // The target as the user wrote it, for hints to copy: "back.normal" for a face of a
 // surround frame (data/frame_images.h passes the target without the face).
@@ -200,7 +199,9 @@ void fill_target(View& v, const ChannelTarget& t, const Image& im, const std::ve
   const size_t n = size_t(im.width) * size_t(im.height), stride = im.channels.size();
   std::vector<std::vector<float>*> planes;
   for (auto& name : t.view_channels) planes.push_back(&v.add_channel(name));
-  auto where = [&](size_t i) { return " at x=" + std::to_string(i % size_t(im.width)) + ", y=" + std::to_string(i / size_t(im.width)); };
+  auto where = [&](size_t i) {
+    return " at x=" + std::to_string(i % size_t(im.width)) + ", y=" + std::to_string(i / size_t(im.width));
+  };
   const std::string what = im.source + ": " + t.name + " (channel" + (idx.size() == 1 ? " '" : "s '");
   auto channel_names = [&] {
     std::string s;
@@ -209,7 +210,8 @@ void fill_target(View& v, const ChannelTarget& t, const Image& im, const std::ve
   };
   const bool depth = std::string(t.name) == "depth", normal = std::string(t.name) == "normal";
   if (depth && im.integer && !(o.depth_scale > 0))
-    throw std::runtime_error(channel_names() + " is stored as integers, which carry no unit: give --depth-scale "
+    throw std::runtime_error(channel_names() +
+                             " is stored as integers, which carry no unit: give --depth-scale "
                              "(the view-space depth of the largest code)");
   for (size_t i = 0; i < n; ++i) {
     float px[3];
@@ -242,7 +244,8 @@ void fill_target(View& v, const ChannelTarget& t, const Image& im, const std::ve
 View view_from_images(const std::vector<ChannelMapping>& mappings, const ImageViewOptions& o) {
   const std::string cmd = o.command.empty() ? std::string("this command") : o.command;
   auto takes = [&] {
-    return cmd + " takes " + comma_list(o.targets) + (o.optional.empty() ? "" : "; optional: " + comma_list(o.optional));
+    return cmd + " takes " + comma_list(o.targets) +
+           (o.optional.empty() ? "" : "; optional: " + comma_list(o.optional));
   };
   auto listed = [](const std::vector<std::string>& v, const std::string& x) {
     return std::find(v.begin(), v.end(), x) != v.end();
@@ -257,8 +260,9 @@ View view_from_images(const std::vector<ChannelMapping>& mappings, const ImageVi
   for (auto& t : o.targets)
     if (!by_target.count(t)) throw std::runtime_error("no --channel " + t + "=FILE (" + takes() + ")");
   if (!(o.fov_y_deg > 0 && o.fov_y_deg < 180))
-    throw std::runtime_error("--fov-y is required with --channel: the camera's vertical field of view, in "
-                             "degrees (0, 180)");
+    throw std::runtime_error(
+        "--fov-y is required with --channel: the camera's vertical field of view, in "
+        "degrees (0, 180)");
 
   View v;
   std::map<std::string, Image> images;  // each file read once, however many targets use it
@@ -275,9 +279,9 @@ View view_from_images(const std::vector<ChannelMapping>& mappings, const ImageVi
       first = &im, first_target = t.name;
       v.width = im.width, v.height = im.height;
     } else if (im.width != first->width || im.height != first->height) {
-      throw std::runtime_error(im.source + ": is " + std::to_string(im.width) + "x" + std::to_string(im.height) +
-                               " (" + t.name + ") but " + first->source + " is " + std::to_string(first->width) +
-                               "x" + std::to_string(first->height) + " (" + first_target +
+      throw std::runtime_error(im.source + ": is " + std::to_string(im.width) + "x" + std::to_string(im.height) + " (" +
+                               t.name + ") but " + first->source + " is " + std::to_string(first->width) + "x" +
+                               std::to_string(first->height) + " (" + first_target +
                                "); every image of a view has one size");
     }
     fill_target(v, t, im, pick_channels(im, m, t.view_channels.size()), o);

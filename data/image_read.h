@@ -40,7 +40,7 @@ struct Image {
   std::string source;
 
   int channel_index(const std::string& name) const;  // -1 when absent
-  std::string channel_list() const;                   // "R, G, B" for messages
+  std::string channel_list() const;                  // "R, G, B" for messages
 };
 
 // The largest image read, in values (width * height * channels): 2^27 floats, 512 MiB.
@@ -70,8 +70,8 @@ struct ChannelTarget {
 const std::vector<ChannelTarget>& channel_targets();
 
 struct ImageViewOptions {
-  float fov_y_deg = 0;             // the camera's vertical field of view; required
-  float depth_scale = 0;           // integer depth: view-space depth at the full-scale code
+  float fov_y_deg = 0;                // the camera's vertical field of view; required
+  float depth_scale = 0;              // integer depth: view-space depth at the full-scale code
   std::vector<std::string> targets;   // what the command reads; these are required
   std::vector<std::string> optional;  // ... and these may be given
   std::string command;                // for messages ("nnao-infer")

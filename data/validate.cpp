@@ -14,8 +14,8 @@ namespace nns::data {
 namespace {
 
 std::string where(int64_t count, size_t first, int width) {
-  return std::to_string(count) + (count == 1 ? " pixel" : " pixels") + " (first at x=" +
-         std::to_string(first % size_t(width)) + ", y=" + std::to_string(first / size_t(width)) + ")";
+  return std::to_string(count) + (count == 1 ? " pixel" : " pixels") +
+         " (first at x=" + std::to_string(first % size_t(width)) + ", y=" + std::to_string(first / size_t(width)) + ")";
 }
 
 // Counts pixels matching `bad` and remembers the first, for one message per channel.
@@ -71,8 +71,8 @@ std::string Problem::str() const {
   return s + (warning ? "warning: " : "") + message + (split.empty() ? "" : " in split '" + split + "'");
 }
 
-void check_view(const View& v, const ExrInfo* info, bool is_front, const ValidateOptions& o,
-                ProblemSink& sink, ValidationReport* summary) {
+void check_view(const View& v, const ExrInfo* info, bool is_front, const ValidateOptions& o, ProblemSink& sink,
+                ValidationReport* summary) {
   const std::string& f = v.source;
   const size_t n = size_t(v.width) * size_t(v.height);
 
@@ -131,8 +131,8 @@ void check_view(const View& v, const ExrInfo* info, bool is_front, const Validat
     }
     if (nan.count) sink.error(f, "Z", "NaN depth at " + where(nan.count, nan.first, v.width));
     if (nonpos.count)
-      sink.error(f, "Z", "depth <= 0 at " + where(nonpos.count, nonpos.first, v.width) +
-                             " (sky must be +inf or >= 1e30)");
+      sink.error(f, "Z",
+                 "depth <= 0 at " + where(nonpos.count, nonpos.first, v.width) + " (sky must be +inf or >= 1e30)");
     summarize(summary, "Z", z);
   }
 
@@ -156,8 +156,9 @@ void check_view(const View& v, const ExrInfo* info, bool is_front, const Validat
     if (nonfinite.count)
       sink.error(f, "N.X/N.Y/N.Z", "NaN or Inf normal at " + where(nonfinite.count, nonfinite.first, v.width));
     if (nonunit.count)
-      sink.error(f, "N.X/N.Y/N.Z", "non-unit normal at " + where(nonunit.count, nonunit.first, v.width) +
-                                       ", worst length " + fmt(worst) + " (tolerance " + fmt(o.normal_tolerance) + ")");
+      sink.error(f, "N.X/N.Y/N.Z",
+                 "non-unit normal at " + where(nonunit.count, nonunit.first, v.width) + ", worst length " + fmt(worst) +
+                     " (tolerance " + fmt(o.normal_tolerance) + ")");
   }
 
   for (auto& [ch, plane] : v.channels) {
@@ -174,8 +175,10 @@ void check_view(const View& v, const ExrInfo* info, bool is_front, const Validat
       std::string what = "value " + fmt(plane[out_of_range.first]) + " outside ";
       if (ao) sink.error(f, ch, what + "[0,1] at " + where(out_of_range.count, out_of_range.first, v.width));
       else if (albedo) sink.warn(f, ch, what + "[0,1] at " + where(out_of_range.count, out_of_range.first, v.width));
-      else sink.warn(f, ch, "negative radiance " + fmt(plane[out_of_range.first]) + " at " +
-                                where(out_of_range.count, out_of_range.first, v.width));
+      else
+        sink.warn(f, ch,
+                  "negative radiance " + fmt(plane[out_of_range.first]) + " at " +
+                      where(out_of_range.count, out_of_range.first, v.width));
     }
     summarize(summary, ch, plane);
   }
@@ -324,15 +327,17 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
         View v;
         if (!check_file(frame.faces[i], i == size_t(Face::front), o, sink, r, &v)) continue;
         if (v.width != v.height)
-          sink.error(v.source, "", "surround face is " + std::to_string(v.width) + "x" +
-                                       std::to_string(v.height) + ", faces must be square");
+          sink.error(v.source, "",
+                     "surround face is " + std::to_string(v.width) + "x" + std::to_string(v.height) +
+                         ", faces must be square");
         if (front_w < 0) {
           front_w = v.width, front_h = v.height, front_file = v.source;
           note_scene(v);
         } else if (v.width != front_w || v.height != front_h) {
-          sink.error(v.source, "", "size " + std::to_string(v.width) + "x" + std::to_string(v.height) +
-                                       " differs from " + front_file + " (" + std::to_string(front_w) +
-                                       "x" + std::to_string(front_h) + ") in the same surround frame");
+          sink.error(v.source, "",
+                     "size " + std::to_string(v.width) + "x" + std::to_string(v.height) + " differs from " +
+                         front_file + " (" + std::to_string(front_w) + "x" + std::to_string(front_h) +
+                         ") in the same surround frame");
         }
       }
     }
@@ -388,7 +393,9 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
 
 void print_report(std::FILE* out, const ValidationReport& r) {
   std::fprintf(out, "dataset %s (%s)\n", r.root.c_str(),
-               r.flat ? "flat: no train/ test/ split" : r.views.count("holdout") ? "train/ + test/ + holdout/" : "train/ + test/");
+               r.flat                     ? "flat: no train/ test/ split"
+               : r.views.count("holdout") ? "train/ + test/ + holdout/"
+                                          : "train/ + test/");
   for (const char* split : {"train", "test", "holdout", "flat"}) {
     if (!r.views.count(split)) continue;
     const int64_t n = r.views.at(split);
@@ -398,7 +405,10 @@ void print_report(std::FILE* out, const ValidationReport& r) {
       std::string names;
       int shown = 0;
       for (auto& s : r.scenes.at(split)) {
-        if (shown++ == 8) { names += ", ..."; break; }
+        if (shown++ == 8) {
+          names += ", ...";
+          break;
+        }
         names += (names.empty() ? "" : ", ") + s;
       }
       std::fprintf(out, ": %s", names.c_str());
@@ -426,10 +436,12 @@ void print_report(std::FILE* out, const ValidationReport& r) {
     int64_t files = 0, wmin = INT64_MAX, wmax = 0, hmin = INT64_MAX, hmax = 0;
     for (auto& [wh, n] : r.resolutions) {
       int64_t w = std::stoll(wh.substr(0, wh.find('x'))), h = std::stoll(wh.substr(wh.find('x') + 1));
-      files += n, wmin = std::min(wmin, w), wmax = std::max(wmax, w), hmin = std::min(hmin, h), hmax = std::max(hmax, h);
+      files += n, wmin = std::min(wmin, w), wmax = std::max(wmax, w), hmin = std::min(hmin, h),
+                  hmax = std::max(hmax, h);
     }
     res = std::to_string(r.resolutions.size()) + " sizes over " + std::to_string(files) + " files, width " +
-          std::to_string(wmin) + "-" + std::to_string(wmax) + ", height " + std::to_string(hmin) + "-" + std::to_string(hmax);
+          std::to_string(wmin) + "-" + std::to_string(wmax) + ", height " + std::to_string(hmin) + "-" +
+          std::to_string(hmax);
   }
   std::fprintf(out, "  resolutions: %s\n", res.empty() ? "none" : res.c_str());
   std::fprintf(out, "  channels:       files        min        max\n");

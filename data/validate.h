@@ -20,24 +20,24 @@ enum class Purpose { any, nnao, gi };
 
 struct Problem {
   std::string file, channel, message;
-  bool warning = false;   // reported, but does not make the dataset fail
-  std::string split;      // "train", "test" or "flat" when found by validate_dataset
+  bool warning = false;     // reported, but does not make the dataset fail
+  std::string split;        // "train", "test" or "flat" when found by validate_dataset
   std::string str() const;  // "<file>: channel '<channel>': <message>[ in split '<split>']"
 };
 
 struct ChannelSummary {
   int64_t files = 0;
-  double min = 0, max = 0;    // over finite values (Z: over non-sky pixels)
+  double min = 0, max = 0;  // over finite values (Z: over non-sky pixels)
   bool any_finite = false;
-  int64_t sky = 0, pixels = 0;   // Z only: sky pixels, all pixels
+  int64_t sky = 0, pixels = 0;  // Z only: sky pixels, all pixels
 };
 
 struct ValidationReport {
   std::string root;
   bool flat = false;
-  std::map<std::string, int64_t> views, frames;          // per split ("train", "test")
-  std::map<std::string, int64_t> resolutions;            // "WxH" -> files
-  std::map<std::string, std::set<std::string>> scenes;   // split -> scene names ("holdout" too)
+  std::map<std::string, int64_t> views, frames;         // per split ("train", "test")
+  std::map<std::string, int64_t> resolutions;           // "WxH" -> files
+  std::map<std::string, std::set<std::string>> scenes;  // split -> scene names ("holdout" too)
   // DIR/metadata.txt, when present (render-dataset writes it for every render; before
   // that, for nnao-v2, surround-v2 .. v4 and --holdout-families): every "key: value"
   // line, and the "families.<split>" lists. Its "views.<split>" counts are checked
@@ -85,8 +85,8 @@ class ProblemSink {
 // Checks one view already in memory. `is_front` is false for the five non-front faces of
 // a surround frame, which need no GI target. `info` (may be null) tells which channels
 // were HALF and which attributes existed.
-void check_view(const View& v, const ExrInfo* info, bool is_front, const ValidateOptions& o,
-                ProblemSink& sink, ValidationReport* summary = nullptr);
+void check_view(const View& v, const ExrInfo* info, bool is_front, const ValidateOptions& o, ProblemSink& sink,
+                ValidationReport* summary = nullptr);
 
 ValidationReport validate_dataset(const std::string& root, const ValidateOptions& o);
 

@@ -42,7 +42,8 @@ inline std::pair<SplitListing, SplitListing> hold_out_validation_families(const 
     else val.views.push_back(v), seen[size_t(it - families.begin())] = 1;
   }
   for (size_t i = 0; i < families.size(); ++i)
-    if (!seen[i]) throw std::runtime_error(train.dir + ": no training view of family '" + families[i] + "' to validate on");
+    if (!seen[i])
+      throw std::runtime_error(train.dir + ": no training view of family '" + families[i] + "' to validate on");
   return {kept, val};
 }
 
@@ -71,10 +72,11 @@ inline TrainingSplits open_training_splits(const std::string& dir, double valida
                                            const std::vector<std::string>& validation_families = {}) {
   TrainingSplits s{list_splits(dir), {}};
   if (s.listing.train.size() == 0) throw std::runtime_error(dir + ": no training views or frames found");
-  std::tie(s.listing.train, s.validation) =
-      validation_families.empty() ? hold_out_validation(s.listing.train, validation_fraction)
-                                  : hold_out_validation_families(s.listing.train, validation_families);
-  if (s.listing.train.size() == 0) throw std::runtime_error(dir + ": no training views left after the validation split");
+  std::tie(s.listing.train, s.validation) = validation_families.empty()
+                                                ? hold_out_validation(s.listing.train, validation_fraction)
+                                                : hold_out_validation_families(s.listing.train, validation_families);
+  if (s.listing.train.size() == 0)
+    throw std::runtime_error(dir + ": no training views left after the validation split");
   return s;
 }
 

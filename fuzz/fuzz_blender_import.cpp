@@ -25,7 +25,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string note(reinterpret_cast<const char*>(p), size_t((nul ? nul : end) - p));
   p = nul ? nul + 1 : end;
   const size_t n = size_t(in.width) * size_t(in.height);
-  for (const char* c : {"ViewLayer.Depth.Z", "ViewLayer.Normal.X", "ViewLayer.Normal.Y", "ViewLayer.Normal.Z", "ViewLayer.AO.R"}) {
+  for (const char* c :
+       {"ViewLayer.Depth.Z", "ViewLayer.Normal.X", "ViewLayer.Normal.Y", "ViewLayer.Normal.Z", "ViewLayer.AO.R"}) {
     auto& plane = in.add_channel(c);
     for (size_t i = 0; i < n && p + 4 <= end; ++i, p += 4) std::memcpy(&plane[i], p, 4);
   }

@@ -26,8 +26,16 @@ void exercise(const std::string& bytes) {
     }
   }
   for (auto& [k, v] : b.config()) {
-    try { (void)b.config_int(k); } catch (const std::runtime_error& e) { fuzz::expect_named(e, "<fuzz>"); }
-    try { (void)b.config_double(k); } catch (const std::runtime_error& e) { fuzz::expect_named(e, "<fuzz>"); }
+    try {
+      (void)b.config_int(k);
+    } catch (const std::runtime_error& e) {
+      fuzz::expect_named(e, "<fuzz>");
+    }
+    try {
+      (void)b.config_double(k);
+    } catch (const std::runtime_error& e) {
+      fuzz::expect_named(e, "<fuzz>");
+    }
   }
   // A blob that parsed writes back to bytes that parse to the same content.
   Blob again = Blob::parse(b.serialize(), "<again>");

@@ -19,8 +19,11 @@ struct Run {
   int64_t epoch = 0, step = 0;
   Checkpoint<float> ck;
   Run() {
-    ck.add_module("net", net).add_optimizer("adam", opt).add_rng("data", data_rng)
-        .add_counter("epoch", epoch).add_counter("step", step);
+    ck.add_module("net", net)
+        .add_optimizer("adam", opt)
+        .add_rng("data", data_rng)
+        .add_counter("epoch", epoch)
+        .add_counter("step", step);
   }
 };
 

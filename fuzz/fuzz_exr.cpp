@@ -27,10 +27,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         auto note = info.strings.find("Note");
         data::blender::ImportSettings flags;
         flags.fov_y = 40;  // so a file without a note still reaches the conversion
-        data::blender::convert(v, data::blender::with_capture_note(
-                                      flags, note == info.strings.end()
-                                                 ? std::nullopt
-                                                 : data::blender::parse_capture_note(note->second, path)));
+        data::blender::convert(
+            v, data::blender::with_capture_note(flags, note == info.strings.end()
+                                                           ? std::nullopt
+                                                           : data::blender::parse_capture_note(note->second, path)));
       }
     } catch (const std::exception& e) {
       fuzz::expect_named(e, path);

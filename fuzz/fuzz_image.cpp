@@ -24,7 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     o.targets = {"depth", "normal"};
     o.optional = {"albedo", "direct", "emission", "env"};
     std::vector<data::ChannelMapping> m;
-    for (const char* t : {"depth", "normal", "albedo"}) m.push_back(data::parse_channel_mapping(std::string(t) + "=" + path));
+    for (const char* t : {"depth", "normal", "albedo"})
+      m.push_back(data::parse_channel_mapping(std::string(t) + "=" + path));
     data::View v = data::view_from_images(m, o);
     for (auto& [name, plane] : v.channels)
       if (plane.size() != size_t(v.width) * size_t(v.height)) fuzz::finding("plane " + name + " of the wrong size");

@@ -49,8 +49,8 @@ inline std::string scratch_path(const std::string& name) {
   return made.back();
 }
 inline void write_bytes(const std::string& path, const uint8_t* data, size_t size) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data),
-                                                                 std::streamsize(size));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), std::streamsize(size));
 }
 
 // The blob's CRC-32 and size fields would stop almost every mutation at the door; the

@@ -117,8 +117,11 @@ int main(int argc, char** argv) {
     Rng data_rng(2);
     int64_t epoch = 4, step = 40;
     Checkpoint<float> ck;
-    ck.add_module("net", net).add_optimizer("adam", opt).add_rng("data", data_rng)
-        .add_counter("epoch", epoch).add_counter("step", step);
+    ck.add_module("net", net)
+        .add_optimizer("adam", opt)
+        .add_rng("data", data_rng)
+        .add_counter("epoch", epoch)
+        .add_counter("step", step);
     Blob meta("nnao-checkpoint");
     meta.set_config("lr", 1e-3);
     ck.fill(meta);
@@ -138,9 +141,9 @@ int main(int argc, char** argv) {
   blender_exr(dir / "exr" / "blender.exr");
 
   // scene: first byte 0 = OBJ, 1 = glTF, 2 = GLB (fuzz_scene.cpp).
-  put(dir / "scene" / "quad.obj",
-      std::string(1, '\0') + "v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nv 0 1 0\nvn 0 1 0\nvt 0 0\n"
-                             "o q\ng quad\nusemtl none\nf 1 2 3 4\nf 1/1/1 2/1/1 5/1/1\nf -1 -2 -3\n");
+  put(dir / "scene" / "quad.obj", std::string(1, '\0') +
+                                      "v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nv 0 1 0\nvn 0 1 0\nvt 0 0\n"
+                                      "o q\ng quad\nusemtl none\nf 1 2 3 4\nf 1/1/1 2/1/1 5/1/1\nf -1 -2 -3\n");
   put(dir / "scene" / "tri.gltf",
       std::string(1, '\1') +
           R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
@@ -155,11 +158,10 @@ int main(int argc, char** argv) {
 
   // metrics: two little-endian bytes of the checkpoint's step, then the file the run
   // layer writes (runs/metrics_log.h), with a null and a torn last line.
-  put(dir / "metrics" / "three.jsonl",
-      std::string("\x14\x00", 2) +
-          "{\"step\":10,\"epoch\":1,\"train_loss\":0.5,\"test_mse\":0.25}\n"
-          "{\"step\":20,\"epoch\":2,\"train_loss\":0.125,\"test_mse\":null}\n"
-          "{\"step\":30,\"epoch\":3,\"train_loss\":0.001,\"test_m");
+  put(dir / "metrics" / "three.jsonl", std::string("\x14\x00", 2) +
+                                           "{\"step\":10,\"epoch\":1,\"train_loss\":0.5,\"test_mse\":0.25}\n"
+                                           "{\"step\":20,\"epoch\":2,\"train_loss\":0.125,\"test_mse\":null}\n"
+                                           "{\"step\":30,\"epoch\":3,\"train_loss\":0.001,\"test_m");
   // image: first byte 0 = PNG, 1 = TIFF, 2 = HDR, 3 = EXR (fuzz_image.cpp), the file by
   // the one image writer: what --channel reads, in each type the formats store.
   auto image = [&](const std::string& name, char format, std::vector<std::string> channels, report::PixelType t) {
@@ -187,12 +189,15 @@ int main(int argc, char** argv) {
   // blender_import: width 2, height 1, a capture note as tools/blender_capture.py writes
   // it, then the planes Depth.Z, Normal.X, Normal.Y, Normal.Z, AO.R (fuzz_blender_import.cpp).
   {
-    std::string b = std::string("\x01\x00", 2) +
-                    "nnshade-camera 1\nfovY=40\nworldToCamera=1,0,0,5,0,0,1,-2,0,-1,0,7,0,0,0,1\naoRadius=0.75\nscene=room";
+    std::string b =
+        std::string("\x01\x00", 2) +
+        "nnshade-camera 1\nfovY=40\nworldToCamera=1,0,0,5,0,0,1,-2,0,-1,0,7,0,0,0,1\naoRadius=0.75\nscene=room";
     b += '\0';
-    for (float f : {3.0f, 1e10f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.5f, 0.0f}) b.append(reinterpret_cast<const char*>(&f), 4);
+    for (float f : {3.0f, 1e10f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.5f, 0.0f})
+      b.append(reinterpret_cast<const char*>(&f), 4);
     put(dir / "blender_import" / "two-pixels", b);
   }
-  std::printf("make_seeds: wrote %s/{blob,checkpoint,exr,scene,metrics,image,classical_params,blender_import}\n", dir.c_str());
+  std::printf("make_seeds: wrote %s/{blob,checkpoint,exr,scene,metrics,image,classical_params,blender_import}\n",
+              dir.c_str());
   return 0;
 }

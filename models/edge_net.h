@@ -19,9 +19,7 @@ struct EdgeNet : Module<float> {
     norm = register_module("norm", std::make_shared<BatchNorm2d<float>>(width));
     conv2 = register_module("conv2", std::make_shared<Conv2d<float>>(init, width, 1, 3, 1, 1));
   }
-  Var<float> forward(const Var<float>& x) override {
-    return conv2->forward(relu(norm->forward(conv1->forward(x))));
-  }
+  Var<float> forward(const Var<float>& x) override { return conv2->forward(relu(norm->forward(conv1->forward(x)))); }
   std::shared_ptr<Conv2d<float>> conv1, conv2;
   std::shared_ptr<BatchNorm2d<float>> norm;
 };

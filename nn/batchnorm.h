@@ -12,8 +12,7 @@ namespace nns {
 template <class T = float>
 class BatchNorm : public Module<T> {
  public:
-  BatchNorm(int64_t channels, int input_dims, double eps = 1e-5, double momentum = 0.1,
-            bool affine = true)
+  BatchNorm(int64_t channels, int input_dims, double eps = 1e-5, double momentum = 0.1, bool affine = true)
       : channels_(channels), input_dims_(input_dims), eps_(eps), momentum_(momentum) {
     if (affine) {
       weight = this->register_parameter("weight", Tensor<T>::ones({channels}));
@@ -25,9 +24,8 @@ class BatchNorm : public Module<T> {
 
   Var<T> forward(const Var<T>& x) override {
     if (x.shape().dim() != input_dims_)
-      throw std::invalid_argument("BatchNorm" + std::to_string(input_dims_ == 2 ? 1 : 2) +
-                                  "d: expected a " + std::to_string(input_dims_) +
-                                  "-d input, got " + x.shape().str());
+      throw std::invalid_argument("BatchNorm" + std::to_string(input_dims_ == 2 ? 1 : 2) + "d: expected a " +
+                                  std::to_string(input_dims_) + "-d input, got " + x.shape().str());
     return batch_norm(x, weight, bias, running_mean, running_var, this->is_training(), momentum_, eps_);
   }
 

@@ -17,23 +17,21 @@ template <class T = float>
 class Conv2d : public ConvLayerBase<T> {
  public:
   // Square kernel, same stride/padding/dilation in both directions.
-  Conv2d(Rng& rng, int64_t in_channels, int64_t out_channels, int kernel_size, int stride = 1,
-         int padding = 0, bool bias = true, int dilation = 1, int groups = 1)
+  Conv2d(Rng& rng, int64_t in_channels, int64_t out_channels, int kernel_size, int stride = 1, int padding = 0,
+         bool bias = true, int dilation = 1, int groups = 1)
       : Conv2d(rng, in_channels, out_channels, kernel_size, kernel_size,
                Conv2dParams::square(stride, padding, dilation, groups), bias) {}
 
-  Conv2d(Rng& rng, int64_t in_channels, int64_t out_channels, int kernel_h, int kernel_w,
-         const Conv2dParams& params, bool bias = true)
+  Conv2d(Rng& rng, int64_t in_channels, int64_t out_channels, int kernel_h, int kernel_w, const Conv2dParams& params,
+         bool bias = true)
       : in_channels(in_channels), out_channels(out_channels), params(params) {
     this->check_groups("Conv2d", in_channels, out_channels, params.groups);
     const int64_t fan_in = in_channels / params.groups * kernel_h * kernel_w;
-    this->init_parameters({out_channels, in_channels / params.groups, kernel_h, kernel_w},
-                          out_channels, fan_in, bias, rng);
+    this->init_parameters({out_channels, in_channels / params.groups, kernel_h, kernel_w}, out_channels, fan_in, bias,
+                          rng);
   }
 
-  Var<T> forward(const Var<T>& x) override {
-    return conv2d(x, this->weight, this->bias, params);
-  }
+  Var<T> forward(const Var<T>& x) override { return conv2d(x, this->weight, this->bias, params); }
 
   const int64_t in_channels, out_channels;
   const Conv2dParams params;

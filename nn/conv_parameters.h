@@ -19,17 +19,15 @@ class ConvLayerBase : public Module<T> {
   Var<T> bias;  // undefined when built without bias
 
  protected:
-  static void check_groups(const char* layer, int64_t in_channels, int64_t out_channels,
-                           int groups) {
+  static void check_groups(const char* layer, int64_t in_channels, int64_t out_channels, int groups) {
     if (groups <= 0 || in_channels % groups || out_channels % groups)
-      throw std::invalid_argument(std::string(layer) + ": groups=" + std::to_string(groups) +
-                                  " must divide in (" + std::to_string(in_channels) +
-                                  ") and out (" + std::to_string(out_channels) + ") channels");
+      throw std::invalid_argument(std::string(layer) + ": groups=" + std::to_string(groups) + " must divide in (" +
+                                  std::to_string(in_channels) + ") and out (" + std::to_string(out_channels) +
+                                  ") channels");
   }
 
   // Weight first, then bias, from the same Rng: the order fixes the numbers a seed gives.
-  void init_parameters(const Shape& weight_shape, int64_t bias_size, int64_t fan_in,
-                       bool with_bias, Rng& rng) {
+  void init_parameters(const Shape& weight_shape, int64_t bias_size, int64_t fan_in, bool with_bias, Rng& rng) {
     Tensor<T> w(weight_shape);
     fan_in_uniform_init(w, fan_in, rng);
     weight = this->register_parameter("weight", std::move(w));

@@ -55,9 +55,7 @@ class Module {
   }
 
   // Layers with one input and one output override this (Sequential composes them).
-  virtual Var<T> forward(const Var<T>& x) {
-    throw std::logic_error("this module has no single-input forward()");
-  }
+  virtual Var<T> forward(const Var<T>& x) { throw std::logic_error("this module has no single-input forward()"); }
 
   void zero_grad() {
     for (auto& p : parameters()) p.zero_grad();
@@ -93,13 +91,11 @@ class Module {
   static std::string join(const std::string& prefix, const std::string& name) {
     return prefix.empty() ? name : prefix + "." + name;
   }
-  void collect_parameters(const std::string& prefix,
-                          std::vector<std::pair<std::string, Var<T>>>& out) const {
+  void collect_parameters(const std::string& prefix, std::vector<std::pair<std::string, Var<T>>>& out) const {
     for (auto& [name, v] : params_) out.emplace_back(join(prefix, name), v);
     for (auto& [name, c] : children_) c->collect_parameters(join(prefix, name), out);
   }
-  void collect_buffers(const std::string& prefix,
-                       std::vector<std::pair<std::string, Tensor<T>*>>& out) {
+  void collect_buffers(const std::string& prefix, std::vector<std::pair<std::string, Tensor<T>*>>& out) {
     for (auto& [name, b] : buffers_) out.emplace_back(join(prefix, name), b.get());
     for (auto& [name, c] : children_) c->collect_buffers(join(prefix, name), out);
   }

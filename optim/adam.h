@@ -20,12 +20,10 @@ struct AdamOptions {
 template <class T>
 class Adam : public Optimizer<T> {
  public:
-  explicit Adam(std::vector<Var<T>> params, AdamOptions o = {})
-      : Optimizer<T>(std::move(params), o.lr), o_(o) {
+  explicit Adam(std::vector<Var<T>> params, AdamOptions o = {}) : Optimizer<T>(std::move(params), o.lr), o_(o) {
     if (!(o.beta1 >= 0 && o.beta1 < 1 && o.beta2 >= 0 && o.beta2 < 1))
       throw std::invalid_argument("Adam: betas must be in [0, 1)");
-    if (!(o.eps >= 0) || !(o.weight_decay >= 0))
-      throw std::invalid_argument("Adam: eps and weight_decay must be >= 0");
+    if (!(o.eps >= 0) || !(o.weight_decay >= 0)) throw std::invalid_argument("Adam: eps and weight_decay must be >= 0");
     m_ = this->zeros_like_params();
     v_ = this->zeros_like_params();
     steps_.assign(this->params_.size(), 0);
@@ -49,9 +47,10 @@ class Adam : public Optimizer<T> {
       Var<T>& p = this->params_[i];
       if (!p.grad().defined()) continue;
       const int64_t t = ++steps_[i];
-      const AdamCoeffs<T> c{T(o_.beta1), T(1 - o_.beta1), T(o_.beta2), T(1 - o_.beta2),
+      const AdamCoeffs<T> c{T(o_.beta1),        T(1 - o_.beta1),
+                            T(o_.beta2),        T(1 - o_.beta2),
                             T(o_.weight_decay), T(std::sqrt(1 - std::pow(o_.beta2, double(t)))),
-                            T(o_.eps), T(this->lr_ / (1 - std::pow(o_.beta1, double(t))))};
+                            T(o_.eps),          T(this->lr_ / (1 - std::pow(o_.beta1, double(t))))};
       T* w = p.value().data();
       const T* g = p.grad().data();
       T* m = m_[i].data();

@@ -35,13 +35,11 @@ inline void adam_update8(float* w, float* m, float* v, const float* g, const Ada
   __m256 gk = _mm256_add_ps(_mm256_loadu_ps(g), _mm256_mul_ps(_mm256_set1_ps(c.weight_decay), wk));
   __m256 mk = _mm256_loadu_ps(m);
   __m256 diff = _mm256_sub_ps(gk, mk);
-  mk = c.one_minus_beta1 < 0.5f
-           ? _mm256_add_ps(mk, _mm256_mul_ps(_mm256_set1_ps(c.one_minus_beta1), diff))
-           : _mm256_sub_ps(gk, _mm256_mul_ps(diff, _mm256_set1_ps(1.0f - c.one_minus_beta1)));
+  mk = c.one_minus_beta1 < 0.5f ? _mm256_add_ps(mk, _mm256_mul_ps(_mm256_set1_ps(c.one_minus_beta1), diff))
+                                : _mm256_sub_ps(gk, _mm256_mul_ps(diff, _mm256_set1_ps(1.0f - c.one_minus_beta1)));
   __m256 vk = _mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(c.beta2), _mm256_loadu_ps(v)),
                             _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(c.one_minus_beta2), gk), gk));
-  __m256 denom = _mm256_add_ps(_mm256_div_ps(_mm256_sqrt_ps(vk), _mm256_set1_ps(c.bc2_sqrt)),
-                               _mm256_set1_ps(c.eps));
+  __m256 denom = _mm256_add_ps(_mm256_div_ps(_mm256_sqrt_ps(vk), _mm256_set1_ps(c.bc2_sqrt)), _mm256_set1_ps(c.eps));
   _mm256_storeu_ps(m, mk);
   _mm256_storeu_ps(v, vk);
   _mm256_storeu_ps(w, _mm256_sub_ps(wk, _mm256_div_ps(_mm256_mul_ps(_mm256_set1_ps(c.step_size), mk), denom)));
@@ -50,8 +48,8 @@ inline void adam_update8(float* w, float* m, float* v, const float* g, const Ada
 
 // w, m, v, g: (n) parameter, first moment, second moment, gradient.
 template <class T>
-inline void adam_update(T* __restrict w, T* __restrict m, T* __restrict v, const T* __restrict g,
-                        int64_t n, const AdamCoeffs<T>& c) {
+inline void adam_update(T* __restrict w, T* __restrict m, T* __restrict v, const T* __restrict g, int64_t n,
+                        const AdamCoeffs<T>& c) {
 #if defined(__AVX__)
   if constexpr (std::is_same_v<T, float>) {
     int64_t k = 0;

@@ -36,8 +36,7 @@ class LrSchedule {
   Kind kind() const { return kind_; }
 
  private:
-  LrSchedule(Kind k, double base, int64_t n, int64_t nd)
-      : kind_(k), base_(base), n_epochs_(n), n_epochs_decay_(nd) {
+  LrSchedule(Kind k, double base, int64_t n, int64_t nd) : kind_(k), base_(base), n_epochs_(n), n_epochs_decay_(nd) {
     if (!(base >= 0)) throw std::invalid_argument("LR schedule: base rate must be >= 0");
   }
   Kind kind_;

@@ -73,8 +73,7 @@ class Optimizer {
                                     " is undefined or does not require grad");
       // A parameter listed twice would be stepped twice per step().
       if (!seen.insert(params_[i].node().get()).second)
-        throw std::invalid_argument("optimizer: parameter " + std::to_string(i) +
-                                    " appears twice in the list");
+        throw std::invalid_argument("optimizer: parameter " + std::to_string(i) + " appears twice in the list");
     }
     set_lr(lr);
   }

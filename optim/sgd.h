@@ -16,12 +16,10 @@ struct SgdOptions {
 template <class T>
 class Sgd : public Optimizer<T> {
  public:
-  explicit Sgd(std::vector<Var<T>> params, SgdOptions o = {})
-      : Optimizer<T>(std::move(params), o.lr), o_(o) {
+  explicit Sgd(std::vector<Var<T>> params, SgdOptions o = {}) : Optimizer<T>(std::move(params), o.lr), o_(o) {
     if (!(o.momentum >= 0) || !(o.weight_decay >= 0))
       throw std::invalid_argument("SGD: momentum and weight_decay must be >= 0");
-    if (o.nesterov && o.momentum == 0)
-      throw std::invalid_argument("SGD: nesterov needs a momentum > 0");
+    if (o.nesterov && o.momentum == 0) throw std::invalid_argument("SGD: nesterov needs a momentum > 0");
     if (o.momentum != 0) buf_ = this->zeros_like_params();
   }
 
@@ -61,8 +59,7 @@ class Sgd : public Optimizer<T> {
   }
   void load_state(const Blob& b, const std::string& prefix) override {
     this->load_lr(b, prefix + "lr");
-    for (size_t i = 0; i < buf_.size(); ++i)
-      b.read(this->key(prefix, i, "momentum"), buf_[i].shape(), buf_[i].data());
+    for (size_t i = 0; i < buf_.size(); ++i) b.read(this->key(prefix, i, "momentum"), buf_[i].shape(), buf_[i].data());
   }
 
  private:

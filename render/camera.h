@@ -29,8 +29,7 @@ struct Camera {
   }
   // Yaw about +y (0 looks down -z, positive turns left), then pitch (positive looks up).
   static Camera from_yaw_pitch(Vec3 eye, float yaw_rad, float pitch_rad) {
-    Vec3 f(-std::sin(yaw_rad) * std::cos(pitch_rad), std::sin(pitch_rad),
-           -std::cos(yaw_rad) * std::cos(pitch_rad));
+    Vec3 f(-std::sin(yaw_rad) * std::cos(pitch_rad), std::sin(pitch_rad), -std::cos(yaw_rad) * std::cos(pitch_rad));
     return look_at(eye, eye + f);
   }
 
@@ -50,10 +49,8 @@ struct Camera {
 
   // The view matrix, row-major (the `worldToCamera` attribute).
   std::array<float, 16> world_to_camera() const {
-    return {right.x, right.y, right.z, -dot(right, eye),
-            up.x,    up.y,    up.z,    -dot(up, eye),
-            back.x,  back.y,  back.z,  -dot(back, eye),
-            0,       0,       0,       1};
+    return {right.x, right.y, right.z, -dot(right, eye), up.x, up.y, up.z, -dot(up, eye),
+            back.x,  back.y,  back.z,  -dot(back, eye),  0,    0,    0,    1};
   }
 };
 

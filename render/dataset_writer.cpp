@@ -64,8 +64,8 @@ const std::vector<std::pair<int, int>>& ViewVariation::aspects() {
 namespace {
 // One scene to render `views` views (or frames) of, into `split`.
 struct SceneTask {
-  std::string split;        // "train", "test" or "holdout"
-  std::string family;       // procedural family, or empty for a file
+  std::string split;   // "train", "test" or "holdout"
+  std::string family;  // procedural family, or empty for a file
   int instance = 0;
   std::string file;
   int views = 0;
@@ -104,8 +104,9 @@ void split_off_holdout(std::vector<std::string>& families, const std::vector<std
       throw std::invalid_argument("--holdout-families: '" + h + "' is not among the families rendered (" +
                                   (families_given ? "--families " : "the preset's: ") + joined(families) + ")");
   }
-  families.erase(std::remove_if(families.begin(), families.end(), [&](const std::string& f) { return seen.count(f) > 0; }),
-                 families.end());
+  families.erase(
+      std::remove_if(families.begin(), families.end(), [&](const std::string& f) { return seen.count(f) > 0; }),
+      families.end());
   if (families.empty())
     throw std::invalid_argument("--holdout-families: holds out every family (" + joined(holdout) +
                                 "), leaving none for train/ and test/");
@@ -162,7 +163,9 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
         if (t.split == split) views += t.views;
       m << "views." << split << ": " << views << "\n";
     }
-    if (job.vary_lighting) m << "lighting-variation: albedo, light colour and exposure, sun direction and size, extra lamps per scene (render/scenes/scene_variation.h)\n";
+    if (job.vary_lighting)
+      m << "lighting-variation: albedo, light colour and exposure, sun direction and size, extra lamps per scene "
+           "(render/scenes/scene_variation.h)\n";
     if (job.vary_textures)
       m << "texture-variation: procedural albedo textures (noise, bricks, tiles, wood, stains, dirt) on most "
            "materials per scene (render/scenes/texture_variation.h)\n";
@@ -220,12 +223,13 @@ std::vector<std::string> families_to_render(const DatasetJob& job) {
   std::vector<std::string> families = job.families;
   if (families.empty()) {
     const int generations = job.preset == "surround-v4" || job.preset == "surround-v5" ? 4
-                            : job.preset == "surround-v3" ? 3
-                            : job.preset == "nnao-v2" || job.preset == "surround-v2" ? 2
-                                                                                     : 1;
+                            : job.preset == "surround-v3"                              ? 3
+                            : job.preset == "nnao-v2" || job.preset == "surround-v2"   ? 2
+                                                                                       : 1;
     std::vector<std::vector<std::string>> gen;
     size_t longest = 0;
-    for (int g = 1; g <= generations; ++g) gen.push_back(scene_family_names(g)), longest = std::max(longest, gen.back().size());
+    for (int g = 1; g <= generations; ++g)
+      gen.push_back(scene_family_names(g)), longest = std::max(longest, gen.back().size());
     for (size_t i = 0; i < longest; ++i)
       for (auto& names : gen)
         if (i < names.size()) families.push_back(names[i]);
@@ -255,11 +259,13 @@ SplitPlan plan_splits(const DatasetJob& job, std::vector<std::string> families, 
   std::vector<std::string> train_files, test_files;
   check_unique_scene_names(job.scene_files);
   if (!job.scene_files.empty()) {
-    size_t n_test = job.scene_files.size() >= 2 ? std::max<size_t>(1, size_t(job.scene_files.size() * job.test_fraction + 0.5)) : 0;
+    size_t n_test =
+        job.scene_files.size() >= 2 ? std::max<size_t>(1, size_t(job.scene_files.size() * job.test_fraction + 0.5)) : 0;
     train_files.assign(job.scene_files.begin(), job.scene_files.end() - long(n_test));
     test_files.assign(job.scene_files.end() - long(n_test), job.scene_files.end());
     if (n_test == 0)
-      std::fprintf(stderr, "render-dataset: one scene file: every view goes to train/ (a scene is never in both splits)\n");
+      std::fprintf(stderr,
+                   "render-dataset: one scene file: every view goes to train/ (a scene is never in both splits)\n");
   }
   // Whole paths in each split, at least one in test (when there is a test scene).
   int n_test_views = std::max(1, int(job.views * job.test_fraction / P + 0.5)) * P;
@@ -290,8 +296,8 @@ void warn_unrendered_holdout_families(const DatasetJob& job, const SplitPlan& pl
 
 // A task's scene, with the job's lighting and view variation.
 Scene prepare_scene(const DatasetJob& job, const SceneTask& task) {
-  Scene scene = task.file.empty() ? make_family_scene(task.family, task.instance, job.settings.seed)
-                                  : load_mesh_scene(task.file);
+  Scene scene =
+      task.file.empty() ? make_family_scene(task.family, task.instance, job.settings.seed) : load_mesh_scene(task.file);
   if (job.vary_lighting) {
     // A stream of its own, like the view shapes.
     Rng light_rng = Rng(job.settings.seed ^ 0x11947ull).fork(hash_name(scene.name));
@@ -322,8 +328,7 @@ struct RenderState {
 
 // One view (or surround frame) of a scene, when it belongs to this part of the job.
 void render_one(const DatasetJob& job, const SceneTask& task, const Scene& scene, RayTracer& rt, const Camera& cam,
-                const fs::path& dir, const std::string& name, int w, const RenderSettings& settings,
-                RenderState& st) {
+                const fs::path& dir, const std::string& name, int w, const RenderSettings& settings, RenderState& st) {
   // View ids mix the dataset-wide counter with the scene, so no two views share noise.
   const bool mine = st.view_counter % uint64_t(job.parts) == uint64_t(job.part);
   uint64_t id = hash_name(scene.name) ^ (st.view_counter++ * 0x9E3779B97F4A7C15ull);
@@ -334,15 +339,19 @@ void render_one(const DatasetJob& job, const SceneTask& task, const Scene& scene
   if (is_surround_preset(job.preset)) {
     auto faces = render_surround(rt, cam, w, settings, id, false, &st.stats);
     fs::create_directories(dir / name);
-    for (int i = 0; i < 6; ++i) data::write_view((dir / name / (cube_face_names()[size_t(i)] + ".exr")).string(), faces[size_t(i)]);
+    for (int i = 0; i < 6; ++i)
+      data::write_view((dir / name / (cube_face_names()[size_t(i)] + ".exr")).string(), faces[size_t(i)]);
   } else {
     data::write_view((dir / (name + ".exr")).string(), render_view(rt, cam, settings, id, nullptr, &st.stats));
   }
-  (task.split == "train" ? st.report.train_views : task.split == "test" ? st.report.test_views : st.report.holdout_views)++;
+  (task.split == "train"  ? st.report.train_views
+   : task.split == "test" ? st.report.test_views
+                          : st.report.holdout_views)++;
   ++st.done;
   if (job.progress) {
     char status[64];
-    std::snprintf(status, sizeof status, "%.1f Mrays/s", st.stats.seconds > 0 ? st.stats.rays / st.stats.seconds * 1e-6 : 0.0);
+    std::snprintf(status, sizeof status, "%.1f Mrays/s",
+                  st.stats.seconds > 0 ? st.stats.rays / st.stats.seconds * 1e-6 : 0.0);
     st.bar.update(st.done, status);
   }
 }
@@ -353,7 +362,9 @@ void render_scene(const DatasetJob& job, const SceneTask& task, int P, RenderSta
   const bool surround = is_surround_preset(job.preset);
   Scene scene = prepare_scene(job, task);
   RayTracer rt(scene);
-  (task.split == "train" ? st.report.train_scenes : task.split == "test" ? st.report.test_scenes : st.report.holdout_scenes)
+  (task.split == "train"  ? st.report.train_scenes
+   : task.split == "test" ? st.report.test_scenes
+                          : st.report.holdout_scenes)
       .push_back(scene.name);
   fs::path dir = fs::path(job.out) / task.split;
   fs::create_directories(dir);
@@ -400,8 +411,9 @@ void prepare_render_folder(const std::string& out, bool replace) {
   const int n = rendered_views_in(out);
   if (n == 0) return;
   if (!replace)
-    throw std::runtime_error(out + ": holds " + std::to_string(n) +
-                             " views of another render; render into a new folder, or pass --replace to remove them first");
+    throw std::runtime_error(
+        out + ": holds " + std::to_string(n) +
+        " views of another render; render into a new folder, or pass --replace to remove them first");
   std::error_code ec;
   std::vector<fs::path> top;
   for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
@@ -422,7 +434,8 @@ DatasetReport render_dataset(DatasetJob job) {
   fs::create_directories(job.out);
   if (!job.holdout_families.empty()) warn_unrendered_holdout_families(job, plan);
   if (job.parts < 1 || job.part < 0 || job.part >= job.parts)
-    throw std::invalid_argument("render_dataset: part " + std::to_string(job.part) + " of " + std::to_string(job.parts));
+    throw std::invalid_argument("render_dataset: part " + std::to_string(job.part) + " of " +
+                                std::to_string(job.parts));
   if (job.part == 0) write_metadata(job, plan.tasks);
   RenderState st{{}, Progress("render " + job.preset, job.views)};
   for (const SceneTask& task : plan.tasks) render_scene(job, task, P, st);

@@ -14,21 +14,21 @@
 namespace nns::render {
 
 struct DatasetJob {
-  std::string out;                     // dataset folder (created)
-  std::string preset = "nnao";         // nnao: Z N albedo AO; nnao-v2: nnao with varied views
-                                       // and all families; gi: + lighting; surround: cube frames;
-                                       // surround-v2: surround over all families, materials and
-                                       // lights varied per scene (render/scenes/scene_variation.h);
-                                       // surround-v3: surround-v2 over generations 1-3;
-                                       // surround-v4: surround-v3 plus generation 4 and
-                                       // textured materials (render/scenes/texture_variation.h);
-                                       // surround-v5: surround-v4's frames, rendered faster
-  int views = 80;                      // views (frames for surround) over train + test
-  double test_fraction = 0.2;          // share of views rendered from held-out scenes
-  int views_per_scene = 4;             // views taken in one scene before the next
-  int width = 320, height = 180;       // surround: the face size is width x width
-  float fov_y_deg = 60;                // ignored for surround (faces are 90 degrees)
-  int path_frames = 1;                 // > 1: views come as camera paths of this length
+  std::string out;                       // dataset folder (created)
+  std::string preset = "nnao";           // nnao: Z N albedo AO; nnao-v2: nnao with varied views
+                                         // and all families; gi: + lighting; surround: cube frames;
+                                         // surround-v2: surround over all families, materials and
+                                         // lights varied per scene (render/scenes/scene_variation.h);
+                                         // surround-v3: surround-v2 over generations 1-3;
+                                         // surround-v4: surround-v3 plus generation 4 and
+                                         // textured materials (render/scenes/texture_variation.h);
+                                         // surround-v5: surround-v4's frames, rendered faster
+  int views = 80;                        // views (frames for surround) over train + test
+  double test_fraction = 0.2;            // share of views rendered from held-out scenes
+  int views_per_scene = 4;               // views taken in one scene before the next
+  int width = 320, height = 180;         // surround: the face size is width x width
+  float fov_y_deg = 60;                  // ignored for surround (faces are 90 degrees)
+  int path_frames = 1;                   // > 1: views come as camera paths of this length
   std::vector<std::string> scene_files;  // OBJ / glTF; none = procedural families
   std::vector<std::string> families;     // procedural families to use; empty = the preset's
                                          // (generation 1 for nnao/gi/surround, 1-2 for nnao-v2
@@ -36,7 +36,7 @@ struct DatasetJob {
   // Leave-families-out: these families render only into holdout/, never into train/
   // or test/; they must be among `families` (or the preset's), and leave at least one.
   std::vector<std::string> holdout_families;
-  double holdout_fraction = 0.2;       // share of `views` that goes to holdout/
+  double holdout_fraction = 0.2;  // share of `views` that goes to holdout/
   // Per-view randomisation of what real scenes vary (set by the nnao-v2 preset; see
   // ViewVariation): fov, aspect, resolution, AO radius, a wider pitch range.
   bool vary_views = false;
@@ -44,12 +44,12 @@ struct DatasetJob {
   bool vary_lighting = false;
   // Procedural albedo textures on most materials, per scene (set by surround-v4).
   bool vary_textures = false;
-  RenderSettings settings;             // spp, bounces, seed; ao/lighting set by preset
+  RenderSettings settings;  // spp, bounces, seed; ao/lighting set by preset
   // >= 0: the Monte-Carlo noise comes from this seed instead of settings.seed, while
   // scenes, cameras and lighting keep settings.seed: the same views with independent
   // noise (two-seed noise estimates, a reference against which to measure an estimator).
   int64_t noise_seed = -1;
-  bool progress = true;                // progress bar on stderr
+  bool progress = true;  // progress bar on stderr
   // Render only views i with i % parts == part (mpirun: rank and size). Every part walks
   // the same scenes and cameras, so a view's bytes never depend on the split; part 0
   // writes metadata.txt. The parts' views together are the whole dataset.
@@ -59,10 +59,10 @@ struct DatasetJob {
 // The ranges nnao-v2 draws from, per view (per path for camera paths). The image keeps
 // about the job's pixel count times `area` so every view costs about the same.
 struct ViewVariation {
-  float fov_min = 35, fov_max = 90;        // vertical fov, degrees, uniform
-  float area_min = 0.6f, area_max = 1.0f;  // pixel count relative to width x height, uniform
-  float radius_min = 0.1f, radius_max = 3; // AO radius in metres, log-uniform
-  float pitch_widen = 10;                  // degrees added to each end of the scene's pitch range
+  float fov_min = 35, fov_max = 90;                          // vertical fov, degrees, uniform
+  float area_min = 0.6f, area_max = 1.0f;                    // pixel count relative to width x height, uniform
+  float radius_min = 0.1f, radius_max = 3;                   // AO radius in metres, log-uniform
+  float pitch_widen = 10;                                    // degrees added to each end of the scene's pitch range
   static const std::vector<std::pair<int, int>>& aspects();  // 1:1 4:3 3:2 16:9 2:1 3:4
 };
 

@@ -93,8 +93,7 @@ std::string ensure_default_dataset(const std::string& preset, int threads) {
                                  "default-" + preset + "-v" + std::to_string(default_dataset_version(preset)), threads);
 }
 
-std::string ensure_rendered_dataset(DatasetJob job, const std::string& root_dir, const std::string& name,
-                                    int threads) {
+std::string ensure_rendered_dataset(DatasetJob job, const std::string& root_dir, const std::string& name, int threads) {
   fs::path root = root_dir;
   fs::path final_dir = root / name;
   fs::path marker = final_dir / "COMPLETE";

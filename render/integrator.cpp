@@ -81,8 +81,7 @@ void add_point(const RayTracer& rt, const PointLight& pl, Vec3 p, Vec3 origin, V
   if (c > 0 && !rt.occluded(origin, l, 0.0f, dist * (1 - 1e-4f))) total.add(pl.color, c / d2);
 }
 
-void add_rect(const RayTracer& rt, const RectLight& rl, Vec3 p, Vec3 origin, Vec3 n, int spp, Rng& rng,
-              Accum3& total) {
+void add_rect(const RayTracer& rt, const RectLight& rl, Vec3 p, Vec3 origin, Vec3 n, int spp, Rng& rng, Accum3& total) {
   Vec3 nl = cross(rl.edge_u, rl.edge_v);
   float area = length(nl);
   nl = nl / area;
@@ -111,15 +110,25 @@ float luminance(Vec3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
 // must not be 0 where it can: a sun disc counts while any of it is above the
 // horizon, a rectangle while p is on its lit side and any corner is above the horizon.
 struct LightTable {
-  struct SunW { Vec3 dir; float r, lum; };
-  struct PointW { Vec3 pos; float lum; };
-  struct RectW { Vec3 centre, nl; float k, lum; };  // nl = edge_u x edge_v (area x unit normal), k = nl . corner
+  struct SunW {
+    Vec3 dir;
+    float r, lum;
+  };
+  struct PointW {
+    Vec3 pos;
+    float lum;
+  };
+  struct RectW {
+    Vec3 centre, nl;
+    float k, lum;
+  };  // nl = edge_u x edge_v (area x unit normal), k = nl . corner
   std::vector<SunW> suns;
   std::vector<PointW> points;
   std::vector<RectW> rects;
 
   explicit LightTable(const Scene& sc) {
-    for (const Sun& l : sc.suns) suns.push_back({normalize(l.direction), std::max(0.0f, l.angular_radius), luminance(l.color)});
+    for (const Sun& l : sc.suns)
+      suns.push_back({normalize(l.direction), std::max(0.0f, l.angular_radius), luminance(l.color)});
     for (const PointLight& l : sc.points) points.push_back({l.position, luminance(l.color)});
     for (const RectLight& l : sc.rects) {
       Vec3 nl = cross(l.edge_u, l.edge_v);
@@ -142,7 +151,7 @@ struct LightTable {
       Vec3 to = l.pos - p;
       float d2 = dot(to, to), h = dot(n, to);
       float v = h > 0 ? l.lum * h / (d2 * std::sqrt(d2)) : 0.0f;  // cos / d^2
-      sum += w[i++] = std::isfinite(v) ? v : 0.0f;  // a lamp at p itself: no direction to it
+      sum += w[i++] = std::isfinite(v) ? v : 0.0f;                // a lamp at p itself: no direction to it
     }
     for (size_t r = 0; r < rects.size(); ++r) {
       const RectW& l = rects[r];
@@ -237,8 +246,8 @@ namespace {
 // the surface it meets, which itself gathers one more such sample until `bounces`.
 // `prefix`: the caller's weight on the result (the first bounce's albedo), which
 // Russian roulette (roulette > 0) takes into account.
-Vec3 incoming(const RayTracer& rt, const LightTable& lights, LightVisibility& vis, Vec3 p, Vec3 n, Vec3 dir,
-              int depth, int bounces, Vec3 prefix, float roulette, Rng& rng) {
+Vec3 incoming(const RayTracer& rt, const LightTable& lights, LightVisibility& vis, Vec3 p, Vec3 n, Vec3 dir, int depth,
+              int bounces, Vec3 prefix, float roulette, Rng& rng) {
   Vec3 throughput(1, 1, 1), result(0, 0, 0);
   for (;;) {
     if (roulette > 0) {
@@ -273,8 +282,8 @@ Vec3 incoming(const RayTracer& rt, const LightTable& lights, LightVisibility& vi
 }
 }  // namespace
 
-void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces, Rng& rng, Vec3& env,
-                      Vec3& indirect, float roulette) {
+void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces, Rng& rng, Vec3& env, Vec3& indirect,
+                      float roulette) {
   env = indirect = Vec3();
   if (spp <= 0) return;
   Frame frame(hit.normal);

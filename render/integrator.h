@@ -20,7 +20,7 @@ struct RenderSettings {
   bool lighting = true;  // write direct / emission / env (and indirect, below)
   bool indirect = true;  // with lighting: also path-trace `indirect`, the GI target
   uint64_t seed = 0;
-  float ao_radius = 0;   // > 0: AO radius for this view instead of the scene's (nnao-v2 varies it per view)
+  float ao_radius = 0;  // > 0: AO radius for this view instead of the scene's (nnao-v2 varies it per view)
   // > 0: AO rays and env rays per pixel on the five non-front faces of a surround frame
   // (0: ao_spp, and min(gi_spp, 64) env rays, as surround .. surround-v4). Set by surround-v5 only.
   int side_spp = 0;
@@ -62,7 +62,7 @@ Vec3 light_sample(const RayTracer& rt, Vec3 p, Vec3 n, Rng& rng, LightVisibility
 // path goes on with probability q = min(1, roulette x its largest throughput channel)
 // and is divided by q if it does (unbiased; dim paths, which carry little, stop
 // early). 0 traces every path to `bounces` (the furnace's zero-variance case).
-void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces, Rng& rng, Vec3& env,
-                      Vec3& indirect, float roulette = 0);
+void env_and_indirect(const RayTracer& rt, const Hit& hit, int spp, int bounces, Rng& rng, Vec3& env, Vec3& indirect,
+                      float roulette = 0);
 
 }  // namespace nns::render

@@ -9,12 +9,18 @@ namespace nns::render {
 
 const char* texture_kind_name(TextureKind k) {
   switch (k) {
-    case TextureKind::none: return "none";
-    case TextureKind::noise: return "noise";
-    case TextureKind::bricks: return "bricks";
-    case TextureKind::tiles: return "tiles";
-    case TextureKind::wood: return "wood";
-    case TextureKind::stains: return "stains";
+    case TextureKind::none:
+      return "none";
+    case TextureKind::noise:
+      return "noise";
+    case TextureKind::bricks:
+      return "bricks";
+    case TextureKind::tiles:
+      return "tiles";
+    case TextureKind::wood:
+      return "wood";
+    case TextureKind::stains:
+      return "stains";
   }
   return "?";
 }
@@ -144,8 +150,8 @@ Vec3 wood(const MaterialTexture& t, Vec3 p) {
   const float r = std::sqrt((across - cb) * (across - cb) + (p.y - cy) * (p.y - cy)) + 0.6f * spacing * wobble;
   const float ring = r / spacing - std::floor(r / spacing);
   const float late = smoothstep(0.55f, 0.85f, ring) * (1 - smoothstep(0.9f, 1.0f, ring));  // the dark latewood band
-  const float tone = (1 + 0.5f * t.contrast * (2 * hash_unit(t.seed ^ kHueSalt, plank, id) - 1)) *
-                     (1 - 0.6f * t.contrast * late);
+  const float tone =
+      (1 + 0.5f * t.contrast * (2 * hash_unit(t.seed ^ kHueSalt, plank, id) - 1)) * (1 - 0.6f * t.contrast * late);
   // Latewood is redder and darker; a joint is a dark gap.
   return Vec3(1, 1 - 0.1f * late, 1 - 0.2f * late) * (tone * (1 - 0.65f * joint));
 }
@@ -167,15 +173,20 @@ Vec3 textured_albedo(const MaterialTexture& t, Vec3 base, Vec3 p, Vec3 n) {
   Vec3 a = base;
   float dirt_amount = t.dirt;
   switch (t.kind) {
-    case TextureKind::none: return base;
-    case TextureKind::noise: a = base * mottled(t, p, t.contrast); break;
+    case TextureKind::none:
+      return base;
+    case TextureKind::noise:
+      a = base * mottled(t, p, t.contrast);
+      break;
     case TextureKind::bricks:
     case TextureKind::tiles: {
       Texel x = t.kind == TextureKind::bricks ? triplanar(t, p, n, bricks) : triplanar(t, p, n, tiles);
       a = lerp(base * x.mul, t.joint_albedo, x.joint);
       break;
     }
-    case TextureKind::wood: a = base * wood(t, p); break;
+    case TextureKind::wood:
+      a = base * wood(t, p);
+      break;
     case TextureKind::stains:
       a = base * mottled(t, p, 0.4f * t.contrast);
       dirt_amount = std::max(dirt_amount, 0.4f + 0.6f * t.contrast);

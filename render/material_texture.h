@@ -29,18 +29,18 @@ const char* texture_kind_name(TextureKind k);
 
 // Laid out without padding (static_assert below): scenes are compared byte for byte.
 struct MaterialTexture {
-  uint64_t seed = 0;       // the pattern's own hash stream (cells, noise)
+  uint64_t seed = 0;  // the pattern's own hash stream (cells, noise)
   TextureKind kind = TextureKind::none;
-  float scale = 1;         // metres: noise feature, brick length, tile side, plank width
-  float contrast = 0.3f;   // 0..1: how far the pattern moves the albedo away from the base
-  float angle = 0;         // radians: the pattern's turn in the horizontal plane (floors) / grain axis
-  float aspect = 0.5f;     // bricks: course height / brick length; tiles: row height / tile side;
-                           // wood: ring spacing / plank width
-  float joint = 0.01f;     // metres: mortar / grout / plank-joint width
+  float scale = 1;                        // metres: noise feature, brick length, tile side, plank width
+  float contrast = 0.3f;                  // 0..1: how far the pattern moves the albedo away from the base
+  float angle = 0;                        // radians: the pattern's turn in the horizontal plane (floors) / grain axis
+  float aspect = 0.5f;                    // bricks: course height / brick length; tiles: row height / tile side;
+                                          // wood: ring spacing / plank width
+  float joint = 0.01f;                    // metres: mortar / grout / plank-joint width
   Vec3 joint_albedo{0.55f, 0.53f, 0.5f};  // mortar / grout colour (absolute, not a multiplier)
-  float dirt = 0;          // 0..1: dirt patches and streaks over any kind
-  float dirt_scale = 1;    // metres: the size of the dirt patches
-  float checker = 0;       // tiles: every other tile times (1 - checker)
+  float dirt = 0;                         // 0..1: dirt patches and streaks over any kind
+  float dirt_scale = 1;                   // metres: the size of the dirt patches
+  float checker = 0;                      // tiles: every other tile times (1 - checker)
 };
 static_assert(sizeof(MaterialTexture) == 56, "MaterialTexture must have no padding bytes");
 

@@ -16,7 +16,7 @@ float value_noise(uint64_t seed, float x, float y, float z) {
   auto lattice = [seed](uint64_t a, uint64_t b, uint64_t c) {
     uint64_t h = seed ^ a ^ b ^ c;
     h ^= h >> 31, h *= 0xBF58476D1CE4E5B9ull, h ^= h >> 29;  // splitmix finaliser
-    return float(h >> 40) * 0x1.0p-23f - 1.0f;             // in [-1, 1)
+    return float(h >> 40) * 0x1.0p-23f - 1.0f;               // in [-1, 1)
   };
   auto smoothstep = [](float t) { return t * t * (3 - 2 * t); };
   float u = smoothstep(x - fx), v = smoothstep(y - fy), w = smoothstep(z - fz);

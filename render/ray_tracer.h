@@ -11,10 +11,10 @@ struct RTCSceneTy;
 namespace nns::render {
 
 struct Hit {
-  float t = 0;              // distance along the (unit) ray direction
+  float t = 0;  // distance along the (unit) ray direction
   Vec3 position;
-  Vec3 normal;              // unit shading normal: geometric, or interpolated (Scene::normals)
-                            // and turned to the side of the geometric normal that faces the ray
+  Vec3 normal;  // unit shading normal: geometric, or interpolated (Scene::normals)
+                // and turned to the side of the geometric normal that faces the ray
   uint32_t triangle = 0;
   const Material* material = nullptr;
   bool valid() const { return material != nullptr; }

@@ -27,7 +27,7 @@ void rgb_planes(data::View& v, const char* name, float** out) {
 }  // namespace
 
 data::View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& s, uint64_t view_id,
-                 const Camera* normal_frame, RenderStats* stats) {
+                       const Camera* normal_frame, RenderStats* stats) {
   if (cam.width <= 0 || cam.height <= 0) throw std::invalid_argument("render_view: empty image size");
   if (s.lighting && s.indirect && s.bounces < 1) throw std::invalid_argument("render_view: bounces must be >= 1");
   auto t0 = std::chrono::steady_clock::now();

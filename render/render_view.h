@@ -20,6 +20,6 @@ struct RenderStats {
 // surround faces pass the front camera. Sky pixels get Z = inf, N = 0, AO = 1 and the
 // sky's radiance as `emission` (so albedo*(...)+emission is the image everywhere).
 data::View render_view(const RayTracer& rt, const Camera& cam, const RenderSettings& settings, uint64_t view_id,
-                 const Camera* normal_frame = nullptr, RenderStats* stats = nullptr);
+                       const Camera* normal_frame = nullptr, RenderStats* stats = nullptr);
 
 }  // namespace nns::render

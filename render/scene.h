@@ -40,8 +40,8 @@ struct Triangle {
 // Directional light. `direction` points from the surface towards the sun.
 struct Sun {
   Vec3 direction{0, 1, 0};
-  Vec3 color{0, 0, 0};         // E_perpendicular / pi
-  float angular_radius = 0;    // radians; 0 = a hard-shadow point sun
+  Vec3 color{0, 0, 0};       // E_perpendicular / pi
+  float angular_radius = 0;  // radians; 0 = a hard-shadow point sun
 };
 
 // Isotropic point light: direct = color * cos / d^2 (color = intensity / pi).

@@ -9,12 +9,12 @@ std::array<Camera, 6> cube_face_cameras(const Camera& f, int size) {
   // {right, up, back} of each face in world space: a face looking along direction D
   // with image-up V has back = -D and right = cross(V, back) (right-handed, R x U = B).
   const Vec3 axes[6][3] = {
-      {R, U, B},      // front: looks -B
-      {-R, U, -B},    // back: looks +B (yaw 180)
-      {-B, U, R},     // left: looks -R (yaw +90)
-      {B, U, -R},     // right: looks +R (yaw -90)
-      {R, B, -U},     // up: looks +U, image up +B (towards the back)
-      {R, -B, U},     // down: looks -U, image up -B
+      {R, U, B},    // front: looks -B
+      {-R, U, -B},  // back: looks +B (yaw 180)
+      {-B, U, R},   // left: looks -R (yaw +90)
+      {B, U, -R},   // right: looks +R (yaw -90)
+      {R, B, -U},   // up: looks +U, image up +B (towards the back)
+      {R, -B, U},   // down: looks -U, image up -B
   };
   std::array<Camera, 6> cams;
   for (int i = 0; i < 6; ++i) {
@@ -29,7 +29,7 @@ std::array<Camera, 6> cube_face_cameras(const Camera& f, int size) {
 }
 
 std::array<data::View, 6> render_surround(const RayTracer& rt, const Camera& front, int size, const RenderSettings& s,
-                                    uint64_t frame_id, bool gi_on_all_faces, RenderStats* stats) {
+                                          uint64_t frame_id, bool gi_on_all_faces, RenderStats* stats) {
   auto cams = cube_face_cameras(front, size);
   std::array<data::View, 6> views;
   for (int i = 0; i < 6; ++i) {

@@ -23,6 +23,7 @@ std::array<Camera, 6> cube_face_cameras(const Camera& front, int size);
 // (a surround-aware network must see the sunlit patch behind the camera); the
 // path-traced `indirect` target only `front`, unless gi_on_all_faces (5x the time).
 std::array<data::View, 6> render_surround(const RayTracer& rt, const Camera& front, int size, const RenderSettings& s,
-                                    uint64_t frame_id, bool gi_on_all_faces = false, RenderStats* stats = nullptr);
+                                          uint64_t frame_id, bool gi_on_all_faces = false,
+                                          RenderStats* stats = nullptr);
 
 }  // namespace nns::render

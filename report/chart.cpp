@@ -41,8 +41,7 @@ struct Axis {
   double lo, hi;
   bool log;
   double map(double v, double a, double b) const {  // data -> pixels in [a, b]
-    double t = log ? (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo))
-                   : (v - lo) / (hi - lo);
+    double t = log ? (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo)) : (v - lo) / (hi - lo);
     return a + t * (b - a);
   }
   std::vector<double> ticks() const {
@@ -50,8 +49,8 @@ struct Axis {
     if (log) {
       // 1, 2, 5 per decade; an axis spanning less than a decade would show one tick or
       // none, so it takes the finer steps.
-      for (const std::vector<double>& mantissas : {std::vector<double>{1, 2, 5},
-                                                   std::vector<double>{1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 9}}) {
+      for (const std::vector<double>& mantissas :
+           {std::vector<double>{1, 2, 5}, std::vector<double>{1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 9}}) {
         t.clear();
         for (double d = std::pow(10, std::floor(std::log10(lo))); d <= hi * 1.0001; d *= 10)
           for (double m : mantissas)
@@ -119,8 +118,8 @@ LabelSpot place_label(std::vector<LabelBox>& placed, double px, double py, size_
                       double B) {
   const double w = kLabelCharWidth * double(chars);
   const LabelSpot spots[] = {{px + 5, py - 5, false},  {px + 5, py + 14, false}, {px - 5, py - 5, true},
-                             {px - 5, py + 14, true},   {px + 5, py - 17, false}, {px + 5, py + 26, false},
-                             {px + 5, py - 29, false},  {px + 5, py + 38, false}};
+                             {px - 5, py + 14, true},  {px + 5, py - 17, false}, {px + 5, py + 26, false},
+                             {px + 5, py - 29, false}, {px + 5, py + 38, false}};
   auto box = [&](const LabelSpot& s) {
     return s.end ? LabelBox{s.x - w, s.y - 9, s.x, s.y + 2} : LabelBox{s.x, s.y - 9, s.x + w, s.y + 2};
   };
@@ -161,30 +160,29 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
   const double L = 80, R = o.width - legend, T = 50, B = o.height - 60.0;
   double ly = T + 10;  // the next legend entry's baseline
   std::ostringstream s;
-  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width << "\" height=\""
-    << o.height << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width << "\" height=\"" << o.height
+    << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     << "<text x=\"" << num((L + R) / 2) << "\" y=\"28\" text-anchor=\"middle\" font-size=\"16\">"
     << html_escape(o.title) << "</text>\n";
   for (double t : ax.ticks()) {
     double px = ax.map(t, L, R);
-    s << "<line x1=\"" << num(px) << "\" y1=\"" << num(T) << "\" x2=\"" << num(px) << "\" y2=\""
-      << num(B) << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << num(px) << "\" y=\"" << num(B + 18)
-      << "\" text-anchor=\"middle\">" << tick_label(t) << "</text>\n";
+    s << "<line x1=\"" << num(px) << "\" y1=\"" << num(T) << "\" x2=\"" << num(px) << "\" y2=\"" << num(B)
+      << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << num(px) << "\" y=\"" << num(B + 18) << "\" text-anchor=\"middle\">"
+      << tick_label(t) << "</text>\n";
   }
   for (double t : ay.ticks()) {
     double py = ay.map(t, B, T);
-    s << "<line x1=\"" << num(L) << "\" y1=\"" << num(py) << "\" x2=\"" << num(R) << "\" y2=\""
-      << num(py) << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << num(L - 6) << "\" y=\"" << num(py + 4)
-      << "\" text-anchor=\"end\">" << tick_label(t) << "</text>\n";
+    s << "<line x1=\"" << num(L) << "\" y1=\"" << num(py) << "\" x2=\"" << num(R) << "\" y2=\"" << num(py)
+      << "\" stroke=\"#e0e0e0\"/>\n<text x=\"" << num(L - 6) << "\" y=\"" << num(py + 4) << "\" text-anchor=\"end\">"
+      << tick_label(t) << "</text>\n";
   }
-  s << "<rect x=\"" << num(L) << "\" y=\"" << num(T) << "\" width=\"" << num(R - L)
-    << "\" height=\"" << num(B - T) << "\" fill=\"none\" stroke=\"black\"/>\n"
+  s << "<rect x=\"" << num(L) << "\" y=\"" << num(T) << "\" width=\"" << num(R - L) << "\" height=\"" << num(B - T)
+    << "\" fill=\"none\" stroke=\"black\"/>\n"
     << "<text x=\"" << num((L + R) / 2) << "\" y=\"" << num(B + 42) << "\" text-anchor=\"middle\">"
     << html_escape(o.x_label) << (o.log_x ? " (log scale)" : "") << "</text>\n"
-    << "<text transform=\"translate(22," << num((T + B) / 2)
-    << ") rotate(-90)\" text-anchor=\"middle\">" << html_escape(o.y_label)
-    << (o.log_y ? " (log scale)" : "") << "</text>\n";
+    << "<text transform=\"translate(22," << num((T + B) / 2) << ") rotate(-90)\" text-anchor=\"middle\">"
+    << html_escape(o.y_label) << (o.log_y ? " (log scale)" : "") << "</text>\n";
   std::vector<LabelBox> labels;  // the point labels placed so far
   for (size_t k = 0; k < series.size(); ++k) {
     const auto& se = series[k];
@@ -195,22 +193,21 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
       if (!usable(se.x[i], se.y[i], o)) continue;
       double px = ax.map(se.x[i], L, R), py = ay.map(se.y[i], B, T);
       pts += num(px) + "," + num(py) + " ";
-      s << "<circle cx=\"" << num(px) << "\" cy=\"" << num(py) << "\" r=\"3.5\" fill=\"" << c
-        << "\"/>\n";
+      s << "<circle cx=\"" << num(px) << "\" cy=\"" << num(py) << "\" r=\"3.5\" fill=\"" << c << "\"/>\n";
       if (i < se.point_labels.size() && !se.point_labels[i].empty()) {
         const LabelSpot at = place_label(labels, px, py, se.point_labels[i].size(), L, R, T, B);
         s << "<text x=\"" << num(at.x) << "\" y=\"" << num(at.y) << "\"" << (at.end ? " text-anchor=\"end\"" : "")
           << " font-size=\"10\" fill=\"" << c << "\">" << html_escape(se.point_labels[i]) << "</text>\n";
       }
     }
-    s << "<polyline points=\"" << pts << "\" fill=\"none\" stroke=\"" << c << dash
-      << "\" stroke-width=\"2\"/>\n";
-    s << "<line x1=\"" << num(R + 15) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(R + 40)
-      << "\" y2=\"" << num(ly) << "\" stroke=\"" << c << dash << "\" stroke-width=\"2\"/>\n<text x=\""
-      << num(R + 46) << "\" y=\"" << num(ly + 4) << "\">";
+    s << "<polyline points=\"" << pts << "\" fill=\"none\" stroke=\"" << c << dash << "\" stroke-width=\"2\"/>\n";
+    s << "<line x1=\"" << num(R + 15) << "\" y1=\"" << num(ly) << "\" x2=\"" << num(R + 40) << "\" y2=\"" << num(ly)
+      << "\" stroke=\"" << c << dash << "\" stroke-width=\"2\"/>\n<text x=\"" << num(R + 46) << "\" y=\"" << num(ly + 4)
+      << "\">";
     const std::vector<std::string> lines = wrapped(se.name, legend_chars);
     for (size_t i = 0; i < lines.size(); ++i)
-      s << "<tspan x=\"" << num(R + 46) << "\" dy=\"" << (i ? "14" : "0") << "\">" << html_escape(lines[i]) << "</tspan>";
+      s << "<tspan x=\"" << num(R + 46) << "\" dy=\"" << (i ? "14" : "0") << "\">" << html_escape(lines[i])
+        << "</tspan>";
     s << "</text>\n";
     ly += 20 + 14.0 * double(lines.size() - 1);
   }

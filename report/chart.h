@@ -11,8 +11,8 @@ struct ChartSeries {
   std::string name;
   std::vector<double> x, y;
   std::vector<std::string> point_labels;  // optional, one per point (e.g. sample counts)
-  int colour = -1;      // index into the palette; -1: the series' position
-  bool dashed = false;  // a variant of another series (e.g. the same method with TAA)
+  int colour = -1;                        // index into the palette; -1: the series' position
+  bool dashed = false;                    // a variant of another series (e.g. the same method with TAA)
 };
 
 struct ChartOptions {

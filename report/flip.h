@@ -42,10 +42,10 @@ inline const double kFlipDefaultPpd = flip_pixels_per_degree(0.7, 0.7, 3840);
 namespace flip {
 
 inline constexpr double kPi = 3.14159265358979323846;
-inline constexpr float kQc = 0.7f;    // colour exponent qc on the HyAB distance (paper §4.3)
-inline constexpr float kPc = 0.4f;    // remap knee: errors below pc * cmax map linearly to [0, pt] (§4.3)
-inline constexpr float kPt = 0.95f;   // ... and the rest to (pt, 1]
-inline constexpr float kQf = 0.5f;    // feature exponent qf (§5)
+inline constexpr float kQc = 0.7f;                 // colour exponent qc on the HyAB distance (paper §4.3)
+inline constexpr float kPc = 0.4f;                 // remap knee: errors below pc * cmax map linearly to [0, pt] (§4.3)
+inline constexpr float kPt = 0.95f;                // ... and the rest to (pt, 1]
+inline constexpr float kQf = 0.5f;                 // feature exponent qf (§5)
 inline constexpr double kFeatureWidthDeg = 0.082;  // w: peak-to-trough of the edge detector, 2 sd (§5)
 
 // Contrast sensitivity function of one opponent channel (§4.1, Table 1), in the spatial
@@ -63,10 +63,9 @@ inline constexpr double kCsfWidestB = 0.04;
 
 // linear sRGB (D65) -> XYZ, the exact rational form of the IEC 61966-2-1 matrix (the
 // reference code's). Its rows sum to the D65 white, so the middle row sums to 1 exactly.
-inline constexpr double kRgbToXyz[3][3] = {
-    {10135552.0 / 24577794, 8788810.0 / 24577794, 4435075.0 / 24577794},
-    {2613072.0 / 12288897, 8788810.0 / 12288897, 887015.0 / 12288897},
-    {1425312.0 / 73733382, 8788810.0 / 73733382, 70074185.0 / 73733382}};
+inline constexpr double kRgbToXyz[3][3] = {{10135552.0 / 24577794, 8788810.0 / 24577794, 4435075.0 / 24577794},
+                                           {2613072.0 / 12288897, 8788810.0 / 12288897, 887015.0 / 12288897},
+                                           {1425312.0 / 73733382, 8788810.0 / 73733382, 70074185.0 / 73733382}};
 
 inline std::array<double, 3> d65_white() {
   std::array<double, 3> w{};
@@ -89,9 +88,7 @@ inline std::array<std::array<double, 3>, 3> xyz_to_rgb() {
   return inv;
 }
 
-inline float srgb_to_linear(float s) {
-  return s > 0.04045f ? std::pow((s + 0.055f) / 1.055f, 2.4f) : s / 12.92f;
-}
+inline float srgb_to_linear(float s) { return s > 0.04045f ? std::pow((s + 0.055f) / 1.055f, 2.4f) : s / 12.92f; }
 
 // CIELAB from XYZ normalised by the white: the cube root with its linear toe below (6/29)^3.
 inline float lab_f(float t) {
@@ -223,8 +220,8 @@ inline std::vector<float> filter_csf(const std::vector<float>& in, int w, int h,
 // What the metric needs of one image: its Hunt-adjusted L*a*b* after the CSFs (3 planes)
 // and the magnitudes of its edge and point responses (2 planes).
 struct Prepared {
-  std::vector<float> lab;               // 3 * n
-  std::vector<float> edges, points;     // n each
+  std::vector<float> lab;            // 3 * n
+  std::vector<float> edges, points;  // n each
 };
 
 inline Prepared prepare(const float* rgb, int w, int h, double ppd) {
@@ -256,8 +253,8 @@ inline Prepared prepare(const float* rgb, int w, int h, double ppd) {
     const double xyz[3] = {(y + double(cx[i]) / 500) * white[0], y * white[1], (y - double(cz[i]) / 200) * white[2]};
     std::array<double, 3> lin{};
     for (int r = 0; r < 3; ++r)
-      lin[size_t(r)] = std::clamp(inverse[size_t(r)][0] * xyz[0] + inverse[size_t(r)][1] * xyz[1] +
-                                      inverse[size_t(r)][2] * xyz[2], 0.0, 1.0);
+      lin[size_t(r)] = std::clamp(
+          inverse[size_t(r)][0] * xyz[0] + inverse[size_t(r)][1] * xyz[1] + inverse[size_t(r)][2] * xyz[2], 0.0, 1.0);
     const std::array<float, 3> lab = hunt_lab(lin);
     for (size_t c = 0; c < 3; ++c) p.lab[c * n + i] = lab[c];
   }

@@ -13,12 +13,23 @@ std::string html_escape(std::string_view s) {
   o.reserve(s.size());
   for (char c : s) {
     switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      case '\'': o += "&#39;"; break;
-      default: o += c;
+      case '&':
+        o += "&amp;";
+        break;
+      case '<':
+        o += "&lt;";
+        break;
+      case '>':
+        o += "&gt;";
+        break;
+      case '"':
+        o += "&quot;";
+        break;
+      case '\'':
+        o += "&#39;";
+        break;
+      default:
+        o += c;
     }
   }
   return o;
@@ -86,9 +97,13 @@ std::string markdown(const Table& t) {
   return s;
 }
 
-Report& Report::heading(std::string text) { return blocks_.push_back({Kind::heading, {std::move(text)}, {}, {}}), *this; }
+Report& Report::heading(std::string text) {
+  return blocks_.push_back({Kind::heading, {std::move(text)}, {}, {}}), *this;
+}
 Report& Report::text(std::string p) { return blocks_.push_back({Kind::text, {std::move(p)}, {}, {}}), *this; }
-Report& Report::list(std::vector<std::string> items) { return blocks_.push_back({Kind::list, std::move(items), {}, {}}), *this; }
+Report& Report::list(std::vector<std::string> items) {
+  return blocks_.push_back({Kind::list, std::move(items), {}, {}}), *this;
+}
 Report& Report::table(Table t) { return blocks_.push_back({Kind::table, {}, std::move(t), {}}), *this; }
 Report& Report::chart(std::string file, std::string caption, std::string note) {
   return blocks_.push_back({Kind::chart, {std::move(file), std::move(caption), std::move(note)}, {}, {}}), *this;
@@ -99,13 +114,19 @@ std::string Report::markdown() const {
   std::string s = "# " + title_ + "\n\n";
   for (auto& b : blocks_) {
     switch (b.kind) {
-      case Kind::heading: s += "## " + b.s[0] + "\n\n"; break;
-      case Kind::text: s += b.s[0] + "\n\n"; break;
+      case Kind::heading:
+        s += "## " + b.s[0] + "\n\n";
+        break;
+      case Kind::text:
+        s += b.s[0] + "\n\n";
+        break;
       case Kind::list:
         for (auto& item : b.s) s += "- " + item + "\n";
         s += "\n";
         break;
-      case Kind::table: s += report::markdown(b.table) + "\n"; break;
+      case Kind::table:
+        s += report::markdown(b.table) + "\n";
+        break;
       case Kind::chart:
         s += "![" + b.s[1] + "](" + url_path(b.s[0]) + ")\n" + (b.s[2].empty() ? "" : "(" + b.s[2] + ")\n") + "\n";
         break;
@@ -206,13 +227,17 @@ std::string Report::html() const {
         body += "<h2 id=\"" + id + "\">" + inline_html(b.s[0]) + "</h2>\n";
         break;
       }
-      case Kind::text: body += "<p>" + inline_html(b.s[0]) + "</p>\n"; break;
+      case Kind::text:
+        body += "<p>" + inline_html(b.s[0]) + "</p>\n";
+        break;
       case Kind::list:
         body += "<ul>";
         for (auto& item : b.s) body += "<li>" + inline_html(item) + "</li>";
         body += "</ul>\n";
         break;
-      case Kind::table: body += table_html(b.table); break;
+      case Kind::table:
+        body += table_html(b.table);
+        break;
       case Kind::chart: {
         const std::string src = url_path(b.s[0]);
         body += "<figure class=\"chart\"><a href=\"" + src + "\"><img src=\"" + src + "\" alt=\"" +

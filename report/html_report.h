@@ -51,7 +51,7 @@ struct Comparison {
 class Report {
  public:
   explicit Report(std::string title) : title_(std::move(title)) {}
-  Report& heading(std::string text);                        // a section (## in markdown)
+  Report& heading(std::string text);  // a section (## in markdown)
   Report& text(std::string markdown_paragraph);
   Report& list(std::vector<std::string> markdown_items);
   Report& table(Table t);

@@ -30,8 +30,11 @@ uint8_t srgb_encode(float x) {
 
 void heatmap_colour(float t, uint8_t rgb[3]) {
   // Control points sampled by eye from matplotlib's "inferno" (0, .25, .5, .75, 1).
-  static const float stops[5][3] = {{0.00f, 0.00f, 0.02f}, {0.34f, 0.06f, 0.43f}, {0.73f, 0.21f, 0.33f},
-                                    {0.98f, 0.55f, 0.04f}, {0.99f, 1.00f, 0.64f}};
+  static const float stops[5][3] = {{0.00f, 0.00f, 0.02f},
+                                    {0.34f, 0.06f, 0.43f},
+                                    {0.73f, 0.21f, 0.33f},
+                                    {0.98f, 0.55f, 0.04f},
+                                    {0.99f, 1.00f, 0.64f}};
   t = std::clamp(t, 0.0f, 1.0f) * 4.0f;
   int i = std::min(int(t), 3);
   float f = t - float(i);
@@ -42,10 +45,14 @@ namespace {
 
 OIIO::TypeDesc file_type(PixelType t) {
   switch (t) {
-    case PixelType::u8: return OIIO::TypeDesc::UINT8;
-    case PixelType::u16: return OIIO::TypeDesc::UINT16;
-    case PixelType::f16: return OIIO::TypeDesc::HALF;
-    case PixelType::f32: break;
+    case PixelType::u8:
+      return OIIO::TypeDesc::UINT8;
+    case PixelType::u16:
+      return OIIO::TypeDesc::UINT16;
+    case PixelType::f16:
+      return OIIO::TypeDesc::HALF;
+    case PixelType::f32:
+      break;
   }
   return OIIO::TypeDesc::FLOAT;
 }
@@ -75,8 +82,8 @@ void write_pixels(const std::string& path, int w, int h, const std::vector<std::
 
 }  // namespace
 
-void write_image(const std::string& path, int w, int h, const std::vector<std::string>& channels,
-                 const float* pixels, PixelType type) {
+void write_image(const std::string& path, int w, int h, const std::vector<std::string>& channels, const float* pixels,
+                 PixelType type) {
   write_pixels(path, w, h, channels, OIIO::TypeDesc::FLOAT, pixels, file_type(type));
 }
 

@@ -26,10 +26,9 @@ struct ToneMap {
 };
 
 // Linear map of [lo, hi] to 0..255, clamped, no gamma (AO, depth, masks).
-void write_png_gray(const std::string& path, const float* v, int width, int height, float lo = 0,
-                    float hi = 1);
-void write_png_rgb(const std::string& path, const float* r, const float* g, const float* b, int width,
-                   int height, const ToneMap& tone = {});
+void write_png_gray(const std::string& path, const float* v, int width, int height, float lo = 0, float hi = 1);
+void write_png_rgb(const std::string& path, const float* r, const float* g, const float* b, int width, int height,
+                   const ToneMap& tone = {});
 // Error heat map: 0 -> black, through purple and orange, to pale yellow at `max`
 // (a coarse "inferno"-like ramp, monotonic in lightness so it reads in grey too).
 void write_png_heatmap(const std::string& path, const float* v, int width, int height, float max);
@@ -49,7 +48,7 @@ void write_image(const std::string& path, int width, int height, const std::vect
                  const float* pixels, PixelType type);
 
 // The colour maps themselves, for callers that compose their own images.
-void heatmap_colour(float t, uint8_t rgb[3]);   // t in [0,1]
-uint8_t srgb_encode(float linear);               // [0,1] linear -> 0..255 sRGB
+void heatmap_colour(float t, uint8_t rgb[3]);  // t in [0,1]
+uint8_t srgb_encode(float linear);             // [0,1] linear -> 0..255 sRGB
 
 }  // namespace nns::report

@@ -32,7 +32,6 @@
 
 namespace nns::runs {
 
-
 constexpr int64_t kSize = 32;  // image height and width
 
 // A batch of smooth random images (sums of Gaussian blobs) and their edge maps.
@@ -56,10 +55,10 @@ Batch make_batch(Rng& rng, int64_t n) {
     };
     for (int64_t i = 0; i < kSize; ++i)
       for (int64_t j = 0; j < kSize; ++j) {
-        float gx = at(i - 1, j + 1) + 2 * at(i, j + 1) + at(i + 1, j + 1) - at(i - 1, j - 1) -
-                   2 * at(i, j - 1) - at(i + 1, j - 1);
-        float gy = at(i + 1, j - 1) + 2 * at(i + 1, j) + at(i + 1, j + 1) - at(i - 1, j - 1) -
-                   2 * at(i - 1, j) - at(i - 1, j + 1);
+        float gx = at(i - 1, j + 1) + 2 * at(i, j + 1) + at(i + 1, j + 1) - at(i - 1, j - 1) - 2 * at(i, j - 1) -
+                   at(i + 1, j - 1);
+        float gy = at(i + 1, j - 1) + 2 * at(i + 1, j) + at(i + 1, j + 1) - at(i - 1, j - 1) - 2 * at(i - 1, j) -
+                   at(i - 1, j + 1);
         out[i * kSize + j] = std::abs(gx) + std::abs(gy);
       }
   }
@@ -74,7 +73,6 @@ float mse(EdgeNet& net, const Batch& b) {
 // Trains, saves, reloads; returns the exit status (1 if the loss did not fall or the
 // reloaded weights do not reproduce it bitwise).
 inline int run_edge_demo(int threads, int seed, int epochs, int width, const std::string& out) {
-
   const int64_t batch = 8, steps_per_epoch = 16;
   EdgeNet net(uint64_t(seed), width);
   Adam<float> opt(net.parameters(), {.lr = 1e-2});
@@ -92,8 +90,8 @@ inline int run_edge_demo(int threads, int seed, int epochs, int width, const std
     return l;
   };
   std::printf("demo: %lld parameters, %d threads, %d epochs of %lld batches of %lld %lldx%lld images\n",
-              (long long)net.parameter_count(), threads, epochs, (long long)steps_per_epoch,
-              (long long)batch, (long long)kSize, (long long)kSize);
+              (long long)net.parameter_count(), threads, epochs, (long long)steps_per_epoch, (long long)batch,
+              (long long)kSize, (long long)kSize);
   const float start_val = val_loss();
   std::printf("validation loss before training: %.5f\n", start_val);
   std::fflush(stdout);
@@ -112,15 +110,14 @@ inline int run_edge_demo(int threads, int seed, int epochs, int width, const std
       opt.step();
       sum += loss.value()[0];
       char status[80];
-      std::snprintf(status, sizeof status, "epoch %d/%d train loss %.5f lr %.2g", epoch + 1,
-                    epochs, sum / double(s + 1), opt.lr());
+      std::snprintf(status, sizeof status, "epoch %d/%d train loss %.5f lr %.2g", epoch + 1, epochs,
+                    sum / double(s + 1), opt.lr());
       bar.update(int64_t(epoch) * steps_per_epoch + s + 1, status);
     }
   }
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const float end_val = val_loss();
-  std::printf("validation loss after training:  %.5f (%.1fx lower, %.1f s)\n", end_val,
-              start_val / end_val, seconds);
+  std::printf("validation loss after training:  %.5f (%.1fx lower, %.1f s)\n", end_val, start_val / end_val, seconds);
 
   std::filesystem::create_directories(out);
   const std::string path = out + "/demo.blob";
@@ -137,8 +134,7 @@ inline int run_edge_demo(int threads, int seed, int epochs, int width, const std
               path.c_str(), (long long)std::filesystem::file_size(path), (long long)b.config_int("width"),
               reloaded_val);
   if (std::memcmp(&reloaded_val, &end_val, sizeof(float)) != 0) {
-    std::fprintf(stderr, "demo: error: the reloaded model gives %.9g, the trained one %.9g\n",
-                 reloaded_val, end_val);
+    std::fprintf(stderr, "demo: error: the reloaded model gives %.9g, the trained one %.9g\n", reloaded_val, end_val);
     return 1;
   }
   if (!(end_val < start_val)) {

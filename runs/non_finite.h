@@ -16,7 +16,8 @@ class NonFiniteError : public std::runtime_error {
  public:
   NonFiniteError(int64_t step, const std::string& tensor)
       : std::runtime_error("non-finite value (NaN or Inf) at step " + std::to_string(step) + " in " + tensor),
-        step(step), tensor(tensor) {}
+        step(step),
+        tensor(tensor) {}
   int64_t step;
   std::string tensor;
 };

@@ -71,7 +71,8 @@ struct RunOutcome {
 
 // `add` puts the trainer's own blocks (charts, sample images) after the outcome.
 inline report::Report training_report(const RunOutcome& o, const std::vector<MetricsRecord>& records,
-                                    const std::vector<std::pair<std::string, std::string>>& config, const std::function<void(report::Report&)>& add) {
+                                      const std::vector<std::pair<std::string, std::string>>& config,
+                                      const std::function<void(report::Report&)>& add) {
   report::Report r(o.app + " run");
   const std::string done = count_of(o.epochs_done, "epoch") + ", " + count_of(o.steps, "step");
   r.text(o.stop_message.empty() ? "**Finished**: " + done + "."

@@ -72,18 +72,18 @@ class TrainingTask {
 };
 
 struct LoopSettings {
-  std::string progress_label;   // the bar's label
-  int64_t epochs = 0;           // in all; a resumed run does those not yet done
+  std::string progress_label;  // the bar's label
+  int64_t epochs = 0;          // in all; a resumed run does those not yet done
   int64_t steps_per_epoch = 0;
-  int accumulate = 1;           // micro-batches per step
-  double bucket_mb = 25;        // MiB per gradient bucket of the MPI exchange (<= 0: one)
+  int accumulate = 1;     // micro-batches per step
+  double bucket_mb = 25;  // MiB per gradient bucket of the MPI exchange (<= 0: one)
 };
 
 struct LoopResult {
-  std::string stop_message;   // empty: finished; else why it stopped (non-finite value)
-  int64_t epochs_run = 0;     // by this process
-  double epoch_seconds = 0;   // summed over them (steps, evaluation, writes)
-  double seconds = 0;         // the whole loop, this process
+  std::string stop_message;  // empty: finished; else why it stopped (non-finite value)
+  int64_t epochs_run = 0;    // by this process
+  double epoch_seconds = 0;  // summed over them (steps, evaluation, writes)
+  double seconds = 0;        // the whole loop, this process
   bool finished() const { return stop_message.empty(); }
 };
 

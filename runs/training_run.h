@@ -48,8 +48,8 @@ namespace nns::runs {
 using RunConfig = std::vector<std::pair<std::string, std::string>>;
 
 struct RunSpec {
-  std::string app;                       // "train-nnao": prefixes messages
-  std::string out;                       // the output folder
+  std::string app;  // "train-nnao": prefixes messages
+  std::string out;  // the output folder
   std::string checkpoint_name = "checkpoint.blob";
   std::string checkpoint_kind = "checkpoint";  // the blob's kind
   bool resume = false;
@@ -162,7 +162,8 @@ class TrainingRun {
                      ",\"steps\":" + std::to_string(step_);
     for (auto& [k, v] : figures) js += ",\"" + k + "\":" + json_number(v);
     write_file_atomic(path("summary.json"), js + "}\n");
-    training_report({spec_.app, stop_message, epochs_done_, step_, figures}, log_.records(), spec_.config, add_to_report)
+    training_report({spec_.app, stop_message, epochs_done_, step_, figures}, log_.records(), spec_.config,
+                    add_to_report)
         .write(spec_.out);
     return finished ? 0 : 3;
   }

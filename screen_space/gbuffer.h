@@ -29,10 +29,10 @@ inline Vec3 normalize_or_facing(Vec3 a) {
 // Non-owning: the planes belong to the View (or the test) that made it.
 struct GBuffer {
   int width = 0, height = 0;
-  float radius = 1;          // world-space AO radius (the view's aoRadius)
-  float sx = 1, sy = 1;      // tan(fovY/2) * W/H and tan(fovY/2)
+  float radius = 1;              // world-space AO radius (the view's aoRadius)
+  float sx = 1, sy = 1;          // tan(fovY/2) * W/H and tan(fovY/2)
   float inv_w2 = 1, inv_h2 = 1;  // 2/W and 2/H: position() multiplies, never divides
-  const float* z = nullptr;  // planar depth, sky = inf or >= 1e30
+  const float* z = nullptr;      // planar depth, sky = inf or >= 1e30
   const float* nx = nullptr;
   const float* ny = nullptr;
   const float* nz = nullptr;
@@ -45,9 +45,7 @@ struct GBuffer {
   Vec3 position(float px, float py, float d) const {
     return {((px + 0.5f) * inv_w2 - 1) * sx * d, (1 - (py + 0.5f) * inv_h2) * sy * d, -d};
   }
-  Vec3 position(int px, int py) const {
-    return position(float(px), float(py), z[int64_t(py) * width + px]);
-  }
+  Vec3 position(int px, int py) const { return position(float(px), float(py), z[int64_t(py) * width + px]); }
   // Pixel coordinate (continuous, pixel centres at integers) where view-space point p
   // lands. p must be in front of the camera (p.z < 0).
   void project(Vec3 p, float& px, float& py) const {
@@ -73,8 +71,8 @@ struct GBuffer {
   }
 };
 
-inline GBuffer make_gbuffer(int width, int height, float fov_y_deg, float radius, const float* z,
-                            const float* nx, const float* ny, const float* nz) {
+inline GBuffer make_gbuffer(int width, int height, float fov_y_deg, float radius, const float* z, const float* nx,
+                            const float* ny, const float* nz) {
   GBuffer g;
   g.width = width;
   g.height = height;
@@ -100,8 +98,7 @@ inline GBuffer gbuffer_from_view(const data::View& v, float radius = 0) {
   for (const char* c : {"Z", "N.X", "N.Y", "N.Z"})
     if (!v.has(c)) throw std::runtime_error(where + ": missing channel '" + c + "'");
   if (!(v.fov_y_deg > 0 && v.fov_y_deg < 180))
-    throw std::runtime_error(where + ": fovY missing or out of range (" +
-                             std::to_string(v.fov_y_deg) + ")");
+    throw std::runtime_error(where + ": fovY missing or out of range (" + std::to_string(v.fov_y_deg) + ")");
   if (radius <= 0) {
     if (!v.ao_radius || !(*v.ao_radius > 0))
       throw std::runtime_error(where + ": no aoRadius attribute (needed for the AO radius)");

@@ -108,8 +108,8 @@ inline void upsample_reference(const GBuffer& full, const LowResGBuffer& lr, con
 // built once per frame for the whole frame, they were a serial 0.2 ms of page faults for
 // a 1/4 rung at 320x180, and the upsample as a whole did not get faster on 2 threads.
 struct TapRows {
-  int width = 0, scale = 1;  // full-resolution columns; a row's stride is width + scale
-  int low_row[2] = {-1, -1};  // the low-resolution row each of the two holds (-1: none)
+  int width = 0, scale = 1;               // full-resolution columns; a row's stride is width + scale
+  int low_row[2] = {-1, -1};              // the low-resolution row each of the two holds (-1: none)
   std::vector<float> z, low, nx, ny, nz;  // [r * (width + scale) + X]
   const float* row(const std::vector<float>& plane, int r, int c) const {
     return plane.data() + int64_t(r) * (width + scale) + c * scale;
@@ -168,7 +168,10 @@ struct UpsampleFrame {  // what every block of a frame shares
   float inv_dz, half, inv_s;  // 1 / (depth term's scale x radius), s/2 and 1/s
   bool normals;               // power 0: every weight 1, three planes a tap not read
   UpsampleFrame(const GBuffer& full, int s, const UpsampleEdges& e)
-      : scale(s), inv_dz(1.0f / (e.depth * full.radius)), half(float(s / 2)), inv_s(1.0f / float(s)),
+      : scale(s),
+        inv_dz(1.0f / (e.depth * full.radius)),
+        half(float(s / 2)),
+        inv_s(1.0f / float(s)),
         normals(e.normal_power > 0) {}
 };
 
@@ -189,7 +192,8 @@ inline void upsample_block(const GBuffer& full, const TapRows& taps, const Upsam
     return;
   }
   VF nxc = splat(0.0f), nyc = splat(0.0f), nzc = splat(0.0f);
-  if (normals) nxc = load(full.nx + i0, live, 0.0f), nyc = load(full.ny + i0, live, 0.0f), nzc = load(full.nz + i0, live, 0.0f);
+  if (normals)
+    nxc = load(full.nx + i0, live, 0.0f), nyc = load(full.ny + i0, live, 0.0f), nzc = load(full.nz + i0, live, 0.0f);
   const VF u = (to_float(lane_index() + splat_i(x0)) - splat(half)) * splat(inv_s);
   const float v = (float(y) - half) * inv_s, fv = std::floor(v), ay = v - fv;
   const VF fu = floor(u), ax = u - fu;

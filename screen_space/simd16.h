@@ -39,9 +39,7 @@ inline VF operator-(VF a) { return splat(0.0f) - a; }
 inline VF saturate(VF a) { return min(max(a, splat(0.0f)), splat(1.0f)); }
 
 // data::is_sky on 16 depths: !(z < 1e30) || z <= 0 (NaN is sky).
-inline Mask sky(VF z) {
-  return (~lt(z, splat(data::kSkyDepth)) | le(z, splat(0.0f))) & kAll;
-}
+inline Mask sky(VF z) { return (~lt(z, splat(data::kSkyDepth)) | le(z, splat(0.0f))) & kAll; }
 
 // exp(x) for x <= 0 (the bilateral weights), Cody-Waite reduction and a degree-6
 // polynomial: relative error below 2.5e-7 against exp in double (2.29e-7 the worst

@@ -60,8 +60,8 @@ inline __m256 scale2(__m256 a, __m256 nf) {
   for (int step = 0; step < 2; ++step) {
     const __m256i up = _mm256_cmpgt_epi32(n, _mm256_set1_epi32(127));
     const __m256i down = _mm256_cmpgt_epi32(_mm256_set1_epi32(-126), n);
-    const __m256i k = _mm256_or_si256(_mm256_and_si256(up, _mm256_set1_epi32(127)),
-                                      _mm256_and_si256(down, _mm256_set1_epi32(-102)));
+    const __m256i k =
+        _mm256_or_si256(_mm256_and_si256(up, _mm256_set1_epi32(127)), _mm256_and_si256(down, _mm256_set1_epi32(-102)));
     a = _mm256_mul_ps(a, pow2(k));
     n = _mm256_sub_epi32(n, k);
   }

@@ -46,11 +46,27 @@ inline Mask bits(const VI& c) {
 }  // namespace generic
 
 #define NNS_LANES for (int l = 0; l < kLanes; ++l)
-inline VF splat(float a) { VF r; NNS_LANES r.v[l] = a; return r; }
-inline VI splat_i(int a) { VI r; NNS_LANES r.v[l] = a; return r; }
-inline VF load(const float* p) { VF r; __builtin_memcpy(&r.v, p, sizeof r.v); return r; }
+inline VF splat(float a) {
+  VF r;
+  NNS_LANES r.v[l] = a;
+  return r;
+}
+inline VI splat_i(int a) {
+  VI r;
+  NNS_LANES r.v[l] = a;
+  return r;
+}
+inline VF load(const float* p) {
+  VF r;
+  __builtin_memcpy(&r.v, p, sizeof r.v);
+  return r;
+}
 // Lanes outside m read `fill` and touch no memory.
-inline VF load(const float* p, Mask m, float fill) { VF r; NNS_LANES r.v[l] = (m >> l & 1) ? p[l] : fill; return r; }
+inline VF load(const float* p, Mask m, float fill) {
+  VF r;
+  NNS_LANES r.v[l] = (m >> l & 1) ? p[l] : fill;
+  return r;
+}
 inline void store(float* p, VF a, Mask m) {
   if ((m & kAll) == kAll) __builtin_memcpy(p, &a.v, sizeof a.v);
   else NNS_LANES if (m >> l & 1) p[l] = a.v[l];
@@ -59,11 +75,17 @@ inline VF operator+(VF a, VF b) { return {a.v + b.v}; }
 inline VF operator-(VF a, VF b) { return {a.v - b.v}; }
 inline VF operator*(VF a, VF b) { return {a.v * b.v}; }
 inline VF operator/(VF a, VF b) { return {a.v / b.v}; }
-inline VF sqrt(VF a) { NNS_LANES a.v[l] = std::sqrt(a.v[l]); return a; }
+inline VF sqrt(VF a) {
+  NNS_LANES a.v[l] = std::sqrt(a.v[l]);
+  return a;
+}
 inline VF min(VF a, VF b) { return {b.v < a.v ? b.v : a.v}; }
 inline VF max(VF a, VF b) { return {b.v > a.v ? b.v : a.v}; }
 inline VF abs(VF a) { return {(Floats16)((Ints16)a.v & 0x7FFFFFFF)}; }
-inline VF floor(VF a) { NNS_LANES a.v[l] = std::floor(a.v[l]); return a; }
+inline VF floor(VF a) {
+  NNS_LANES a.v[l] = std::floor(a.v[l]);
+  return a;
+}
 // Out of range and NaN: INT_MIN, what the x86 conversion gives (C++ leaves it undefined).
 inline VI to_int(VF a) { return {__builtin_convertvector(a.v, Ints16)}; }
 inline VI floor_to_int(VF a) { return to_int(floor(a)); }
@@ -82,9 +104,14 @@ inline Mask gt(VF a, VF b) { return generic::bits({a.v > b.v}); }
 inline Mask ge(VF a, VF b) { return generic::bits({a.v >= b.v}); }
 inline VF select(Mask m, VF a, VF b) { return {generic::lanes(m).v ? a.v : b.v}; }
 inline VF gather(const float* base, VI idx, Mask m, float fill) {
-  VF r; NNS_LANES r.v[l] = (m >> l & 1) ? base[idx.v[l]] : fill; return r;
+  VF r;
+  NNS_LANES r.v[l] = (m >> l & 1) ? base[idx.v[l]] : fill;
+  return r;
 }
-inline VF scale2(VF a, VF n) { NNS_LANES a.v[l] = std::ldexp(a.v[l], int(n.v[l])); return a; }
+inline VF scale2(VF a, VF n) {
+  NNS_LANES a.v[l] = std::ldexp(a.v[l], int(n.v[l]));
+  return a;
+}
 inline VF scale2_normal(VF a, VF n) { return scale2(a, n); }  // n in [-126, 127]
 inline VF prelu(VF x, VF alpha, VF beta) { return {x.v > 0 ? beta.v * x.v : alpha.v * x.v}; }
 #undef NNS_LANES

@@ -22,18 +22,17 @@
 
 #if defined(YARDSTICK_OPENBLAS)
 #include <cblas.h>
-static void sgemm(bool ta, bool tb, int M, int N, int K, const float* A, int lda, const float* B,
-                  int ldb, float* C, int ldc) {
-  cblas_sgemm(CblasRowMajor, ta ? CblasTrans : CblasNoTrans, tb ? CblasTrans : CblasNoTrans, M, N,
-              K, 1.0f, A, lda, B, ldb, 0.0f, C, ldc);
+static void sgemm(bool ta, bool tb, int M, int N, int K, const float* A, int lda, const float* B, int ldb, float* C,
+                  int ldc) {
+  cblas_sgemm(CblasRowMajor, ta ? CblasTrans : CblasNoTrans, tb ? CblasTrans : CblasNoTrans, M, N, K, 1.0f, A, lda, B,
+              ldb, 0.0f, C, ldc);
 }
 #elif defined(YARDSTICK_ONEDNN)
 #include <dnnl.h>
-static void sgemm(bool ta, bool tb, int M, int N, int K, const float* A, int lda, const float* B,
-                  int ldb, float* C, int ldc) {
+static void sgemm(bool ta, bool tb, int M, int N, int K, const float* A, int lda, const float* B, int ldb, float* C,
+                  int ldc) {
   // dnnl_sgemm is row-major, like ours.
-  if (dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', M, N, K, 1.0f, A, lda, B, ldb, 0.0f, C, ldc) !=
-      dnnl_success) {
+  if (dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', M, N, K, 1.0f, A, lda, B, ldb, 0.0f, C, ldc) != dnnl_success) {
     std::fprintf(stderr, "gemm_onednn: dnnl_sgemm failed\n");
     std::exit(1);
   }
@@ -44,8 +43,8 @@ static void sgemm(bool ta, bool tb, int M, int N, int K, const float* A, int lda
 #include <memory>
 #include <tuple>
 static std::string g_isa;
-static void sgemm(bool ta, bool tb, int M, int N, int K, const float* A, int lda, const float* B,
-                  int ldb, float* C, int ldc) {
+static void sgemm(bool ta, bool tb, int M, int N, int K, const float* A, int lda, const float* B, int ldb, float* C,
+                  int ldc) {
   using namespace dnnl;
   using dt = memory::data_type;
   static engine eng(engine::kind::cpu, 0);
@@ -55,7 +54,7 @@ static void sgemm(bool ta, bool tb, int M, int N, int K, const float* A, int lda
     matmul mm;
   };
   // One primitive and one bf16 copy of the operands per call site (shape and pointers).
-  static std::map<std::tuple<const float*, const float*, float*>, std::unique_ptr<Prepared>> cache;
+  static std::map<std::tuple<const float*, const float*, float*>, std::unique_ptr<Prepared> > cache;
   auto& p = cache[{A, B, C}];
   if (!p) {
     // A transposed operand is the same logical matrix stored column-major (tag ba).
@@ -120,8 +119,8 @@ int main(int argc, char** argv) {
 #if defined(YARDSTICK_ONEDNN_BF16)
     extra = ", \"isa\": \"" + g_isa + "\"";
 #endif
-    std::printf("{\"shape\": \"%d,%d,%d,%d,%d\", \"seconds\": [%s]%s}\n", M, N, K, ta, tb,
-                times.c_str(), extra.c_str());
+    std::printf("{\"shape\": \"%d,%d,%d,%d,%d\", \"seconds\": [%s]%s}\n", M, N, K, ta, tb, times.c_str(),
+                extra.c_str());
     std::fflush(stdout);
   }
   return 0;

@@ -30,12 +30,11 @@ int main() {
   nns::ThreadPool::global();
   std::this_thread::sleep_for(std::chrono::milliseconds(20));  // thread_pool.h start-up race
   nns::set_num_threads(1);
-  const int64_t shapes[][5] = {
-      {256, 256, 256, 0, 0},     {512, 512, 512, 0, 0},     {1024, 1024, 1024, 0, 0},
-      {2048, 2048, 2048, 0, 0},  {64, 16384, 48, 0, 0},     {128, 4096, 1024, 0, 0},
-      {256, 1024, 2048, 0, 0},   {512, 256, 4096, 0, 0},    {512, 64, 8192, 0, 0},
-      {2048, 1024, 512, 1, 0},   {1024, 4096, 256, 1, 0},   {128, 1024, 4096, 0, 1},
-      {256, 2048, 1024, 0, 1}};
+  const int64_t shapes[][5] = {{256, 256, 256, 0, 0},    {512, 512, 512, 0, 0},   {1024, 1024, 1024, 0, 0},
+                               {2048, 2048, 2048, 0, 0}, {64, 16384, 48, 0, 0},   {128, 4096, 1024, 0, 0},
+                               {256, 1024, 2048, 0, 0},  {512, 256, 4096, 0, 0},  {512, 64, 8192, 0, 0},
+                               {2048, 1024, 512, 1, 0},  {1024, 4096, 256, 1, 0}, {128, 1024, 4096, 0, 1},
+                               {256, 2048, 1024, 0, 1}};
   std::printf("| sgemm M,N,K,ta,tb | nnshade | OpenBLAS | oneDNN | nnshade / best |\n");
   std::printf("|---|---:|---:|---:|---:|\n");
   for (const auto& s : shapes) {
@@ -52,20 +51,18 @@ int main() {
       for (int side = 0; side < 3; ++side) {
         const double t0 = thread_seconds();
         for (int q = 0; q < calls; ++q) {
-          if (side == 0)
-            nns::gemm<float>(ta, tb, M, N, K, 1.0f, A.data(), lda, B.data(), ldb, 0.0f, C.data(), N);
+          if (side == 0) nns::gemm<float>(ta, tb, M, N, K, 1.0f, A.data(), lda, B.data(), ldb, 0.0f, C.data(), N);
           else if (side == 1)
-            cblas_sgemm(CblasRowMajor, ta ? CblasTrans : CblasNoTrans, tb ? CblasTrans : CblasNoTrans,
-                        int(M), int(N), int(K), 1.0f, A.data(), lda, B.data(), ldb, 0.0f, C.data(), int(N));
+            cblas_sgemm(CblasRowMajor, ta ? CblasTrans : CblasNoTrans, tb ? CblasTrans : CblasNoTrans, int(M), int(N),
+                        int(K), 1.0f, A.data(), lda, B.data(), ldb, 0.0f, C.data(), int(N));
           else
-            dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', M, N, K, 1.0f, A.data(), lda, B.data(), ldb,
-                       0.0f, C.data(), N);
+            dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', M, N, K, 1.0f, A.data(), lda, B.data(), ldb, 0.0f, C.data(), N);
         }
         best[side] = std::min(best[side], (thread_seconds() - t0) / calls);
       }
-    std::printf("| sgemm %ld,%ld,%ld,%d,%d | %.1f | %.1f | %.1f | %.2fx |\n", long(M), long(N),
-                long(K), int(ta), int(tb), flops / best[0] / 1e9, flops / best[1] / 1e9,
-                flops / best[2] / 1e9, std::min(best[1], best[2]) / best[0]);
+    std::printf("| sgemm %ld,%ld,%ld,%d,%d | %.1f | %.1f | %.1f | %.2fx |\n", long(M), long(N), long(K), int(ta),
+                int(tb), flops / best[0] / 1e9, flops / best[1] / 1e9, flops / best[2] / 1e9,
+                std::min(best[1], best[2]) / best[0]);
   }
   return 0;
 }

@@ -19,8 +19,7 @@ void avg_pool2x2_forward(T* out, const T* inp, int64_t P, int64_t H, int64_t W) 
           const T* a = inp + (p * H + 2 * i) * W;
           const T* b = a + W;
           T* o = out + r * Wo;
-          for (int64_t j = 0; j < Wo; ++j)
-            o[j] = T(0.25) * ((a[2 * j] + a[2 * j + 1]) + (b[2 * j] + b[2 * j + 1]));
+          for (int64_t j = 0; j < Wo; ++j) o[j] = T(0.25) * ((a[2 * j] + a[2 * j + 1]) + (b[2 * j] + b[2 * j + 1]));
         }
       },
       Wo >= 4096 ? 1 : 4096 / (Wo + 1));

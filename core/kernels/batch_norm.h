@@ -91,11 +91,9 @@ struct PairSums {
 //   forward:  y = (x - m) * a + b
 //   backward: y += ka * g + kb * (x - m) + kc   (y = dinp)
 template <bool kBackward, bool kOut, bool kSums>
-inline void slice_pass(float* y, const float* g, const float* x, float m, float ka, float kb,
-                       float kc, const float* gn, const float* xn, int64_t S,
-                       PairSums<kBackward>& sums) {
-  const __m512 mv = _mm512_set1_ps(m), av = _mm512_set1_ps(ka), bv = _mm512_set1_ps(kb),
-               cv = _mm512_set1_ps(kc);
+inline void slice_pass(float* y, const float* g, const float* x, float m, float ka, float kb, float kc, const float* gn,
+                       const float* xn, int64_t S, PairSums<kBackward>& sums) {
+  const __m512 mv = _mm512_set1_ps(m), av = _mm512_set1_ps(ka), bv = _mm512_set1_ps(kb), cv = _mm512_set1_ps(kc);
   auto out16 = [&](int64_t i, __mmask16 mask) {  // masked: the same code for the tail
     const __m512 d = _mm512_sub_ps(_mm512_maskz_loadu_ps(mask, x + i), mv);
     __m512 r;
@@ -118,8 +116,7 @@ inline void slice_pass(float* y, const float* g, const float* x, float m, float 
 }
 
 // Mean, biased variance and 1/sqrt(var + eps) of a channel from its shifted sums.
-inline void shifted_stats(double s1, double s2, double k, double M, double eps, double& mu,
-                          double& v, double& r) {
+inline void shifted_stats(double s1, double s2, double k, double M, double eps, double& mu, double& v, double& r) {
   // sum(d^2)/M - (sum(d)/M)^2 with d = x - k, k a sample of the channel: in double this
   // loses only ~(1 + (mean - k)^2 / var) double epsilons, no float cancellation.
   const double d = s1 / M;
@@ -133,8 +130,8 @@ inline void shifted_stats(double s1, double s2, double k, double M, double eps, 
 // Train mode: normalizes with the batch mean and biased variance; writes them to mean
 // and var (C) and 1/sqrt(var + eps) to rstd (C).
 template <class T>
-void batch_norm_forward_train(T* out, T* mean, T* var, T* rstd, const T* inp, const T* gamma,
-                              const T* beta, int64_t N, int64_t C, int64_t S, double eps) {
+void batch_norm_forward_train(T* out, T* mean, T* var, T* rstd, const T* inp, const T* gamma, const T* beta, int64_t N,
+                              int64_t C, int64_t S, double eps) {
   const double M = double(N * S);
 #if defined(__AVX512F__)
   if constexpr (std::is_same_v<T, float>) {
@@ -220,9 +217,8 @@ void batch_norm_forward_train(T* out, T* mean, T* var, T* rstd, const T* inp, co
 // Eval mode: normalizes with the given statistics (the running estimates); writes the
 // rstd it used (C) for the backward pass.
 template <class T>
-void batch_norm_forward_eval(T* out, T* rstd, const T* inp, const T* gamma, const T* beta,
-                             const T* mean, const T* var, int64_t N, int64_t C, int64_t S,
-                             double eps) {
+void batch_norm_forward_eval(T* out, T* rstd, const T* inp, const T* gamma, const T* beta, const T* mean, const T* var,
+                             int64_t N, int64_t C, int64_t S, double eps) {
   parallel_for(
       C,
       [&](int64_t c0, int64_t c1) {
@@ -246,9 +242,8 @@ void batch_norm_forward_eval(T* out, T* rstd, const T* inp, const T* gamma, cons
 //   train: dinp += gamma * rstd / M * (M * g - sum(g) - xhat * sum(g * xhat))
 //   eval:  dinp += gamma * rstd * g  (the statistics are constants)
 template <class T>
-void batch_norm_backward(T* dinp, T* dgamma, T* dbeta, const T* dout, const T* inp,
-                         const T* gamma, const T* mean, const T* rstd, int64_t N, int64_t C,
-                         int64_t S, bool training) {
+void batch_norm_backward(T* dinp, T* dgamma, T* dbeta, const T* dout, const T* inp, const T* gamma, const T* mean,
+                         const T* rstd, int64_t N, int64_t C, int64_t S, bool training) {
   const double M = double(N * S);
 #if defined(__AVX512F__)
   if constexpr (std::is_same_v<T, float>) {

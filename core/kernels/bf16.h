@@ -48,9 +48,8 @@ __attribute__((target("avx512f"))) inline __m512i pair_words(__m512 lo, __m512 h
   return _mm512_ternarylogic_epi32(bf16_high16(hi), _mm512_set1_epi32(int(0xffff0000u)), l, 0xEA);
 }
 
-__attribute__((target("avx512f"))) inline void pair_bf16_avx512(uint32_t* __restrict dst,
-                                                                const float* __restrict src, int W,
-                                                                int64_t kc) {
+__attribute__((target("avx512f"))) inline void pair_bf16_avx512(uint32_t* __restrict dst, const float* __restrict src,
+                                                                int W, int64_t kc) {
   for (int64_t k = 0; k < kc; k += 2) {
     const float* lo = src + k * W;
     const float* hi = lo + W;
@@ -64,8 +63,7 @@ __attribute__((target("avx512f"))) inline void pair_bf16_avx512(uint32_t* __rest
   }
 }
 
-inline void pair_bf16_scalar(uint32_t* __restrict dst, const float* __restrict src, int W,
-                             int64_t kc) {
+inline void pair_bf16_scalar(uint32_t* __restrict dst, const float* __restrict src, int W, int64_t kc) {
   for (int64_t k = 0; k < kc; k += 2)
     for (int j = 0; j < W; ++j) {
       const uint32_t lo = bf16_bits(src[k * W + j]);
@@ -86,8 +84,7 @@ inline void pair_bf16(uint32_t* dst, const float* src, int W, int64_t kc) {
 
 // The 16 floats of v rounded to bf16 (round_to_bf16 on each lane).
 __attribute__((target("avx512f"))) inline __m512 round_to_bf16_ps(__m512 v) {
-  return _mm512_castsi512_ps(
-      _mm512_and_si512(bf16_detail::bf16_high16(v), _mm512_set1_epi32(int(0xffff0000u))));
+  return _mm512_castsi512_ps(_mm512_and_si512(bf16_detail::bf16_high16(v), _mm512_set1_epi32(int(0xffff0000u))));
 }
 // v, or v rounded when kRound: for kernels instantiated for both precisions.
 template <bool kRound>
@@ -97,9 +94,8 @@ __attribute__((target("avx512f"))) inline __m512 maybe_round_to_bf16_ps(__m512 v
 }
 
 namespace bf16_detail {
-__attribute__((target("avx512f"))) inline void round_row_avx512(float* __restrict dst,
-                                                               const float* __restrict src,
-                                                               int64_t cols) {
+__attribute__((target("avx512f"))) inline void round_row_avx512(float* __restrict dst, const float* __restrict src,
+                                                                int64_t cols) {
   for (int64_t j = 0; j < cols; j += 16) {
     const __mmask16 m = cols - j >= 16 ? __mmask16(0xffff) : __mmask16((1u << (cols - j)) - 1u);
     _mm512_mask_storeu_ps(dst + j, m, round_to_bf16_ps(_mm512_maskz_loadu_ps(m, src + j)));
@@ -109,8 +105,7 @@ __attribute__((target("avx512f"))) inline void round_row_avx512(float* __restric
 
 // dst[i * ldd + j] = round_to_bf16(src[i * ld + j]) for i < rows, j < cols (ldd = cols
 // unless given).
-inline void round_copy_bf16(float* dst, const float* src, int64_t rows, int64_t cols, int64_t ld,
-                            int64_t ldd = -1) {
+inline void round_copy_bf16(float* dst, const float* src, int64_t rows, int64_t cols, int64_t ld, int64_t ldd = -1) {
   if (ldd < 0) ldd = cols;
   const bool vec = cpu_features().avx512f;
   for (int64_t i = 0; i < rows; ++i) {

@@ -32,9 +32,8 @@ void binary_map(T* out, const T* a, const T* b, const BroadcastPlan& p, F f) {
   };
   if (rows == 1) {  // one long run: split it
     parallel_for(
-        inner,
-        [&](int64_t k0, int64_t k1) { run_row(out + k0, a + k0 * sa, b + k0 * sb, k1 - k0); },
-        kElementwiseGrain, 16);
+        inner, [&](int64_t k0, int64_t k1) { run_row(out + k0, a + k0 * sa, b + k0 * sb, k1 - k0); }, kElementwiseGrain,
+        16);
     return;
   }
   parallel_for(
@@ -51,8 +50,7 @@ void binary_map(T* out, const T* a, const T* b, const BroadcastPlan& p, F f) {
 
 // d_dst += sum over broadcast positions of h(dout, a, b); dst is operand a or b.
 template <class T, class H>
-void binary_reduce_into(T* dst, bool dst_is_a, const T* dout, const T* a, const T* b,
-                        const BroadcastPlan& p, H h) {
+void binary_reduce_into(T* dst, bool dst_is_a, const T* dout, const T* a, const T* b, const BroadcastPlan& p, H h) {
   const int64_t inner = p.inner(), rows = p.rows();
   const int64_t sa = p.inner_stride_a(), sb = p.inner_stride_b();
   const int64_t sd = dst_is_a ? sa : sb;
@@ -75,7 +73,8 @@ void binary_reduce_into(T* dst, bool dst_is_a, const T* dout, const T* a, const 
     return;
   }
   if (rows == 1) {
-    parallel_for(inner, [&](int64_t k0, int64_t k1) { run_row(0, k0, k1); }, kElementwiseGrain, 16);
+    parallel_for(
+        inner, [&](int64_t k0, int64_t k1) { run_row(0, k0, k1); }, kElementwiseGrain, 16);
     return;
   }
   parallel_for(

@@ -16,8 +16,8 @@
 namespace nns {
 
 struct BroadcastPlan {
-  Shape out;                  // the broadcast result shape
-  int nd = 0;                 // merged dims
+  Shape out;   // the broadcast result shape
+  int nd = 0;  // merged dims
   int64_t size[Shape::kMaxDims]{};
   int64_t stride_a[Shape::kMaxDims]{};  // 0 where a is broadcast
   int64_t stride_b[Shape::kMaxDims]{};
@@ -49,8 +49,7 @@ inline BroadcastPlan make_broadcast_plan(const Shape& a, const Shape& b, const c
     da[i] = ia >= 0 ? a[ia] : 1;
     db[i] = ib >= 0 ? b[ib] : 1;
     if (da[i] != db[i] && da[i] != 1 && db[i] != 1)
-      throw std::invalid_argument(std::string(op) + ": shapes " + a.str() + " and " + b.str() +
-                                  " do not broadcast");
+      throw std::invalid_argument(std::string(op) + ": shapes " + a.str() + " and " + b.str() + " do not broadcast");
     p.out.push_back(da[i] == 1 ? db[i] : da[i]);
   }
   p.numel = p.out.numel();

@@ -12,8 +12,8 @@
 namespace nns {
 
 template <class T>
-void concat_channels_forward(T* out, const std::vector<const T*>& inps,
-                             const std::vector<int64_t>& channels, int64_t N, int64_t S) {
+void concat_channels_forward(T* out, const std::vector<const T*>& inps, const std::vector<int64_t>& channels, int64_t N,
+                             int64_t S) {
   int64_t Ct = 0;
   for (int64_t c : channels) Ct += c;
   parallel_for(
@@ -32,8 +32,8 @@ void concat_channels_forward(T* out, const std::vector<const T*>& inps,
 }
 
 template <class T>
-void concat_channels_backward(const std::vector<T*>& dinps, const T* dout,
-                              const std::vector<int64_t>& channels, int64_t N, int64_t S) {
+void concat_channels_backward(const std::vector<T*>& dinps, const T* dout, const std::vector<int64_t>& channels,
+                              int64_t N, int64_t S) {
   int64_t Ct = 0;
   for (int64_t c : channels) Ct += c;
   parallel_for(

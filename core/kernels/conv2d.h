@@ -36,10 +36,9 @@
 namespace nns {
 
 // Geometry of Conv2d with PyTorch's output size; throws on bad arguments.
-inline ConvGeometry conv2d_geometry(int64_t N, int64_t C_in, int64_t H, int64_t W, int64_t C_out,
-                                    int64_t kh, int64_t kw, int64_t stride_h, int64_t stride_w,
-                                    int64_t pad_h, int64_t pad_w, int64_t dil_h, int64_t dil_w,
-                                    int64_t groups) {
+inline ConvGeometry conv2d_geometry(int64_t N, int64_t C_in, int64_t H, int64_t W, int64_t C_out, int64_t kh,
+                                    int64_t kw, int64_t stride_h, int64_t stride_w, int64_t pad_h, int64_t pad_w,
+                                    int64_t dil_h, int64_t dil_w, int64_t groups) {
   ConvGeometry g;
   g.N = N, g.C_in = C_in, g.H = H, g.W = W, g.C_out = C_out, g.kh = kh, g.kw = kw;
   g.stride_h = stride_h, g.stride_w = stride_w, g.pad_h = pad_h, g.pad_w = pad_w;
@@ -55,8 +54,8 @@ inline ConvGeometry conv2d_geometry(int64_t N, int64_t C_in, int64_t H, int64_t 
 inline int64_t conv_rows_per_block(const ConvGeometry& g) {
   constexpr int64_t kColBudget = int64_t(1) << 17, kMinCols = 512;
   const int64_t per_row = g.col_rows() * g.W_out;
-  const int64_t rows = std::clamp<int64_t>(
-      std::max(kColBudget / per_row, (kMinCols + g.W_out - 1) / g.W_out), 1, g.H_out);
+  const int64_t rows =
+      std::clamp<int64_t>(std::max(kColBudget / per_row, (kMinCols + g.W_out - 1) / g.W_out), 1, g.H_out);
   const int64_t blocks = (g.H_out + rows - 1) / rows;
   return (g.H_out + blocks - 1) / blocks;  // equal blocks: no ragged last one
 }
@@ -64,35 +63,41 @@ inline int64_t conv_rows_per_block(const ConvGeometry& g) {
 // out[n][c][:] += bias[c] for an (N, C, plane) tensor.
 template <class T>
 void add_channel_bias(T* out, const T* bias, int64_t N, int64_t C, int64_t plane) {
-  parallel_for(N * C, [&](int64_t b, int64_t e) {
-    for (int64_t i = b; i < e; ++i) {
-      T* o = out + i * plane;
-      const T v = bias[i % C];
-      for (int64_t j = 0; j < plane; ++j) o[j] += v;
-    }
-  }, std::max<int64_t>(1, 16384 / std::max<int64_t>(1, plane)));
+  parallel_for(
+      N * C,
+      [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+          T* o = out + i * plane;
+          const T v = bias[i % C];
+          for (int64_t j = 0; j < plane; ++j) o[j] += v;
+        }
+      },
+      std::max<int64_t>(1, 16384 / std::max<int64_t>(1, plane)));
 }
 
 // dbias[c] += sum over n and the plane of dout[n][c][:], per channel in a fixed order
 // (8 running partial sums so it vectorizes without -ffast-math).
 template <class T>
 void channel_sum_add(T* dbias, const T* dout, int64_t N, int64_t C, int64_t plane) {
-  parallel_for(C, [&](int64_t c0, int64_t c1) {
-    for (int64_t c = c0; c < c1; ++c) {
-      T part[8] = {};
-      T tail = 0;
-      for (int64_t n = 0; n < N; ++n) {
-        const T* d = dout + (n * C + c) * plane;
-        int64_t j = 0;
-        for (; j + 8 <= plane; j += 8)
-          for (int l = 0; l < 8; ++l) part[l] += d[j + l];
-        for (; j < plane; ++j) tail += d[j];
-      }
-      T s = tail;
-      for (int l = 0; l < 8; ++l) s += part[l];
-      dbias[c] += s;
-    }
-  }, std::max<int64_t>(1, 16384 / std::max<int64_t>(1, N * plane)));
+  parallel_for(
+      C,
+      [&](int64_t c0, int64_t c1) {
+        for (int64_t c = c0; c < c1; ++c) {
+          T part[8] = {};
+          T tail = 0;
+          for (int64_t n = 0; n < N; ++n) {
+            const T* d = dout + (n * C + c) * plane;
+            int64_t j = 0;
+            for (; j + 8 <= plane; j += 8)
+              for (int l = 0; l < 8; ++l) part[l] += d[j + l];
+            for (; j < plane; ++j) tail += d[j];
+          }
+          T s = tail;
+          for (int l = 0; l < 8; ++l) s += part[l];
+          dbias[c] += s;
+        }
+      },
+      std::max<int64_t>(1, 16384 / std::max<int64_t>(1, N * plane)));
 }
 
 // A unit of work: image n, group grp, output rows [oh0, oh1). A pointwise convolution
@@ -112,9 +117,7 @@ struct ConvBlocks {
     const int64_t oh0 = r % per_image * rows;
     return {r / per_image, grp, oh0, std::min(g.H_out, oh0 + rows)};
   }
-  int64_t col_elems(const ConvGeometry& g) const {
-    return g.is_pointwise() ? 0 : g.col_rows() * rows * g.W_out;
-  }
+  int64_t col_elems(const ConvGeometry& g) const { return g.is_pointwise() ? 0 : g.col_rows() * rows * g.W_out; }
 };
 
 // The column matrix of block b: im2col into `col`, or the input itself when pointwise.
@@ -134,11 +137,8 @@ const T* lower_block(T* col, const T* inp, const ConvGeometry& g, const ConvBloc
 // Runs f(block, col) over the blocks units[0..n) (all blocks when units is null), each
 // thread with its own column buffer (for_each_unit, core/kernels/conv_units.h).
 template <class T, class F>
-void for_each_block(const ConvGeometry& g, const ConvBlocks& blocks, const int64_t* units,
-                    int64_t n, F&& f) {
-  for_each_unit<T>(g, n, blocks.col_elems(g), [&](int64_t i, T* col) {
-    f(blocks(g, units ? units[i] : i), col);
-  });
+void for_each_block(const ConvGeometry& g, const ConvBlocks& blocks, const int64_t* units, int64_t n, F&& f) {
+  for_each_unit<T>(g, n, blocks.col_elems(g), [&](int64_t i, T* col) { f(blocks(g, units ? units[i] : i), col); });
 }
 template <class T, class F>
 void for_each_block(const ConvGeometry& g, const ConvBlocks& blocks, F&& f) {
@@ -151,22 +151,18 @@ void for_each_block(const ConvGeometry& g, const ConvBlocks& blocks, F&& f) {
 template <class T>
 class WeightGemm {
  public:
-  WeightGemm(const ConvGeometry& g, const ConvBlocks& blocks, bool transposed, const T* weight,
-             int64_t M, int64_t K, int64_t ldw)
-      : trans_(transposed), M_(M), K_(K), ld_(ldw), group_stride_(g.cout_g() * g.col_rows()),
-        weight_(weight) {
+  WeightGemm(const ConvGeometry& g, const ConvBlocks& blocks, bool transposed, const T* weight, int64_t M, int64_t K,
+             int64_t ldw)
+      : trans_(transposed), M_(M), K_(K), ld_(ldw), group_stride_(g.cout_g() * g.col_rows()), weight_(weight) {
     if constexpr (std::is_same_v<T, float>)
       if (g.groups == 1 && blocks.count > 1)
-        packed_ = std::make_unique<GemmPackedA>(transposed, M, K, weight, ldw,
-                                                blocks.rows * g.W_out);
+        packed_ = std::make_unique<GemmPackedA>(transposed, M, K, weight, ldw, blocks.rows * g.W_out);
   }
   // C (M x N) := op(W_grp) * B + beta * C.
-  void operator()(int64_t grp, int64_t N, const T* B, int64_t ldb, T beta, T* C,
-                  int64_t ldc) const {
+  void operator()(int64_t grp, int64_t N, const T* B, int64_t ldb, T beta, T* C, int64_t ldc) const {
     if constexpr (std::is_same_v<T, float>)
       if (packed_) return packed_->multiply(false, N, 1.0f, B, ldb, beta, C, ldc);
-    gemm<T>(trans_, false, M_, N, K_, T(1), weight_ + grp * group_stride_, ld_, B, ldb, beta, C,
-            ldc);
+    gemm<T>(trans_, false, M_, N, K_, T(1), weight_ + grp * group_stride_, ld_, B, ldb, beta, C, ldc);
   }
 
  private:
@@ -179,8 +175,7 @@ class WeightGemm {
 // out = conv(inp, weight) (+ bias), or out += conv(inp, weight) when accumulate.
 // Per block: out_blk (C_out/g, cols) = W_g (C_out/g, K) * col (K, cols).
 template <class T>
-void conv2d_gemm_forward(T* out, const T* inp, const T* weight, const T* bias,
-                         const ConvGeometry& g, bool accumulate) {
+void conv2d_gemm_forward(T* out, const T* inp, const T* weight, const T* bias, const ConvGeometry& g, bool accumulate) {
   if (conv_use_direct(g)) return conv2d_direct_forward(out, inp, weight, bias, g, accumulate);
   if constexpr (std::is_same_v<T, float>)
     if (conv2d_implicit_forward(out, inp, weight, bias, g, accumulate)) return;
@@ -196,12 +191,15 @@ void conv2d_gemm_forward(T* out, const T* inp, const T* weight, const T* bias,
     wg(b.grp, ncols, col, cols, beta, y, P);
     // The bias goes in while this block of the output is still in cache.
     if (bias)
-      parallel_for(cog, [&](int64_t c0, int64_t c1) {
-        for (int64_t c = c0; c < c1; ++c) {
-          const T v = bias[b.grp * cog + c];
-          for (int64_t j = 0; j < ncols; ++j) y[c * P + j] += v;
-        }
-      }, std::max<int64_t>(1, 16384 / ncols));
+      parallel_for(
+          cog,
+          [&](int64_t c0, int64_t c1) {
+            for (int64_t c = c0; c < c1; ++c) {
+              const T v = bias[b.grp * cog + c];
+              for (int64_t j = 0; j < ncols; ++j) y[c * P + j] += v;
+            }
+          },
+          std::max<int64_t>(1, 16384 / ncols));
   });
 }
 
@@ -236,22 +234,28 @@ void conv2d_backward_weight(T* dweight, const T* dout, const T* inp, const ConvG
   Tensor<T> scratch({(kChunks - 1) * g.groups * wg});
   // Job j = (group, chunk); a chunk is a contiguous run of that group's blocks.
   const int64_t jobs = g.groups * kChunks;
-  parallel_for(jobs, [&](int64_t j0, int64_t j1) {
-    Tensor<T> col({blocks.col_elems(g)});
-    for (int64_t j = j0; j < j1; ++j) {
-      const int64_t grp = j / kChunks, c = j % kChunks;
-      T* dw = c == 0 ? dweight + grp * wg : scratch.data() + ((c - 1) * g.groups + grp) * wg;
-      const int64_t u0 = per_group * c / kChunks, u1 = per_group * (c + 1) / kChunks;
-      for (int64_t u = u0; u < u1; ++u)
-        add_block(blocks(g, grp * per_group + u), col.data(), dw, c == 0 || u > u0 ? T(1) : T(0));
-    }
-  }, g.macs() < double(1 << 18) ? jobs : 1);  // small convolutions stay on one thread
-  parallel_for(g.groups * wg, [&](int64_t i0, int64_t i1) {
-    for (int64_t c = 1; c < kChunks; ++c) {
-      const T* s = scratch.data() + (c - 1) * g.groups * wg;
-      for (int64_t i = i0; i < i1; ++i) dweight[i] += s[i];
-    }
-  }, 8192);
+  parallel_for(
+      jobs,
+      [&](int64_t j0, int64_t j1) {
+        Tensor<T> col({blocks.col_elems(g)});
+        for (int64_t j = j0; j < j1; ++j) {
+          const int64_t grp = j / kChunks, c = j % kChunks;
+          T* dw = c == 0 ? dweight + grp * wg : scratch.data() + ((c - 1) * g.groups + grp) * wg;
+          const int64_t u0 = per_group * c / kChunks, u1 = per_group * (c + 1) / kChunks;
+          for (int64_t u = u0; u < u1; ++u)
+            add_block(blocks(g, grp * per_group + u), col.data(), dw, c == 0 || u > u0 ? T(1) : T(0));
+        }
+      },
+      g.macs() < double(1 << 18) ? jobs : 1);  // small convolutions stay on one thread
+  parallel_for(
+      g.groups * wg,
+      [&](int64_t i0, int64_t i1) {
+        for (int64_t c = 1; c < kChunks; ++c) {
+          const T* s = scratch.data() + (c - 1) * g.groups * wg;
+          for (int64_t i = i0; i < i1; ++i) dweight[i] += s[i];
+        }
+      },
+      8192);
 }
 
 // dinp += col2im(W^T dout) (or dinp = ... when !accumulate): the input-gradient pass,
@@ -261,23 +265,22 @@ void conv2d_backward_weight(T* dweight, const T* dout, const T* inp, const ConvG
 // even blocks then odd ones; within a phase no two blocks touch the same row (checked
 // below) and every input element receives its sums in an order fixed by the shape.
 template <class T>
-void conv2d_backward_input(T* dinp, const T* dout, const T* weight, const ConvGeometry& g,
-                           bool accumulate = true) {
+void conv2d_backward_input(T* dinp, const T* dout, const T* weight, const ConvGeometry& g, bool accumulate = true) {
   if (conv_use_direct(g)) return conv2d_direct_backward_input(dinp, dout, weight, g, accumulate);
   if constexpr (std::is_same_v<T, float>)
     if (conv2d_implicit_backward_input(dinp, dout, weight, g, accumulate)) return;
   const int64_t K = g.col_rows(), cog = g.cout_g(), cig = g.cin_g(), P = g.out_plane();
   if (g.is_pointwise()) {
     for_each_block<T>(g, ConvBlocks(g), [&](const ConvBlock& b, T*) {
-      gemm<T>(true, false, cig, P, cog, T(1), weight + b.grp * cog * K, K,
-              dout + (b.n * g.C_out + b.grp * cog) * P, P, accumulate ? T(1) : T(0),
-              dinp + (b.n * g.C_in + b.grp * cig) * P, P);
+      gemm<T>(true, false, cig, P, cog, T(1), weight + b.grp * cog * K, K, dout + (b.n * g.C_out + b.grp * cog) * P, P,
+              accumulate ? T(1) : T(0), dinp + (b.n * g.C_in + b.grp * cig) * P, P);
     });
     return;
   }
   if (!accumulate) {
     const int64_t total = g.N * g.C_in * g.in_plane();
-    parallel_for(total, [&](int64_t b, int64_t e) { std::fill(dinp + b, dinp + e, T(0)); }, 65536);
+    parallel_for(
+        total, [&](int64_t b, int64_t e) { std::fill(dinp + b, dinp + e, T(0)); }, 65536);
   }
   const ConvBlocks blocks(g);
   const WeightGemm<T> wg(g, blocks, /*transposed=*/true, weight, K, cog, K);
@@ -288,8 +291,7 @@ void conv2d_backward_input(T* dinp, const T* dout, const T* weight, const ConvGe
   };
   // Block i writes input rows [oh0*s - p, (oh1-1)*s - p + d(k-1)]; blocks i and i+2 are
   // disjoint when d(k-1) < (rows+1)*s.
-  const bool phased = blocks.per_image == 1 ||
-                      g.dil_h * (g.kh - 1) < (blocks.rows + 1) * g.stride_h;
+  const bool phased = blocks.per_image == 1 || g.dil_h * (g.kh - 1) < (blocks.rows + 1) * g.stride_h;
   if (!phased) {
     Tensor<T> dcol({blocks.col_elems(g)});
     for (int64_t u = 0; u < blocks.count; ++u) add_block(blocks(g, u), dcol.data());

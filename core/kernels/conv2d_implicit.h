@@ -52,20 +52,23 @@ struct PaddedRows {
     return p;
   }
   void fill(float* data, const float* image, const ConvGeometry& g, int64_t ih0) const {
-    parallel_for(g.C_in, [&](int64_t c0, int64_t c1) {
-      for (int64_t c = c0; c < c1; ++c)
-        for (int64_t r = 0; r < rows; ++r) {
-          float* d = data + c * chan + r * row;
-          const int64_t ih = ih0 + r;
-          if (ih < 0 || ih >= g.H) {
-            std::fill(d, d + row, 0.0f);
-            continue;
-          }
-          std::fill(d, d + g.pad_w, 0.0f);
-          std::copy(image + (c * g.H + ih) * g.W, image + (c * g.H + ih + 1) * g.W, d + g.pad_w);
-          std::fill(d + g.pad_w + g.W, d + row, 0.0f);
-        }
-    }, std::max<int64_t>(1, 8192 / std::max<int64_t>(1, rows * row)));
+    parallel_for(
+        g.C_in,
+        [&](int64_t c0, int64_t c1) {
+          for (int64_t c = c0; c < c1; ++c)
+            for (int64_t r = 0; r < rows; ++r) {
+              float* d = data + c * chan + r * row;
+              const int64_t ih = ih0 + r;
+              if (ih < 0 || ih >= g.H) {
+                std::fill(d, d + row, 0.0f);
+                continue;
+              }
+              std::fill(d, d + g.pad_w, 0.0f);
+              std::copy(image + (c * g.H + ih) * g.W, image + (c * g.H + ih + 1) * g.W, d + g.pad_w);
+              std::fill(d + g.pad_w + g.W, d + row, 0.0f);
+            }
+        },
+        std::max<int64_t>(1, 8192 / std::max<int64_t>(1, rows * row)));
   }
 };
 
@@ -83,8 +86,7 @@ class ImplicitColumns {
     return off;
   }
 
-  ImplicitColumns(const ConvGeometry& g, const PaddedRows& p, const float* rows,
-                  const std::vector<int64_t>& k_off)
+  ImplicitColumns(const ConvGeometry& g, const PaddedRows& p, const float* rows, const std::vector<int64_t>& k_off)
       : W_out_(g.W_out), step_(g.stride_h * p.row), rows_(rows), k_off_(k_off.data()) {}
 
   // Packs col[pc : pc+kc][jc : jc+nc] into ceil(nc / NR) panels of NR columns.
@@ -160,8 +162,7 @@ class ImplicitColumns {
     if (r.count == 1 && n == NR) {  // the common case: one full run
       const float* base = rows_ + r.src[0];
       for (int64_t k = 0; k < kc; ++k, dst += NR)
-        for (int h = 0; h < NR / 16; ++h)
-          _mm512_store_ps(dst + 16 * h, _mm512_loadu_ps(base + k_off[k] + 16 * h));
+        for (int h = 0; h < NR / 16; ++h) _mm512_store_ps(dst + 16 * h, _mm512_loadu_ps(base + k_off[k] + 16 * h));
       return;
     }
     for (int64_t k = 0; k < kc; ++k, dst += NR)
@@ -176,23 +177,22 @@ class ImplicitColumns {
   }
 
 #if defined(__AVX512F__)
-  __attribute__((target("avx512f,avx512bw,avx512bf16"))) void pack_panel_bf16(
-      uint32_t* __restrict dst, int64_t pc, int64_t kc, int64_t j, int n) const {
+  __attribute__((target("avx512f,avx512bw,avx512bf16"))) void pack_panel_bf16(uint32_t* __restrict dst, int64_t pc,
+                                                                              int64_t kc, int64_t j, int n) const {
     constexpr int NR = kNR;
     const int64_t* k_off = k_off_ + pc;
     const Runs r = runs_of(j, n);
     if (r.count == 1 && n == NR) {  // one full run: two rows of the padded input per pair
       const float* base = rows_ + r.src[0];
       for (int64_t k = 0; k < kc; k += 2, dst += NR)
-        gemm_detail::bf16_pack_detail::pair_rows_avx512(
-            dst, base + k_off[k], k + 1 < kc ? base + k_off[k + 1] : nullptr, NR, NR);
+        gemm_detail::bf16_pack_detail::pair_rows_avx512(dst, base + k_off[k],
+                                                        k + 1 < kc ? base + k_off[k + 1] : nullptr, NR, NR);
       return;
     }
     for (int64_t k = 0; k < kc; k += 2, dst += NR)
       for (int h = 0; h < NR / 16; ++h) {
         const __m512 hi = k + 1 < kc ? load_runs(r, k_off[k + 1], h) : _mm512_setzero_ps();
-        _mm512_store_si512(dst + 16 * h, gemm_detail::bf16_pack_detail::pair_words_fast(
-                                             load_runs(r, k_off[k], h), hi));
+        _mm512_store_si512(dst + 16 * h, gemm_detail::bf16_pack_detail::pair_words_fast(load_runs(r, k_off[k], h), hi));
       }
   }
 #endif
@@ -212,9 +212,7 @@ inline int64_t implicit_input_rows(const ConvGeometry& g, int64_t rows) {
 inline int64_t implicit_rows_per_block(const ConvGeometry& g) {
   constexpr int64_t kCols = 2048, kBufferFloats = int64_t(1) << 17;
   int64_t rows = std::clamp<int64_t>((kCols + g.W_out - 1) / g.W_out, 1, g.H_out);
-  while (rows > 1 &&
-         PaddedRows::layout(g, implicit_input_rows(g, rows)).chan * g.C_in > kBufferFloats)
-    --rows;
+  while (rows > 1 && PaddedRows::layout(g, implicit_input_rows(g, rows)).chan * g.C_in > kBufferFloats) --rows;
   const int64_t blocks = (g.H_out + rows - 1) / rows;
   return (g.H_out + blocks - 1) / blocks;
 }
@@ -224,8 +222,8 @@ inline int64_t implicit_rows_per_block(const ConvGeometry& g) {
 // Returns false (and does nothing) when the shapes do not take the packed GEMM, or for a
 // bias added on top of an accumulating call (no layer does that); the caller then
 // lowers with im2col.
-inline bool conv2d_implicit_forward(float* out, const float* inp, const float* weight,
-                                    const float* bias, const ConvGeometry& g, bool accumulate) {
+inline bool conv2d_implicit_forward(float* out, const float* inp, const float* weight, const float* bias,
+                                    const ConvGeometry& g, bool accumulate) {
   if (!conv_use_implicit(g) || (bias && accumulate)) return false;
   const int64_t K = g.col_rows(), P = g.out_plane();
   const int64_t rows = implicit_rows_per_block(g);
@@ -256,11 +254,10 @@ inline bool conv2d_implicit_forward(float* out, const float* inp, const float* w
 // weights are large (C_out*kh*kw > 2048): copying them flipped then costs more than the
 // column matrix saves (PatchGAN's 256 -> 512 4x4 layer: 170 -> 165 GFLOP/s; 16 -> 16 3x3
 // at 256 x 256: 84 -> 101).
-inline bool conv2d_implicit_backward_input(float* dinp, const float* dout, const float* weight,
-                                           const ConvGeometry& g, bool accumulate) {
+inline bool conv2d_implicit_backward_input(float* dinp, const float* dout, const float* weight, const ConvGeometry& g,
+                                           bool accumulate) {
   constexpr int64_t kMaxFlippedK = 2048;
-  if (g.stride_h != 1 || g.stride_w != 1 || g.groups != 1 || g.is_pointwise() ||
-      g.C_out * g.kh * g.kw > kMaxFlippedK)
+  if (g.stride_h != 1 || g.stride_w != 1 || g.groups != 1 || g.is_pointwise() || g.C_out * g.kh * g.kw > kMaxFlippedK)
     return false;
   const int64_t ph = g.dil_h * (g.kh - 1) - g.pad_h, pw = g.dil_w * (g.kw - 1) - g.pad_w;
   if (ph < 0 || pw < 0 || g.H != g.H_out + 2 * ph - g.dil_h * (g.kh - 1) ||

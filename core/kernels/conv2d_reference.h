@@ -27,8 +27,7 @@ inline void for_each_tap(const ConvGeometry& g, F&& f) {
 
 // out (N, C_out, H_out, W_out) is assigned; bias (C_out) may be null.
 template <class T>
-void conv2d_forward_reference(T* out, const T* inp, const T* weight, const T* bias,
-                              const ConvGeometry& g) {
+void conv2d_forward_reference(T* out, const T* inp, const T* weight, const T* bias, const ConvGeometry& g) {
   const int64_t cig = g.cin_g(), cog = g.cout_g();
   for (int64_t n = 0; n < g.N; ++n)
     for (int64_t co = 0; co < g.C_out; ++co) {
@@ -48,8 +47,8 @@ void conv2d_forward_reference(T* out, const T* inp, const T* weight, const T* bi
 // Accumulates into dinp (N, C_in, H, W), dweight (C_out, C_in/g, kh, kw), dbias (C_out);
 // any may be null.
 template <class T>
-void conv2d_backward_reference(T* dinp, T* dweight, T* dbias, const T* dout, const T* inp,
-                               const T* weight, const ConvGeometry& g) {
+void conv2d_backward_reference(T* dinp, T* dweight, T* dbias, const T* dout, const T* inp, const T* weight,
+                               const ConvGeometry& g) {
   const int64_t cig = g.cin_g(), cog = g.cout_g();
   for (int64_t n = 0; n < g.N; ++n)
     for (int64_t co = 0; co < g.C_out; ++co) {
@@ -72,8 +71,7 @@ void conv2d_backward_reference(T* dinp, T* dweight, T* dbias, const T* dout, con
 // The transposed convolution by its definition: every input pixel scatters its
 // kernel-weighted copy into the output. out (N, C_in, H, W) is assigned; bias (C_in).
 template <class T>
-void conv_transpose2d_forward_reference(T* out, const T* inp, const T* weight, const T* bias,
-                                        const ConvGeometry& g) {
+void conv_transpose2d_forward_reference(T* out, const T* inp, const T* weight, const T* bias, const ConvGeometry& g) {
   const int64_t cig = g.cin_g(), cog = g.cout_g();
   for (int64_t n = 0; n < g.N; ++n)
     for (int64_t c = 0; c < g.C_in; ++c) {
@@ -97,8 +95,8 @@ void conv_transpose2d_forward_reference(T* out, const T* inp, const T* weight, c
 // Accumulates into dinp (N, C_out, H_out, W_out), dweight (C_out, C_in/g, kh, kw),
 // dbias (C_in); any may be null.
 template <class T>
-void conv_transpose2d_backward_reference(T* dinp, T* dweight, T* dbias, const T* dout,
-                                         const T* inp, const T* weight, const ConvGeometry& g) {
+void conv_transpose2d_backward_reference(T* dinp, T* dweight, T* dbias, const T* dout, const T* inp, const T* weight,
+                                         const ConvGeometry& g) {
   const int64_t cig = g.cin_g(), cog = g.cout_g();
   if (dbias)
     for (int64_t n = 0; n < g.N; ++n)

@@ -19,16 +19,15 @@
 namespace nns {
 
 // Geometry of the convolution that a ConvTranspose2d inverts.
-inline ConvGeometry conv_transpose2d_geometry(int64_t N, int64_t C_in_t, int64_t H_t, int64_t W_t,
-                                              int64_t C_out_t, int64_t kh, int64_t kw,
-                                              int64_t stride_h, int64_t stride_w, int64_t pad_h,
-                                              int64_t pad_w, int64_t out_pad_h, int64_t out_pad_w,
-                                              int64_t dil_h, int64_t dil_w, int64_t groups) {
+inline ConvGeometry conv_transpose2d_geometry(int64_t N, int64_t C_in_t, int64_t H_t, int64_t W_t, int64_t C_out_t,
+                                              int64_t kh, int64_t kw, int64_t stride_h, int64_t stride_w, int64_t pad_h,
+                                              int64_t pad_w, int64_t out_pad_h, int64_t out_pad_w, int64_t dil_h,
+                                              int64_t dil_w, int64_t groups) {
   // PyTorch: output padding must be smaller than either stride or dilation.
   if (out_pad_h < 0 || out_pad_w < 0 || out_pad_h >= std::max(stride_h, dil_h) ||
       out_pad_w >= std::max(stride_w, dil_w))
-    throw std::invalid_argument("conv_transpose2d: output_padding (" + std::to_string(out_pad_h) +
-                                ", " + std::to_string(out_pad_w) +
+    throw std::invalid_argument("conv_transpose2d: output_padding (" + std::to_string(out_pad_h) + ", " +
+                                std::to_string(out_pad_w) +
                                 ") must be non-negative and smaller than stride or dilation");
   ConvGeometry g;
   g.N = N;
@@ -41,24 +40,23 @@ inline ConvGeometry conv_transpose2d_geometry(int64_t N, int64_t C_in_t, int64_t
   g.W = (W_t - 1) * stride_w - 2 * pad_w + dil_w * (kw - 1) + out_pad_w + 1;
   g.H_out = H_t, g.W_out = W_t;
   if (g.H <= 0 || g.W <= 0)
-    throw std::invalid_argument("conv_transpose2d: output size " + std::to_string(g.H) + "x" +
-                                std::to_string(g.W) + " is not positive (padding too large)");
+    throw std::invalid_argument("conv_transpose2d: output size " + std::to_string(g.H) + "x" + std::to_string(g.W) +
+                                " is not positive (padding too large)");
   validate(g, "conv_transpose2d");
   return g;
 }
 
 // out (N, g.C_in, g.H, g.W) is assigned.
 template <class T>
-void conv_transpose2d_forward(T* out, const T* inp, const T* weight, const T* bias,
-                              const ConvGeometry& g) {
+void conv_transpose2d_forward(T* out, const T* inp, const T* weight, const T* bias, const ConvGeometry& g) {
   conv2d_backward_input(out, inp, weight, g, /*accumulate=*/false);
   if (bias) add_channel_bias(out, bias, g.N, g.C_in, g.in_plane());
 }
 
 // Accumulates into dinp (shape of inp), dweight, dbias; any may be null.
 template <class T>
-void conv_transpose2d_backward(T* dinp, T* dweight, T* dbias, const T* dout, const T* inp,
-                               const T* weight, const ConvGeometry& g) {
+void conv_transpose2d_backward(T* dinp, T* dweight, T* dbias, const T* dout, const T* inp, const T* weight,
+                               const ConvGeometry& g) {
   if (dbias) channel_sum_add(dbias, dout, g.N, g.C_in, g.in_plane());
   if (dweight) conv2d_backward_weight(dweight, /*dout=*/inp, /*inp=*/dout, g);
   if (dinp) conv2d_gemm_forward(dinp, dout, weight, static_cast<const T*>(nullptr), g, /*accumulate=*/true);

@@ -40,8 +40,7 @@ inline CpuFeatures detect() {
   f.amx_bf16 = tile_state && (d & (1u << 22));
   f.amx_tile = tile_state && (d & (1u << 24));
   unsigned max_sub = a;
-  if (f.avx512f && max_sub >= 1 && __get_cpuid_count(7, 1, &a, &b, &c, &d))
-    f.avx512_bf16 = a & (1u << 5);
+  if (f.avx512f && max_sub >= 1 && __get_cpuid_count(7, 1, &a, &b, &c, &d)) f.avx512_bf16 = a & (1u << 5);
   return f;
 }
 

@@ -93,9 +93,12 @@ void dropout_forward(T* out, T* mask, const T* inp, int64_t n, double p, uint64_
   // Fixed chunks (the mask must not depend on the thread count), at least four per
   // worker: NNAO's 61504 inputs take ~10 us, less than waking a second thread costs.
   const int64_t nchunks = (n + kDropoutChunk - 1) / kDropoutChunk;
-  parallel_for(nchunks, [&](int64_t c0, int64_t c1) {
-    for (int64_t c = c0; c < c1; ++c) chunk(c, c * kDropoutChunk, std::min(n, (c + 1) * kDropoutChunk));
-  }, 4);
+  parallel_for(
+      nchunks,
+      [&](int64_t c0, int64_t c1) {
+        for (int64_t c = c0; c < c1; ++c) chunk(c, c * kDropoutChunk, std::min(n, (c + 1) * kDropoutChunk));
+      },
+      4);
 }
 
 template <class T>

@@ -23,20 +23,23 @@ bool all_finite(const T* x, int64_t n) {
   // All exponent bits set means Inf or NaN.
   constexpr Bits kExp = std::is_same_v<T, float> ? Bits(0x7f800000u) : Bits(0x7ff0000000000000ull);
   std::atomic<bool> ok{true};
-  parallel_for(n, [&](int64_t b, int64_t e) {
-    constexpr int64_t kBlock = 4096;  // early exit between blocks, not inside them
-    for (int64_t i0 = b; i0 < e && ok.load(std::memory_order_relaxed); i0 += kBlock) {
-      const int64_t i1 = std::min(e, i0 + kBlock);
-      Bits worst = 0;
-      for (int64_t i = i0; i < i1; ++i) {
-        Bits u;
-        std::memcpy(&u, x + i, sizeof u);
-        const Bits ex = u & kExp;
-        worst = ex > worst ? ex : worst;
-      }
-      if (worst == kExp) ok.store(false, std::memory_order_relaxed);
-    }
-  }, int64_t(1) << 16);
+  parallel_for(
+      n,
+      [&](int64_t b, int64_t e) {
+        constexpr int64_t kBlock = 4096;  // early exit between blocks, not inside them
+        for (int64_t i0 = b; i0 < e && ok.load(std::memory_order_relaxed); i0 += kBlock) {
+          const int64_t i1 = std::min(e, i0 + kBlock);
+          Bits worst = 0;
+          for (int64_t i = i0; i < i1; ++i) {
+            Bits u;
+            std::memcpy(&u, x + i, sizeof u);
+            const Bits ex = u & kExp;
+            worst = ex > worst ? ex : worst;
+          }
+          if (worst == kExp) ok.store(false, std::memory_order_relaxed);
+        }
+      },
+      int64_t(1) << 16);
   return ok.load();
 }
 

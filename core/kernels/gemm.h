@@ -68,13 +68,13 @@ void split_packed(int64_t M, int64_t N, int64_t K, F&& f) {
 }
 
 inline bool takes_packed_path(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K);
-inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K,
-                                float alpha, const float* A, int64_t lda, const float* B,
-                                int64_t ldb, float beta, float* C, int64_t ldc);
+inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, float alpha,
+                                const float* A, int64_t lda, const float* B, int64_t ldb, float beta, float* C,
+                                int64_t ldc);
 
-inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, float alpha,
-                  const float* A, int64_t lda, const float* B, int64_t ldb, float beta, float* C,
-                  int64_t ldc, Precision precision = gemm_precision()) {
+inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, float alpha, const float* A, int64_t lda,
+                  const float* B, int64_t ldb, float beta, float* C, int64_t ldc,
+                  Precision precision = gemm_precision()) {
   if (M <= 0 || N <= 0) return;
   if (K <= 0 || alpha == 0.0f) {
     scale_c(M, N, beta, C, ldc);
@@ -82,8 +82,7 @@ inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, f
   }
   if (precision == Precision::bf16 && !takes_packed_path(trans_a, trans_b, M, N, K))
     return sgemm_bf16_unpacked(trans_a, trans_b, M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
-  if (use_gemm_dot(trans_a, trans_b, M, N, K))
-    return gemm_dot(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
+  if (use_gemm_dot(trans_a, trans_b, M, N, K)) return gemm_dot(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
   if (use_gemm_rows(trans_b, M, N, K)) {
     // Column blocks of 64 are computed independently: any split gives the same bits.
     parallel_for(
@@ -100,25 +99,24 @@ inline void sgemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, f
     return gemm_tn_skinny(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc, kParallelMinMacs);
   const MatView a{A, lda, trans_a}, b{B, ldb, trans_b};
   split_packed(M, N, K, [&](int64_t m0, int64_t m1, int64_t n0, int64_t n1) {
-    gemm_packed(MatView{a.ptr(m0, 0), lda, trans_a}, MatView{b.ptr(0, n0), ldb, trans_b}, m1 - m0,
-                n1 - n0, K, alpha, beta, C + m0 * ldc + n0, ldc, precision);
+    gemm_packed(MatView{a.ptr(m0, 0), lda, trans_a}, MatView{b.ptr(0, n0), ldb, trans_b}, m1 - m0, n1 - n0, K, alpha,
+                beta, C + m0 * ldc + n0, ldc, precision);
   });
 }
 
 // The shapes sgemm sends to the packed kernel.
 inline bool takes_packed_path(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K) {
-  return M > 0 && N > 0 && K > 0 && !use_gemm_dot(trans_a, trans_b, M, N, K) &&
-         !use_gemm_rows(trans_b, M, N, K) && !use_gemm_nn_skinny(trans_a, trans_b, M, N, K) &&
-         !use_gemm_tn_skinny(trans_a, trans_b, M, N, K);
+  return M > 0 && N > 0 && K > 0 && !use_gemm_dot(trans_a, trans_b, M, N, K) && !use_gemm_rows(trans_b, M, N, K) &&
+         !use_gemm_nn_skinny(trans_a, trans_b, M, N, K) && !use_gemm_tn_skinny(trans_a, trans_b, M, N, K);
 }
 
 // bf16 for the shapes the packed kernel does not take (tiny, or a few columns of C): the
 // operands are rounded to bf16 into scratch copies and the fp32 path multiplies them. A
 // product of two bf16 is exact in fp32, so this is the same arithmetic as the bf16
 // micro-kernels (bf16 inputs, fp32 sums), in another order.
-inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K,
-                                float alpha, const float* A, int64_t lda, const float* B,
-                                int64_t ldb, float beta, float* C, int64_t ldc) {
+inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, float alpha,
+                                const float* A, int64_t lda, const float* B, int64_t ldb, float beta, float* C,
+                                int64_t ldc) {
   // Stored shapes: A is M x K (K x M transposed), B is K x N (N x K transposed).
   const int64_t a_rows = trans_a ? K : M, a_cols = trans_a ? M : K;
   const int64_t b_rows = trans_b ? N : K, b_cols = trans_b ? K : N;
@@ -135,10 +133,8 @@ inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N
     const size_t b_bytes = size_t(b_rows * b_cols) * sizeof(float);
     float* b = static_cast<float*>(heap.allocate(b_bytes));
     round_copy_bf16(b, B, b_rows, b_cols, ldb);
-    if (nn_skinny)
-      gemm_nn_skinny<true>(M, N, K, alpha, A, lda, b, b_cols, beta, C, ldc, kParallelMinMacs);
-    else
-      gemm_tn_skinny<true>(M, N, K, alpha, A, lda, b, b_cols, beta, C, ldc, kParallelMinMacs);
+    if (nn_skinny) gemm_nn_skinny<true>(M, N, K, alpha, A, lda, b, b_cols, beta, C, ldc, kParallelMinMacs);
+    else gemm_tn_skinny<true>(M, N, K, alpha, A, lda, b, b_cols, beta, C, ldc, kParallelMinMacs);
     heap.release(b, b_bytes);
     return;
   }
@@ -146,12 +142,10 @@ inline void sgemm_bf16_unpacked(bool trans_a, bool trans_b, int64_t M, int64_t N
   const size_t b_bytes = size_t(b_rows * b_cols) * sizeof(float);
   float* a = static_cast<float*>(heap.allocate(a_bytes));
   float* b = static_cast<float*>(heap.allocate(b_bytes));
-  parallel_for(a_rows, [&](int64_t r0, int64_t r1) {
-    round_copy_bf16(a + r0 * a_cols, A + r0 * lda, r1 - r0, a_cols, lda);
-  });
-  parallel_for(b_rows, [&](int64_t r0, int64_t r1) {
-    round_copy_bf16(b + r0 * b_cols, B + r0 * ldb, r1 - r0, b_cols, ldb);
-  });
+  parallel_for(a_rows,
+               [&](int64_t r0, int64_t r1) { round_copy_bf16(a + r0 * a_cols, A + r0 * lda, r1 - r0, a_cols, lda); });
+  parallel_for(b_rows,
+               [&](int64_t r0, int64_t r1) { round_copy_bf16(b + r0 * b_cols, B + r0 * ldb, r1 - r0, b_cols, ldb); });
   sgemm(trans_a, trans_b, M, N, K, alpha, a, a_cols, b, b_cols, beta, C, ldc, Precision::fp32);
   heap.release(a, a_bytes);
   heap.release(b, b_bytes);
@@ -173,8 +167,7 @@ class GemmPackedA {
   GemmPackedA(bool trans_a, int64_t M, int64_t K, const float* A, int64_t lda, int64_t typical_n)
       : trans_a_(trans_a), M_(M), K_(K), A_(A), lda_(lda), precision_(gemm_precision()) {
     using namespace gemm_detail;
-    if (!takes_packed_path(trans_a, false, M, typical_n, K) ||
-        !takes_packed_path(trans_a, true, M, typical_n, K))
+    if (!takes_packed_path(trans_a, false, M, typical_n, K) || !takes_packed_path(trans_a, true, M, typical_n, K))
       return;
     kb_ = k_block(K);
     mpad_ = (M + kMR - 1) / kMR * kMR;
@@ -204,25 +197,21 @@ class GemmPackedA {
   GemmPackedA& operator=(const GemmPackedA&) = delete;
 
   // C (M x N) := alpha * op(A) * op(B) + beta * C.
-  void multiply(bool trans_b, int64_t N, float alpha, const float* B, int64_t ldb, float beta,
-                float* C, int64_t ldc) const {
+  void multiply(bool trans_b, int64_t N, float alpha, const float* B, int64_t ldb, float beta, float* C,
+                int64_t ldc) const {
     using namespace gemm_detail;
     if (!data_ || alpha == 0.0f || !takes_packed_path(trans_a_, trans_b, M_, N, K_))
-      return sgemm(trans_a_, trans_b, M_, N, K_, alpha, A_, lda_, B, ldb, beta, C, ldc,
-                   precision_);
+      return sgemm(trans_a_, trans_b, M_, N, K_, alpha, A_, lda_, B, ldb, beta, C, ldc, precision_);
     multiply_packing_b(N, alpha, packer_b(MatView{B, ldb, trans_b}), beta, C, ldc);
   }
 
   // Whether multiply_packing_b can be used for products with N columns.
-  bool packs_for(int64_t N) const {
-    return data_ && gemm_detail::takes_packed_path(trans_a_, false, M_, N, K_);
-  }
+  bool packs_for(int64_t N) const { return data_ && gemm_detail::takes_packed_path(trans_a_, false, M_, N, K_); }
 
   // The same product with a B that exists only through pack_b(dst, pc, kc, jc, nc), which
   // packs op(B)[pc : pc+kc, jc : jc+nc] (gemm_pack.h's layout). Needs packs_for(N).
   template <class PackB>
-  void multiply_packing_b(int64_t N, float alpha, PackB&& pack_b, float beta, float* C,
-                          int64_t ldc) const {
+  void multiply_packing_b(int64_t N, float alpha, PackB&& pack_b, float beta, float* C, int64_t ldc) const {
     using namespace gemm_detail;
     split_packed(M_, N, K_, [&](int64_t m0, int64_t m1, int64_t n0, int64_t n1) {
       // fp32 panels, or bf16 pairs when pack_b packs those (gemm_detail::kPacksBf16).
@@ -232,17 +221,14 @@ class GemmPackedA {
       };
       auto* c = C + m0 * ldc + n0;
       if (precision_ == Precision::bf16)
-        gemm_packed_loops(
-            [](int64_t, int64_t, int64_t, int64_t) -> const float* { return nullptr; },
-            pack_b_block, m1 - m0, n1 - n0, K_, alpha, beta, c, ldc, precision_,
-            [&](int64_t pc, int64_t kc, int64_t ic, int64_t) -> const uint32_t* {
-              return bf16_block(pc, kc, m0 + ic);
-            });
+        gemm_packed_loops([](int64_t, int64_t, int64_t, int64_t) -> const float* { return nullptr; }, pack_b_block,
+                          m1 - m0, n1 - n0, K_, alpha, beta, c, ldc, precision_,
+                          [&](int64_t pc, int64_t kc, int64_t ic, int64_t) -> const uint32_t* {
+                            return bf16_block(pc, kc, m0 + ic);
+                          });
       else
         gemm_packed_loops(
-            [&](int64_t pc, int64_t kc, int64_t ic, int64_t) -> const float* {
-              return fp32_block(pc, kc, m0 + ic);
-            },
+            [&](int64_t pc, int64_t kc, int64_t ic, int64_t) -> const float* { return fp32_block(pc, kc, m0 + ic); },
             pack_b_block, m1 - m0, n1 - n0, K_, alpha, beta, c, ldc, precision_);
     });
   }
@@ -267,12 +253,11 @@ class GemmPackedA {
 };
 
 template <class T>
-void gemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, T alpha, const T* A,
-          int64_t lda, const T* B, int64_t ldb, T beta, T* C, int64_t ldc) {
+void gemm(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K, T alpha, const T* A, int64_t lda, const T* B,
+          int64_t ldb, T beta, T* C, int64_t ldc) {
   if constexpr (std::is_same_v<T, float>)
     gemm_detail::sgemm(trans_a, trans_b, M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
-  else
-    gemm_detail::gemm_generic(trans_a, trans_b, M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
+  else gemm_detail::gemm_generic(trans_a, trans_b, M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
 }
 
 }  // namespace nns

@@ -13,8 +13,8 @@ struct Avx2Kernel {
   static constexpr int mr = MR;
   static constexpr int nr = NV * 8;
 
-  static void run(int64_t kc, const float* __restrict a, const float* __restrict b,
-                  float* __restrict c, int64_t ldc, float alpha, float beta, int m, int n) {
+  static void run(int64_t kc, const float* __restrict a, const float* __restrict b, float* __restrict c, int64_t ldc,
+                  float alpha, float beta, int m, int n) {
     __m256 acc[MR][NV];
 #pragma GCC unroll 16
     for (int r = 0; r < MR; ++r)

@@ -32,7 +32,7 @@ struct Avx512Kernel : TileDispatch<Avx512Kernel<MR, NV>, MR, NV, float> {
   // live across the k loop and spills a B vector in the full 14 x 32 tile (-30%).
   template <int ROWS, int V>
   __attribute__((noipa)) static void tile(int64_t kc, const float* __restrict a, const float* __restrict b,
-                   float* __restrict c, int64_t ldc, float alpha, float beta, int m, int n) {
+                                          float* __restrict c, int64_t ldc, float alpha, float beta, int m, int n) {
     __m512 acc[ROWS][V];
 #pragma GCC unroll 32
     for (int r = 0; r < ROWS; ++r)

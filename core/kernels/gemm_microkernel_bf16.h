@@ -29,9 +29,10 @@ struct Avx512Bf16Kernel : TileDispatch<Avx512Bf16Kernel<MR, NV>, MR, NV, uint32_
 
   // kp pair steps; noipa as the fp32 kernel's tile.
   template <int ROWS, int V>
-  __attribute__((noipa, target("avx512f,avx512bf16"))) static void tile(
-      int64_t kp, const uint32_t* __restrict a, const uint32_t* __restrict b, float* __restrict c,
-      int64_t ldc, float alpha, float beta, int m, int n) {
+  __attribute__((noipa, target("avx512f,avx512bf16"))) static void tile(int64_t kp, const uint32_t* __restrict a,
+                                                                        const uint32_t* __restrict b,
+                                                                        float* __restrict c, int64_t ldc, float alpha,
+                                                                        float beta, int m, int n) {
     __m512 acc[ROWS][V];
 #pragma GCC unroll 32
     for (int r = 0; r < ROWS; ++r)
@@ -63,8 +64,8 @@ struct Avx512Bf16Kernel : TileDispatch<Avx512Bf16Kernel<MR, NV>, MR, NV, uint32_
 
 template <int MR, int NR>
 struct GenericBf16Kernel {
-  static void run(int64_t kp, const uint32_t* __restrict a, const uint32_t* __restrict b,
-                  float* __restrict c, int64_t ldc, float alpha, float beta, int m, int n) {
+  static void run(int64_t kp, const uint32_t* __restrict a, const uint32_t* __restrict b, float* __restrict c,
+                  int64_t ldc, float alpha, float beta, int m, int n) {
     float acc[MR][NR] = {};
     for (int64_t p = 0; p < kp; ++p) {
       for (int r = 0; r < MR; ++r) {

@@ -8,8 +8,8 @@ namespace nns::gemm_detail {
 
 // C := alpha * acc + beta * C on the first m rows and n columns (C not read when beta == 0).
 template <int MR, int NR>
-inline void store_c_block(const float (&acc)[MR][NR], float* __restrict c, int64_t ldc, float alpha,
-                          float beta, int m, int n) {
+inline void store_c_block(const float (&acc)[MR][NR], float* __restrict c, int64_t ldc, float alpha, float beta, int m,
+                          int n) {
   for (int r = 0; r < m; ++r)
     for (int j = 0; j < n; ++j) {
       float& out = c[r * ldc + j];
@@ -22,8 +22,8 @@ struct GenericKernel {
   static constexpr int mr = MR;
   static constexpr int nr = NR;
 
-  static void run(int64_t kc, const float* __restrict a, const float* __restrict b,
-                  float* __restrict c, int64_t ldc, float alpha, float beta, int m, int n) {
+  static void run(int64_t kc, const float* __restrict a, const float* __restrict b, float* __restrict c, int64_t ldc,
+                  float alpha, float beta, int m, int n) {
     float acc[MR][NR] = {};
     for (int64_t k = 0; k < kc; ++k) {
       for (int r = 0; r < MR; ++r)

@@ -24,8 +24,7 @@ struct MatView {
 
 // Packs op(A)[i0 : i0+mc, k0 : k0+kc] into ceil(mc/MR) panels.
 template <int MR>
-inline void pack_a(float* __restrict dst, const MatView& A, int64_t i0, int64_t mc, int64_t k0,
-                   int64_t kc) {
+inline void pack_a(float* __restrict dst, const MatView& A, int64_t i0, int64_t mc, int64_t k0, int64_t kc) {
   for (int64_t ip = 0; ip < mc; ip += MR, dst += MR * kc) {
     const int m = int(std::min<int64_t>(MR, mc - ip));
     if (A.trans) {
@@ -55,8 +54,7 @@ inline void pack_a(float* __restrict dst, const MatView& A, int64_t i0, int64_t 
 
 // Packs op(B)[k0 : k0+kc, j0 : j0+nc] into ceil(nc/NR) panels.
 template <int NR>
-inline void pack_b(float* __restrict dst, const MatView& B, int64_t k0, int64_t kc, int64_t j0,
-                   int64_t nc) {
+inline void pack_b(float* __restrict dst, const MatView& B, int64_t k0, int64_t kc, int64_t j0, int64_t nc) {
   for (int64_t jp = 0; jp < nc; jp += NR, dst += NR * kc) {
     const int n = int(std::min<int64_t>(NR, nc - jp));
     if (!B.trans) {
@@ -78,8 +76,8 @@ inline void pack_b(float* __restrict dst, const MatView& B, int64_t k0, int64_t 
 #if defined(__AVX512F__)
       if constexpr (NR % 16 == 0) {
         for (int j = 0; j < NR; j += 16)
-          pack_transposed16(dst + j, NR, 16, B.ptr(k0, j0 + jp + j), B.ld,
-                            n - j < 0 ? 0 : (n - j > 16 ? 16 : n - j), kc);
+          pack_transposed16(dst + j, NR, 16, B.ptr(k0, j0 + jp + j), B.ld, n - j < 0 ? 0 : (n - j > 16 ? 16 : n - j),
+                            kc);
         continue;
       }
 #endif

@@ -39,16 +39,14 @@ __attribute__((target("avx512f"))) inline void transpose16x16(__m512 (&r)[16]) {
 
 // dst[k * W + w0 + i] = src[i * ld + k] for i < rows (<= 16), k < kc; zero for rows
 // <= i < 16 within the first `width` lanes. W is the packed panel width (MR or NR).
-__attribute__((target("avx512f"))) inline void pack_transposed16(float* dst, int W, int width,
-                                                                 const float* src, int64_t ld,
-                                                                 int rows, int64_t kc) {
+__attribute__((target("avx512f"))) inline void pack_transposed16(float* dst, int W, int width, const float* src,
+                                                                 int64_t ld, int rows, int64_t kc) {
   const __mmask16 keep = __mmask16((1u << width) - 1u);
   for (int64_t k = 0; k < kc; k += 16) {
     const int n = kc - k >= 16 ? 16 : int(kc - k);
     const __mmask16 kmask = __mmask16((1u << n) - 1u);
     __m512 r[16];
-    for (int i = 0; i < 16; ++i)
-      r[i] = i < rows ? _mm512_maskz_loadu_ps(kmask, src + i * ld + k) : _mm512_setzero_ps();
+    for (int i = 0; i < 16; ++i) r[i] = i < rows ? _mm512_maskz_loadu_ps(kmask, src + i * ld + k) : _mm512_setzero_ps();
     transpose16x16(r);
     for (int c = 0; c < n; ++c) _mm512_mask_storeu_ps(dst + (k + c) * W, keep, r[c]);
   }

@@ -34,9 +34,7 @@ namespace bf16_pack_detail {
 // The AVX-512 packers below run where the bf16 micro-kernel is vdpbf16ps: they round with
 // vcvtne2ps2bf16 (AVX512-BF16) and interleave with vpermw (AVX512BW). Forcing the generic
 // kernel (force_generic_bf16) forces the fallback packers too, so tests reach them here.
-inline bool runs_avx512_bf16() {
-  return bf16_isa() == Bf16Isa::avx512_bf16 && cpu_features().avx512bw;
-}
+inline bool runs_avx512_bf16() { return bf16_isa() == Bf16Isa::avx512_bf16 && cpu_features().avx512bw; }
 
 inline __mmask16 lanes_mask(int64_t lanes) {
   return lanes >= 16 ? __mmask16(0xffff) : lanes <= 0 ? __mmask16(0) : __mmask16((1u << lanes) - 1u);
@@ -59,27 +57,22 @@ __attribute__((target("avx512f"))) inline bool any_denormal(__m512 a, __m512 b) 
 // instruction replaces the ~14 integer instructions pair_words spends per 16 words.
 
 // Lane j: bf16(lo[j]) | bf16(hi[j]) << 16 (pair_words' result).
-__attribute__((target("avx512f,avx512bw,avx512bf16"))) inline __m512i pair_words_fast(__m512 lo,
-                                                                                        __m512 hi) {
+__attribute__((target("avx512f,avx512bw,avx512bf16"))) inline __m512i pair_words_fast(__m512 lo, __m512 hi) {
   if (any_denormal(lo, hi)) [[unlikely]]
     return bf16_detail::pair_words(lo, hi);
   // cvtne2ps(hi, lo) holds bf16(lo) in words 0-15 and bf16(hi) in words 16-31: word 2j of
   // the result takes word j, word 2j + 1 takes word 16 + j.
-  const __m512i interleave = _mm512_set_epi16(31, 15, 30, 14, 29, 13, 28, 12, 27, 11, 26, 10, 25, 9,
-                                              24, 8, 23, 7, 22, 6, 21, 5, 20, 4, 19, 3, 18, 2, 17,
-                                              1, 16, 0);
+  const __m512i interleave = _mm512_set_epi16(31, 15, 30, 14, 29, 13, 28, 12, 27, 11, 26, 10, 25, 9, 24, 8, 23, 7, 22,
+                                              6, 21, 5, 20, 4, 19, 3, 18, 2, 17, 1, 16, 0);
   return _mm512_permutexvar_epi16(interleave, (__m512i)_mm512_cvtne2ps_pbh(hi, lo));
 }
 
 // Lane q: bf16(x[2q]) | bf16(x[2q+1]) << 16 for the 32 consecutive floats x = (x0, x1).
-__attribute__((target("avx512f,avx512bw,avx512bf16"))) inline __m512i pair_consecutive(__m512 x0,
-                                                                                        __m512 x1) {
+__attribute__((target("avx512f,avx512bw,avx512bf16"))) inline __m512i pair_consecutive(__m512 x0, __m512 x1) {
   if (any_denormal(x0, x1)) [[unlikely]] {
-    const __m512i even =
-        _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
     const __m512i odd = _mm512_add_epi32(even, _mm512_set1_epi32(1));
-    return bf16_detail::pair_words(_mm512_permutex2var_ps(x0, even, x1),
-                                   _mm512_permutex2var_ps(x0, odd, x1));
+    return bf16_detail::pair_words(_mm512_permutex2var_ps(x0, even, x1), _mm512_permutex2var_ps(x0, odd, x1));
   }
   // The 32 bf16 in k order are the 16 words, little-endian: bf16(x[2q]) in the low half.
   return (__m512i)_mm512_cvtne2ps_pbh(x1, x0);
@@ -87,21 +80,23 @@ __attribute__((target("avx512f,avx512bw,avx512bf16"))) inline __m512i pair_conse
 
 // d[j] = bf16(lo[j]) | bf16(hi[j]) << 16 for j < n, 0 for n <= j < W; hi null: a zero
 // high half (the odd last k of a panel).
-__attribute__((target("avx512f,avx512bw,avx512bf16"))) inline void pair_rows_avx512(
-    uint32_t* __restrict d, const float* lo, const float* hi, int n, int W) {
+__attribute__((target("avx512f,avx512bw,avx512bf16"))) inline void pair_rows_avx512(uint32_t* __restrict d,
+                                                                                    const float* lo, const float* hi,
+                                                                                    int n, int W) {
   for (int j = 0; j < W; j += 16) {
     const __mmask16 load = lanes_mask(n - j);
     const __m512 h = hi ? _mm512_maskz_loadu_ps(load, hi + j) : _mm512_setzero_ps();
-    _mm512_mask_storeu_epi32(d + j, lanes_mask(W - j),
-                             pair_words_fast(_mm512_maskz_loadu_ps(load, lo + j), h));
+    _mm512_mask_storeu_epi32(d + j, lanes_mask(W - j), pair_words_fast(_mm512_maskz_loadu_ps(load, lo + j), h));
   }
 }
 
 // The bf16 counterpart of pack_transposed16: dst[q * W + i] = the pair of src[i * ld + 2q]
 // and src[i * ld + 2q + 1] for i < rows (<= 16), 2q < kc (zero past kc); zero words for
 // rows <= i < width.
-__attribute__((target("avx512f,avx512bw,avx512bf16"))) inline void pack_transposed16_avx512(
-    uint32_t* dst, int W, int width, const float* src, int64_t ld, int rows, int64_t kc) {
+__attribute__((target("avx512f,avx512bw,avx512bf16"))) inline void pack_transposed16_avx512(uint32_t* dst, int W,
+                                                                                            int width, const float* src,
+                                                                                            int64_t ld, int rows,
+                                                                                            int64_t kc) {
   const __mmask16 keep = lanes_mask(width);
   for (int64_t k = 0; k < kc; k += 32) {
     const int64_t n = std::min<int64_t>(32, kc - k);
@@ -129,8 +124,9 @@ __attribute__((target("avx512f,avx512bw,avx512bf16"))) inline void pack_transpos
 }
 
 template <int MR>
-__attribute__((target("avx512f,avx512bw,avx512bf16"))) void pack_a_avx512(
-    uint32_t* __restrict dst, const MatView& A, int64_t i0, int64_t mc, int64_t k0, int64_t kc) {
+__attribute__((target("avx512f,avx512bw,avx512bf16"))) void pack_a_avx512(uint32_t* __restrict dst, const MatView& A,
+                                                                          int64_t i0, int64_t mc, int64_t k0,
+                                                                          int64_t kc) {
   static_assert(MR <= 16, "one transposed block of rows per panel");
   const int64_t kp = (kc + 1) / 2;
   for (int64_t ip = 0; ip < mc; ip += MR, dst += MR * kp) {
@@ -154,16 +150,16 @@ __attribute__((target("avx512f,avx512bw,avx512bf16"))) void pack_a_avx512(
 }
 
 template <int NR>
-__attribute__((target("avx512f,avx512bw,avx512bf16"))) void pack_b_avx512(
-    uint32_t* __restrict dst, const MatView& B, int64_t k0, int64_t kc, int64_t j0, int64_t nc) {
+__attribute__((target("avx512f,avx512bw,avx512bf16"))) void pack_b_avx512(uint32_t* __restrict dst, const MatView& B,
+                                                                          int64_t k0, int64_t kc, int64_t j0,
+                                                                          int64_t nc) {
   static_assert(NR % 16 == 0, "panels are whole zmm vectors");
   const int64_t kp = (kc + 1) / 2;
   for (int64_t jp = 0; jp < nc; jp += NR, dst += NR * kp) {
     const int n = int(std::min<int64_t>(NR, nc - jp));
     if (B.trans) {
       for (int j = 0; j < NR; j += 16)
-        pack_transposed16_avx512(dst + j, NR, 16, B.ptr(k0, j0 + jp + j), B.ld,
-                                 std::clamp(n - j, 0, 16), kc);
+        pack_transposed16_avx512(dst + j, NR, 16, B.ptr(k0, j0 + jp + j), B.ld, std::clamp(n - j, 0, 16), kc);
       continue;
     }
     for (int64_t k = 0; k < kc; k += 2) {
@@ -199,22 +195,18 @@ void pack_then_pair(uint32_t* dst, int64_t extent, int64_t kc, PackFp32&& pack_f
 template <int MR>
 void pack_a_bf16(uint32_t* dst, const MatView& A, int64_t i0, int64_t mc, int64_t k0, int64_t kc) {
   if constexpr (MR <= 16)
-    if (bf16_pack_detail::runs_avx512_bf16())
-      return bf16_pack_detail::pack_a_avx512<MR>(dst, A, i0, mc, k0, kc);
-  bf16_pack_detail::pack_then_pair<MR>(dst, mc, kc, [&](float* s, int64_t p, int64_t m) {
-    pack_a<MR>(s, A, i0 + p, m, k0, kc);
-  });
+    if (bf16_pack_detail::runs_avx512_bf16()) return bf16_pack_detail::pack_a_avx512<MR>(dst, A, i0, mc, k0, kc);
+  bf16_pack_detail::pack_then_pair<MR>(dst, mc, kc,
+                                       [&](float* s, int64_t p, int64_t m) { pack_a<MR>(s, A, i0 + p, m, k0, kc); });
 }
 
 // pair_bf16 applied to pack_b<NR>'s panels of op(B)[k0 : k0+kc, j0 : j0+nc].
 template <int NR>
 void pack_b_bf16(uint32_t* dst, const MatView& B, int64_t k0, int64_t kc, int64_t j0, int64_t nc) {
   if constexpr (NR % 16 == 0)
-    if (bf16_pack_detail::runs_avx512_bf16())
-      return bf16_pack_detail::pack_b_avx512<NR>(dst, B, k0, kc, j0, nc);
-  bf16_pack_detail::pack_then_pair<NR>(dst, nc, kc, [&](float* s, int64_t p, int64_t n) {
-    pack_b<NR>(s, B, k0, kc, j0 + p, n);
-  });
+    if (bf16_pack_detail::runs_avx512_bf16()) return bf16_pack_detail::pack_b_avx512<NR>(dst, B, k0, kc, j0, nc);
+  bf16_pack_detail::pack_then_pair<NR>(dst, nc, kc,
+                                       [&](float* s, int64_t p, int64_t n) { pack_b<NR>(s, B, k0, kc, j0 + p, n); });
 }
 
 }  // namespace nns::gemm_detail

@@ -52,8 +52,7 @@ inline PackBuffer& thread_pack(Pack which) {
   return buffers[int(which)];
 }
 
-using Bf16KernelFn = void (*)(int64_t, const uint32_t*, const uint32_t*, float*, int64_t, float,
-                              float, int, int);
+using Bf16KernelFn = void (*)(int64_t, const uint32_t*, const uint32_t*, float*, int64_t, float, float, int, int);
 
 inline Bf16KernelFn bf16_kernel() {
   if (bf16_isa() == Bf16Isa::avx512_bf16) return &Avx512Bf16Kernel<kMR, kNR / 16>::run;
@@ -62,13 +61,11 @@ inline Bf16KernelFn bf16_kernel() {
 
 // Converts the ceil(extent / W) panels of kc steps of W floats at src to pair_bf16's
 // layout at dst (ceil(extent / W) * ceil(kc / 2) * W words).
-inline void pair_panels_bf16_to(uint32_t* dst, const float* src, int W, int64_t extent,
-                                int64_t kc) {
+inline void pair_panels_bf16_to(uint32_t* dst, const float* src, int W, int64_t extent, int64_t kc) {
   const int64_t panels = (extent + W - 1) / W, kp = (kc + 1) / 2;
   for (int64_t p = 0; p < panels; ++p) pair_bf16(dst + p * kp * W, src + p * kc * W, W, kc);
 }
-inline uint32_t* pair_panels_bf16(PackBuffer& buf, const float* src, int W, int64_t extent,
-                                  int64_t kc) {
+inline uint32_t* pair_panels_bf16(PackBuffer& buf, const float* src, int W, int64_t extent, int64_t kc) {
   const int64_t panels = (extent + W - 1) / W, kp = (kc + 1) / 2;
   uint32_t* dst = reinterpret_cast<uint32_t*>(buf.get(size_t(panels * kp * W)));
   pair_panels_bf16_to(dst, src, W, extent, kc);
@@ -88,8 +85,7 @@ inline int64_t k_block(int64_t K) {
 // Whether pack_b can also be called with a uint32_t* destination, packing straight into
 // pair_bf16's layout (gemm_pack_bf16.h).
 template <class PackB>
-inline constexpr bool kPacksBf16 =
-    std::is_invocable_v<PackB&, uint32_t*, int64_t, int64_t, int64_t, int64_t>;
+inline constexpr bool kPacksBf16 = std::is_invocable_v<PackB&, uint32_t*, int64_t, int64_t, int64_t, int64_t>;
 
 // C[0:M, 0:N] := alpha * op(A) op(B) + beta * C, single-threaded. packed_a(pc, kc, ic, mc)
 // returns op(A)[ic : ic+mc, pc : pc+kc] packed (pack_a's layout); pack_b(dst, pc, kc, jc, nc)
@@ -104,9 +100,9 @@ inline constexpr bool kPacksBf16 =
 // packed_a_bf16(pc, kc, ic, mc), if given, returns op(A)'s block already in pair_bf16's
 // layout (packed_a is then not called in bf16).
 template <class PackedA, class PackB, class PackedABf16 = PairPackedA>
-void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int64_t N, int64_t K,
-                       float alpha, float beta, float* C, int64_t ldc,
-                       Precision precision = Precision::fp32, PackedABf16 packed_a_bf16 = {}) {
+void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int64_t N, int64_t K, float alpha,
+                       float beta, float* C, int64_t ldc, Precision precision = Precision::fp32,
+                       PackedABf16 packed_a_bf16 = {}) {
   const bool bf16 = precision == Precision::bf16;
   const Bf16KernelFn bf16_run = bf16 ? bf16_kernel() : nullptr;
   const uint32_t* bbf = nullptr;
@@ -116,13 +112,11 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
   // M = 128, N = 4096, K = 1024). Same micro-kernel calls in the same order either way.
   const bool panel_at_a_time = M <= kMC;
   const int64_t kb = k_block(K);
-  const int64_t nc_max =
-      panel_at_a_time ? kNR : std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
+  const int64_t nc_max = panel_at_a_time ? kNR : std::min<int64_t>(kNC, (N + kNR - 1) / kNR * kNR);
   const bool direct_b = bf16 && kPacksBf16<PackB>;
   float* bpack = direct_b ? nullptr : thread_pack(Pack::b).get(size_t(kb * nc_max));
   uint32_t* bdirect =
-      direct_b ? reinterpret_cast<uint32_t*>(thread_pack(Pack::b_bf16).get(size_t((kb + 1) / 2 * nc_max)))
-               : nullptr;
+      direct_b ? reinterpret_cast<uint32_t*>(thread_pack(Pack::b_bf16).get(size_t((kb + 1) / 2 * nc_max))) : nullptr;
   // op(B)[pc : pc+kc, j : j+n] into pair_bf16's layout at bbf.
   auto pack_b_bf16_block = [&](int64_t pc, int64_t kc, int64_t j, int64_t n) {
     if constexpr (kPacksBf16<PackB>) {
@@ -166,10 +160,8 @@ void gemm_packed_loops(PackedA&& packed_a, PackB&& pack_b_block, int64_t M, int6
           for (int64_t ir = 0; ir < mc; ir += kMR) {
             const int m = int(std::min<int64_t>(kMR, mc - ir));
             float* c = C + (ic + ir) * ldc + jc + jr;
-            if (bf16)
-              bf16_run(kp, abf + ir * kp, bpbf, c, ldc, alpha, beta_block, m, n);
-            else
-              Kernel::run(kc, apack + ir * kc, bp, c, ldc, alpha, beta_block, m, n);
+            if (bf16) bf16_run(kp, abf + ir * kp, bpbf, c, ldc, alpha, beta_block, m, n);
+            else Kernel::run(kc, apack + ir * kc, bp, c, ldc, alpha, beta_block, m, n);
           }
         }
       }
@@ -189,22 +181,19 @@ struct PackerB {
 };
 inline PackerB packer_b(const MatView& B) { return PackerB{B}; }
 
-inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N, int64_t K,
-                        float alpha, float beta, float* C, int64_t ldc,
-                        Precision precision = Precision::fp32) {
+inline void gemm_packed(const MatView& A, const MatView& B, int64_t M, int64_t N, int64_t K, float alpha, float beta,
+                        float* C, int64_t ldc, Precision precision = Precision::fp32) {
   const int64_t mc_max = std::min<int64_t>(kMC, (M + kMR - 1) / kMR * kMR);
   const int64_t kb = k_block(K);
   if (precision == Precision::bf16) {
     // op(A) packed straight into bf16 pairs (the same words as pairing pack_a's panels).
-    uint32_t* abf =
-        reinterpret_cast<uint32_t*>(thread_pack(Pack::a_bf16).get(size_t((kb + 1) / 2 * mc_max)));
-    gemm_packed_loops(
-        [](int64_t, int64_t, int64_t, int64_t) -> const float* { return nullptr; }, packer_b(B),
-        M, N, K, alpha, beta, C, ldc, precision,
-        [&](int64_t pc, int64_t kc, int64_t ic, int64_t mc) -> const uint32_t* {
-          pack_a_bf16<kMR>(abf, A, ic, mc, pc, kc);
-          return abf;
-        });
+    uint32_t* abf = reinterpret_cast<uint32_t*>(thread_pack(Pack::a_bf16).get(size_t((kb + 1) / 2 * mc_max)));
+    gemm_packed_loops([](int64_t, int64_t, int64_t, int64_t) -> const float* { return nullptr; }, packer_b(B), M, N, K,
+                      alpha, beta, C, ldc, precision,
+                      [&](int64_t pc, int64_t kc, int64_t ic, int64_t mc) -> const uint32_t* {
+                        pack_a_bf16<kMR>(abf, A, ic, mc, pc, kc);
+                        return abf;
+                      });
     return;
   }
   float* apack = thread_pack(Pack::a).get(size_t(kb * mc_max));

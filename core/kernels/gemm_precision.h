@@ -58,20 +58,18 @@ enum class Bf16Isa { avx512_bf16, generic };
 inline void force_generic_bf16(bool on) { gemm_detail::bf16_generic_forced().store(on); }
 
 inline Bf16Isa bf16_isa() {
-  if (cpu_features().avx512_bf16 && !gemm_detail::bf16_generic_forced().load())
-    return Bf16Isa::avx512_bf16;
+  if (cpu_features().avx512_bf16 && !gemm_detail::bf16_generic_forced().load()) return Bf16Isa::avx512_bf16;
   return Bf16Isa::generic;
 }
 
 // What the bf16 GEMM runs on this machine and why, for the trainers and benchmarks.
 inline std::string bf16_isa_description() {
   const CpuFeatures& f = cpu_features();
-  std::string s = bf16_isa() == Bf16Isa::avx512_bf16
-                      ? "avx512_bf16 (vdpbf16ps)"
-                      : std::string("generic C++ (fell back: ") +
-                            (f.avx512_bf16 ? "forced" : "this CPU has no AVX512-BF16") + ")";
-  s += f.amx_bf16 && f.amx_tile ? "; AMX-BF16 present but unused (no AMX kernel yet)"
-                                : "; no AMX-BF16";
+  std::string s =
+      bf16_isa() == Bf16Isa::avx512_bf16
+          ? "avx512_bf16 (vdpbf16ps)"
+          : std::string("generic C++ (fell back: ") + (f.avx512_bf16 ? "forced" : "this CPU has no AVX512-BF16") + ")";
+  s += f.amx_bf16 && f.amx_tile ? "; AMX-BF16 present but unused (no AMX kernel yet)" : "; no AMX-BF16";
   return s;
 }
 

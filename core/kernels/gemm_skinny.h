@@ -36,9 +36,8 @@ inline bool use_gemm_tn_skinny(bool trans_a, bool trans_b, int64_t M, int64_t N,
 // each row of A per k) measured 4x slower: rows of A are 32 KB apart, so every line is
 // a TLB miss of its own.
 template <int kV, int kNB>
-void gemm_tn_skinny_rows(int64_t m0, int64_t m1, int64_t N, int64_t K, float alpha,
-                         const float* A, int64_t lda, const float* B, int64_t ldb, float beta,
-                         float* C, int64_t ldc) {
+void gemm_tn_skinny_rows(int64_t m0, int64_t m1, int64_t N, int64_t K, float alpha, const float* A, int64_t lda,
+                         const float* B, int64_t ldb, float beta, float* C, int64_t ldc) {
   constexpr int kMB = 16 * kV;
   int bcol[kNB];  // columns past N repeat column 0 and are not stored
   for (int q = 0; q < kNB; ++q) bcol[q] = q < N ? q : 0;
@@ -85,8 +84,7 @@ void gemm_tn_skinny_rows(int64_t m0, int64_t m1, int64_t N, int64_t K, float alp
 // columns for gemm_tn_skinny's bf16 path. The rows are a page or more apart (a TLB miss
 // each): prefetching kAhead rows ahead keeps several in flight.
 template <int W>
-inline void round_strip_bf16(float* __restrict dst, const float* __restrict A, int64_t lda,
-                             int64_t K, int w) {
+inline void round_strip_bf16(float* __restrict dst, const float* __restrict A, int64_t lda, int64_t K, int w) {
 #if defined(__AVX512F__)
   constexpr int64_t kAhead = 8;
   static_assert(W % 16 == 0, "whole vectors");
@@ -98,8 +96,7 @@ inline void round_strip_bf16(float* __restrict dst, const float* __restrict A, i
       for (int v = 0; v < W / 16; ++v)
         _mm_prefetch(reinterpret_cast<const char*>(a + kAhead * lda + 16 * v), _MM_HINT_T0);
     for (int v = 0; v < W / 16; ++v)
-      _mm512_storeu_ps(dst + k * W + 16 * v,
-                      round_to_bf16_ps(_mm512_maskz_loadu_ps(mask[v], a + 16 * v)));
+      _mm512_storeu_ps(dst + k * W + 16 * v, round_to_bf16_ps(_mm512_maskz_loadu_ps(mask[v], a + 16 * v)));
   }
 #else
   for (int64_t k = 0; k < K; ++k)
@@ -113,9 +110,8 @@ inline void round_strip_bf16(float* __restrict dst, const float* __restrict A, i
 // read. Rounding in the loads instead measured 2x the fp32 time (Ice Lake VM): the extra
 // instructions between the loads, a TLB miss each, left fewer of them in flight.
 template <bool kRoundA = false>
-inline void gemm_tn_skinny(int64_t M, int64_t N, int64_t K, float alpha, const float* A,
-                           int64_t lda, const float* B, int64_t ldb, float beta, float* C,
-                           int64_t ldc, int64_t min_macs) {
+inline void gemm_tn_skinny(int64_t M, int64_t N, int64_t K, float alpha, const float* A, int64_t lda, const float* B,
+                           int64_t ldb, float beta, float* C, int64_t ldc, int64_t min_macs) {
   constexpr int64_t kStrip = 64;
   parallel_for(
       M,
@@ -128,23 +124,21 @@ inline void gemm_tn_skinny(int64_t M, int64_t N, int64_t K, float alpha, const f
           if constexpr (kRoundA) {
             round_strip_bf16<kStrip>(strip.data(), A + i0, lda, K, int(i1 - i0));
             for (int64_t j0 = 0; j0 < N; j0 += 4)
-              gemm_tn_skinny_rows<4, 4>(0, i1 - i0, std::min<int64_t>(4, N - j0), K, alpha,
-                                        strip.data(), kStrip, B + j0, ldb, beta,
-                                        C + i0 * ldc + j0, ldc);
+              gemm_tn_skinny_rows<4, 4>(0, i1 - i0, std::min<int64_t>(4, N - j0), K, alpha, strip.data(), kStrip,
+                                        B + j0, ldb, beta, C + i0 * ldc + j0, ldc);
             continue;
           }
           for (int64_t j0 = 0; j0 < N; j0 += 4)
-            gemm_tn_skinny_rows<4, 4>(i0, i1, std::min<int64_t>(4, N - j0), K, alpha, A, lda,
-                                      B + j0, ldb, beta, C + j0, ldc);
+            gemm_tn_skinny_rows<4, 4>(i0, i1, std::min<int64_t>(4, N - j0), K, alpha, A, lda, B + j0, ldb, beta, C + j0,
+                                      ldc);
         }
       },
       std::max<int64_t>(kStrip, min_macs / std::max<int64_t>(1, N * K)), kStrip);
 }
 
 template <bool kRoundA = false>
-inline void gemm_nn_skinny(int64_t M, int64_t N, int64_t K, float alpha, const float* A,
-                           int64_t lda, const float* B, int64_t ldb, float beta, float* C,
-                           int64_t ldc, int64_t min_macs) {
+inline void gemm_nn_skinny(int64_t M, int64_t N, int64_t K, float alpha, const float* A, int64_t lda, const float* B,
+                           int64_t ldb, float beta, float* C, int64_t ldc, int64_t min_macs) {
   std::vector<float> bt(size_t(N * K));  // B^T, N x K: at most 4 rows
   for (int64_t k = 0; k < K; ++k)
     for (int64_t j = 0; j < N; ++j) bt[size_t(j * K + k)] = B[k * ldb + j];

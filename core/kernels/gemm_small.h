@@ -23,8 +23,8 @@ inline constexpr int kLanes = 16;
 // 16 partial sums per dot product, folded in a fixed order. kRoundA: A's values are
 // rounded to bf16 as they are read (gemm.h's bf16 skinny path).
 template <bool kRoundA = false>
-inline void gemm_dot(int64_t M, int64_t N, int64_t K, float alpha, const float* A, int64_t lda,
-                     const float* B, int64_t ldb, float beta, float* C, int64_t ldc) {
+inline void gemm_dot(int64_t M, int64_t N, int64_t K, float alpha, const float* A, int64_t lda, const float* B,
+                     int64_t ldb, float beta, float* C, int64_t ldc) {
 #if defined(__AVX512F__)
   return gemm_dot_avx512<kRoundA>(M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
 #endif
@@ -85,9 +85,8 @@ inline void gemm_dot(int64_t M, int64_t N, int64_t K, float alpha, const float* 
 
 // C := alpha * op(A) B + beta * C for a short K: each row of C is a sum of K rows of B
 // scaled by op(A)[i][k]. Column blocks of 64 keep the K rows of B in L1 across i.
-inline void gemm_rows(bool trans_a, int64_t M, int64_t N, int64_t K, float alpha, const float* A,
-                      int64_t lda, const float* B, int64_t ldb, float beta, float* C,
-                      int64_t ldc) {
+inline void gemm_rows(bool trans_a, int64_t M, int64_t N, int64_t K, float alpha, const float* A, int64_t lda,
+                      const float* B, int64_t ldb, float beta, float* C, int64_t ldc) {
 #if defined(__AVX512F__)
   return gemm_rows_avx512(trans_a, M, N, K, alpha, A, lda, B, ldb, beta, C, ldc);
 #endif
@@ -117,8 +116,6 @@ inline void gemm_rows(bool trans_a, int64_t M, int64_t N, int64_t K, float alpha
 inline bool use_gemm_dot(bool trans_a, bool trans_b, int64_t M, int64_t N, int64_t K) {
   return !trans_a && trans_b && M * N <= 256;
 }
-inline bool use_gemm_rows(bool trans_b, int64_t M, int64_t N, int64_t K) {
-  return !trans_b && K <= 32 && M <= 32;
-}
+inline bool use_gemm_rows(bool trans_b, int64_t M, int64_t N, int64_t K) { return !trans_b && K <= 32 && M <= 32; }
 
 }  // namespace nns::gemm_detail

@@ -8,9 +8,7 @@
 
 namespace nns::gemm_detail {
 
-inline __mmask16 tail_mask(int64_t n) {
-  return n >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << n) - 1u);
-}
+inline __mmask16 tail_mask(int64_t n) { return n >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << n) - 1u); }
 
 inline void store_scaled(float* c, float value, float alpha, float beta) {
   *c = beta == 0.0f ? alpha * value : alpha * value + beta * *c;
@@ -20,9 +18,8 @@ inline void store_scaled(float* c, float value, float alpha, float beta) {
 // (enough to cover the FMA latency), lanes folded by _mm512_reduce_add_ps at the end.
 // kRoundA: A's values are rounded to bf16 as they are loaded (gemm.h's bf16 skinny path).
 template <bool kRoundA = false>
-inline void gemm_dot_avx512(int64_t M, int64_t N, int64_t K, float alpha, const float* A,
-                            int64_t lda, const float* B, int64_t ldb, float beta, float* C,
-                            int64_t ldc) {
+inline void gemm_dot_avx512(int64_t M, int64_t N, int64_t K, float alpha, const float* A, int64_t lda, const float* B,
+                            int64_t ldb, float beta, float* C, int64_t ldc) {
   for (int64_t i = 0; i < M; i += 2) {
     const int rows = M - i >= 2 ? 2 : 1;
     const float* a0 = A + i * lda;
@@ -54,9 +51,8 @@ inline void gemm_dot_avx512(int64_t M, int64_t N, int64_t K, float alpha, const 
 
 // Rows of C as sums of K scaled rows of B: four rows of C by 64 columns per pass, so
 // each load of B feeds four FMAs.
-inline void gemm_rows_avx512(bool trans_a, int64_t M, int64_t N, int64_t K, float alpha,
-                             const float* A, int64_t lda, const float* B, int64_t ldb, float beta,
-                             float* C, int64_t ldc) {
+inline void gemm_rows_avx512(bool trans_a, int64_t M, int64_t N, int64_t K, float alpha, const float* A, int64_t lda,
+                             const float* B, int64_t ldb, float beta, float* C, int64_t ldc) {
   constexpr int R = 4, V = 4;
   const __m512 va = _mm512_set1_ps(alpha), vb = _mm512_set1_ps(beta);
   for (int64_t j0 = 0; j0 < N; j0 += 16 * V) {
@@ -85,8 +81,7 @@ inline void gemm_rows_avx512(bool trans_a, int64_t M, int64_t N, int64_t K, floa
         for (int v = 0; v < V; ++v) {
           __m512 out = _mm512_mul_ps(va, acc[r][v]);
           if (beta != 0.0f)
-            out = _mm512_fmadd_ps(va, acc[r][v],
-                                  _mm512_mul_ps(vb, _mm512_maskz_loadu_ps(mask[v], c + 16 * v)));
+            out = _mm512_fmadd_ps(va, acc[r][v], _mm512_mul_ps(vb, _mm512_maskz_loadu_ps(mask[v], c + 16 * v)));
           _mm512_mask_storeu_ps(c + 16 * v, mask[v], out);
         }
       }

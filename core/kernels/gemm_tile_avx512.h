@@ -20,10 +20,8 @@ struct TileDispatch {
 
   // Edge tiles run a copy of the loop with only the rows (and 16-column halves) they
   // need, so M = 128 does not pay for 10 full tiles of 14.
-  static void run(int64_t kc, const P* a, const P* b, float* c, int64_t ldc, float alpha,
-                  float beta, int m, int n) {
-    if (m == MR && n > nr - 16)
-      return Kernel::template tile<MR, NV>(kc, a, b, c, ldc, alpha, beta, m, n);
+  static void run(int64_t kc, const P* a, const P* b, float* c, int64_t ldc, float alpha, float beta, int m, int n) {
+    if (m == MR && n > nr - 16) return Kernel::template tile<MR, NV>(kc, a, b, c, ldc, alpha, beta, m, n);
     static constexpr auto full = table<NV>(std::make_integer_sequence<int, MR>());
     static constexpr auto half = table<1>(std::make_integer_sequence<int, MR>());
     (n <= 16 ? half : full)[m - 1](kc, a, b, c, ldc, alpha, beta, m, n);
@@ -41,8 +39,7 @@ struct TileDispatch {
 // Into L1 (the fp32 kernel) or only L2 (kHint = _MM_HINT_T1, the bf16 kernel, below).
 // kHint is an int because GCC's hints are an enum _mm_hint and clang's plain int macros.
 template <int ROWS, int V, int kHint = _MM_HINT_T0>
-__attribute__((target("avx512f"), always_inline)) inline void prefetch_c_tile(const float* c,
-                                                                              int64_t ldc) {
+__attribute__((target("avx512f"), always_inline)) inline void prefetch_c_tile(const float* c, int64_t ldc) {
   constexpr auto hint = static_cast<decltype(_MM_HINT_T0)>(kHint);
 #pragma GCC unroll 32
   for (int r = 0; r < ROWS; ++r) {
@@ -53,9 +50,9 @@ __attribute__((target("avx512f"), always_inline)) inline void prefetch_c_tile(co
 
 // C := alpha * acc + beta * C on the first m rows and n columns (C not read when beta == 0).
 template <int ROWS, int V>
-__attribute__((target("avx512f"), always_inline)) inline void store_c_tile(
-    const __m512 (&acc)[ROWS][V], float* __restrict c, int64_t ldc, float alpha, float beta, int m,
-    int n) {
+__attribute__((target("avx512f"), always_inline)) inline void store_c_tile(const __m512 (&acc)[ROWS][V],
+                                                                           float* __restrict c, int64_t ldc,
+                                                                           float alpha, float beta, int m, int n) {
   __mmask16 mask[V];
 #pragma GCC unroll 4
   for (int v = 0; v < V; ++v) {

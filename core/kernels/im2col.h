@@ -51,8 +51,7 @@ inline TapSpan tap_span(const ConvGeometry& g, int64_t kj, int64_t phase_len) {
 
 // phases[f*len + j] = row[j*s + f]; restrict pointers let the compiler vectorize.
 template <class T>
-inline void split_phases(T* __restrict phases, const T* __restrict row, int64_t W, int64_t s,
-                         int64_t len) {
+inline void split_phases(T* __restrict phases, const T* __restrict row, int64_t W, int64_t s, int64_t len) {
   if (s == 2) {
     for (int64_t j = 0; j < W / 2; ++j) phases[j] = row[2 * j], phases[len + j] = row[2 * j + 1];
     if (W % 2) phases[W / 2] = row[W - 1];
@@ -64,8 +63,7 @@ inline void split_phases(T* __restrict phases, const T* __restrict row, int64_t 
 
 // row[j*s + f] += phases[f*len + j].
 template <class T>
-inline void merge_phases_add(T* __restrict row, const T* __restrict phases, int64_t W, int64_t s,
-                             int64_t len) {
+inline void merge_phases_add(T* __restrict row, const T* __restrict phases, int64_t W, int64_t s, int64_t len) {
   if (s == 2) {
     for (int64_t j = 0; j < W / 2; ++j) row[2 * j] += phases[j], row[2 * j + 1] += phases[len + j];
     if (W % 2) row[W - 1] += phases[W / 2];
@@ -93,33 +91,36 @@ void im2col(T* col, const T* inp, const ConvGeometry& g, int64_t oh0, int64_t oh
   const int64_t len = (g.W + s - 1) / s;
   const std::vector<TapSpan> spans = tap_spans(g, s == 1 ? 0 : len);
   // Below a few thousand elements the pool's wake-up costs more than the copy.
-  parallel_for(g.cin_g() * g.kh, [&](int64_t b, int64_t e) {
-    std::vector<T> phases(size_t(s == 1 ? 0 : s * len));
-    for (int64_t cr = b; cr < e; ++cr) {  // cr = c*kh + ki
-      const int64_t c = cr / g.kh, ki = cr % g.kh;
-      for (int64_t oh = oh0; oh < oh1; ++oh) {
-        T* dst0 = col + cr * g.kw * ld + (oh - oh0) * Wo;  // tap kj's row is dst0 + kj*ld
-        const int64_t ih = oh * g.stride_h - g.pad_h + ki * g.dil_h;
-        if (ih < 0 || ih >= g.H) {
-          for (int64_t kj = 0; kj < g.kw; ++kj) std::fill(dst0 + kj * ld, dst0 + kj * ld + Wo, T(0));
-          continue;
+  parallel_for(
+      g.cin_g() * g.kh,
+      [&](int64_t b, int64_t e) {
+        std::vector<T> phases(size_t(s == 1 ? 0 : s * len));
+        for (int64_t cr = b; cr < e; ++cr) {  // cr = c*kh + ki
+          const int64_t c = cr / g.kh, ki = cr % g.kh;
+          for (int64_t oh = oh0; oh < oh1; ++oh) {
+            T* dst0 = col + cr * g.kw * ld + (oh - oh0) * Wo;  // tap kj's row is dst0 + kj*ld
+            const int64_t ih = oh * g.stride_h - g.pad_h + ki * g.dil_h;
+            if (ih < 0 || ih >= g.H) {
+              for (int64_t kj = 0; kj < g.kw; ++kj) std::fill(dst0 + kj * ld, dst0 + kj * ld + Wo, T(0));
+              continue;
+            }
+            const T* row = inp + c * g.in_plane() + ih * g.W;
+            const T* ph = row;
+            if (s > 1) {
+              split_phases(phases.data(), row, g.W, s, len);
+              ph = phases.data();
+            }
+            for (int64_t kj = 0; kj < g.kw; ++kj) {
+              const TapSpan& t = spans[size_t(kj)];
+              T* dst = dst0 + kj * ld;
+              std::fill(dst, dst + t.lo, T(0));
+              std::memcpy(dst + t.lo, ph + t.phase_at, sizeof(T) * size_t(t.hi - t.lo));
+              std::fill(dst + t.hi, dst + Wo, T(0));
+            }
+          }
         }
-        const T* row = inp + c * g.in_plane() + ih * g.W;
-        const T* ph = row;
-        if (s > 1) {
-          split_phases(phases.data(), row, g.W, s, len);
-          ph = phases.data();
-        }
-        for (int64_t kj = 0; kj < g.kw; ++kj) {
-          const TapSpan& t = spans[size_t(kj)];
-          T* dst = dst0 + kj * ld;
-          std::fill(dst, dst + t.lo, T(0));
-          std::memcpy(dst + t.lo, ph + t.phase_at, sizeof(T) * size_t(t.hi - t.lo));
-          std::fill(dst + t.hi, dst + Wo, T(0));
-        }
-      }
-    }
-  }, std::max<int64_t>(1, 4096 / std::max<int64_t>(1, g.kw * ld)));
+      },
+      std::max<int64_t>(1, 4096 / std::max<int64_t>(1, g.kw * ld)));
 }
 
 // inp += col2im(col). Split over channels: each channel's plane receives its taps in an
@@ -129,37 +130,39 @@ void col2im_add(T* inp, const T* col, const ConvGeometry& g, int64_t oh0, int64_
   const int64_t Wo = g.W_out, ld = (oh1 - oh0) * Wo, s = g.stride_w;
   const int64_t len = (g.W + s - 1) / s;
   const std::vector<TapSpan> spans = tap_spans(g, s == 1 ? 0 : len);
-  parallel_for(g.cin_g(), [&](int64_t c0, int64_t c1) {
-    std::vector<T> phases(size_t(s == 1 ? 0 : s * len));
-    for (int64_t c = c0; c < c1; ++c)
-      for (int64_t ki = 0; ki < g.kh; ++ki) {
-        if (s == 1) {  // no phases: each tap adds straight into the rows (measured faster)
-          for (int64_t kj = 0; kj < g.kw; ++kj) {
-            const TapSpan& t = spans[size_t(kj)];
-            const T* src = col + ((c * g.kh + ki) * g.kw + kj) * ld + t.lo;
-            for (int64_t oh = oh0; oh < oh1; ++oh, src += Wo) {
+  parallel_for(
+      g.cin_g(),
+      [&](int64_t c0, int64_t c1) {
+        std::vector<T> phases(size_t(s == 1 ? 0 : s * len));
+        for (int64_t c = c0; c < c1; ++c)
+          for (int64_t ki = 0; ki < g.kh; ++ki) {
+            if (s == 1) {  // no phases: each tap adds straight into the rows (measured faster)
+              for (int64_t kj = 0; kj < g.kw; ++kj) {
+                const TapSpan& t = spans[size_t(kj)];
+                const T* src = col + ((c * g.kh + ki) * g.kw + kj) * ld + t.lo;
+                for (int64_t oh = oh0; oh < oh1; ++oh, src += Wo) {
+                  const int64_t ih = oh * g.stride_h - g.pad_h + ki * g.dil_h;
+                  if (ih >= 0 && ih < g.H) add_into(inp + c * g.in_plane() + ih * g.W + t.phase_at, src, t.hi - t.lo);
+                }
+              }
+              continue;
+            }
+            for (int64_t oh = oh0; oh < oh1; ++oh) {
               const int64_t ih = oh * g.stride_h - g.pad_h + ki * g.dil_h;
-              if (ih >= 0 && ih < g.H)
-                add_into(inp + c * g.in_plane() + ih * g.W + t.phase_at, src, t.hi - t.lo);
+              if (ih < 0 || ih >= g.H) continue;
+              T* row = inp + c * g.in_plane() + ih * g.W;
+              std::fill(phases.begin(), phases.end(), T(0));
+              T* ph = phases.data();
+              const T* src0 = col + (c * g.kh + ki) * g.kw * ld + (oh - oh0) * Wo;
+              for (int64_t kj = 0; kj < g.kw; ++kj) {
+                const TapSpan& t = spans[size_t(kj)];
+                add_into(ph + t.phase_at, src0 + kj * ld + t.lo, t.hi - t.lo);
+              }
+              merge_phases_add(row, phases.data(), g.W, s, len);
             }
           }
-          continue;
-        }
-        for (int64_t oh = oh0; oh < oh1; ++oh) {
-          const int64_t ih = oh * g.stride_h - g.pad_h + ki * g.dil_h;
-          if (ih < 0 || ih >= g.H) continue;
-          T* row = inp + c * g.in_plane() + ih * g.W;
-          std::fill(phases.begin(), phases.end(), T(0));
-          T* ph = phases.data();
-          const T* src0 = col + (c * g.kh + ki) * g.kw * ld + (oh - oh0) * Wo;
-          for (int64_t kj = 0; kj < g.kw; ++kj) {
-            const TapSpan& t = spans[size_t(kj)];
-            add_into(ph + t.phase_at, src0 + kj * ld + t.lo, t.hi - t.lo);
-          }
-          merge_phases_add(row, phases.data(), g.W, s, len);
-        }
-      }
-  }, std::max<int64_t>(1, 4096 / std::max<int64_t>(1, g.kh * g.kw * ld)));
+      },
+      std::max<int64_t>(1, 4096 / std::max<int64_t>(1, g.kh * g.kw * ld)));
 }
 
 }  // namespace nns

@@ -11,8 +11,7 @@
 namespace nns {
 
 template <class T>
-void prelu_beta_forward(T* out, const T* inp, const T* alpha, const T* beta, int64_t N,
-                        int64_t C, int64_t S) {
+void prelu_beta_forward(T* out, const T* inp, const T* alpha, const T* beta, int64_t N, int64_t C, int64_t S) {
   parallel_for(
       N * C,
       [&](int64_t r0, int64_t r1) {
@@ -27,8 +26,8 @@ void prelu_beta_forward(T* out, const T* inp, const T* alpha, const T* beta, int
 }
 
 template <class T>
-void prelu_beta_backward(T* dinp, T* dalpha, T* dbeta, const T* dout, const T* inp,
-                         const T* alpha, const T* beta, int64_t N, int64_t C, int64_t S) {
+void prelu_beta_backward(T* dinp, T* dalpha, T* dbeta, const T* dout, const T* inp, const T* alpha, const T* beta,
+                         int64_t N, int64_t C, int64_t S) {
   if (dinp)
     parallel_for(
         N * C,

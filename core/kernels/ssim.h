@@ -1,10 +1,9 @@
 #pragma once
-// The one SSIM (Wang et al. 2004), with the reference constants: an 11x11 Gaussian window (sigma 1.5), C1 = (0.01 L)^2 and
-// C2 = (0.03 L)^2 for data range L = 1 (values in [0, 1]). Like Wang's reference code
-// the window only visits positions where it fits ('valid'), so each plane yields an
-// (H-10) x (W-10) SSIM map; the result is the mean over all maps. That is the loss's
-// policy (DSSIM, differentiable, ssim_forward/ssim_backward); evaluation uses the same
-// window and formula with a renormalised border (ssim_map_renormalised below).
+// The one SSIM (Wang et al. 2004), with the reference constants: an 11x11 Gaussian window (sigma 1.5), C1 = (0.01 L)^2
+// and C2 = (0.03 L)^2 for data range L = 1 (values in [0, 1]). Like Wang's reference code the window only visits
+// positions where it fits ('valid'), so each plane yields an (H-10) x (W-10) SSIM map; the result is the mean over all
+// maps. That is the loss's policy (DSSIM, differentiable, ssim_forward/ssim_backward); evaluation uses the same window
+// and formula with a renormalised border (ssim_map_renormalised below).
 //   x, y, dx, dy (P, H, W), P = N*C planes, H, W >= 11.
 // Statistics per window: mx, my (means), sxx, syy, sxy (biased (co)variances, as
 // E[xx] - mx^2 etc.), and
@@ -43,8 +42,15 @@ struct SsimMaps {
   int64_t H, W, Ho, Wo;
   std::vector<double> mx, my, exx, eyy, exy;
   SsimMaps(int64_t h, int64_t w)
-      : H(h), W(w), Ho(h - kSsimWindow + 1), Wo(w - kSsimWindow + 1),
-        mx(size_t(Ho * Wo)), my(mx.size()), exx(mx.size()), eyy(mx.size()), exy(mx.size()) {}
+      : H(h),
+        W(w),
+        Ho(h - kSsimWindow + 1),
+        Wo(w - kSsimWindow + 1),
+        mx(size_t(Ho * Wo)),
+        my(mx.size()),
+        exx(mx.size()),
+        eyy(mx.size()),
+        exy(mx.size()) {}
 
   template <class T>
   void compute(const T* x, const T* y) {
@@ -78,8 +84,7 @@ struct SsimMaps {
 };
 
 // gin (H, W) += transpose of the valid filter applied to gout (Ho, Wo).
-inline void ssim_filter_transpose(double* gin, const double* gout, int64_t H, int64_t W,
-                                  int64_t Ho, int64_t Wo) {
+inline void ssim_filter_transpose(double* gin, const double* gout, int64_t H, int64_t W, int64_t Ho, int64_t Wo) {
   const double* g = ssim_gauss();
   std::vector<double> t(size_t(H * Wo), 0.0);
   for (int64_t i = 0; i < Ho; ++i)
@@ -116,18 +121,18 @@ std::vector<float> ssim_map_renormalised(const T* x, const T* y, int64_t H, int6
   }
   auto blur = [&](const std::vector<double>& in, std::vector<double>& o, bool horizontal) {
     for (int64_t yy = 0; yy < H; ++yy)
-        for (int64_t xx = 0; xx < W; ++xx) {
-          double acc[5] = {0, 0, 0, 0, 0}, wsum = 0;
-          for (int k = -R; k <= R; ++k) {
-            const int64_t sx = horizontal ? xx + k : xx, sy = horizontal ? yy : yy + k;
-            if (sx < 0 || sy < 0 || sx >= W || sy >= H) continue;
-            const double* p = &in[size_t(sy * W + sx) * 5];
-            for (int c = 0; c < 5; ++c) acc[c] += g[k + R] * p[c];
-            wsum += g[k + R];
-          }
-          double* q = &o[size_t(yy * W + xx) * 5];
-          for (int c = 0; c < 5; ++c) q[c] = acc[c] / wsum;
+      for (int64_t xx = 0; xx < W; ++xx) {
+        double acc[5] = {0, 0, 0, 0, 0}, wsum = 0;
+        for (int k = -R; k <= R; ++k) {
+          const int64_t sx = horizontal ? xx + k : xx, sy = horizontal ? yy : yy + k;
+          if (sx < 0 || sy < 0 || sx >= W || sy >= H) continue;
+          const double* p = &in[size_t(sy * W + sx) * 5];
+          for (int c = 0; c < 5; ++c) acc[c] += g[k + R] * p[c];
+          wsum += g[k + R];
         }
+        double* q = &o[size_t(yy * W + xx) * 5];
+        for (int c = 0; c < 5; ++c) q[c] = acc[c] / wsum;
+      }
   };
   blur(src, tmp, true);
   blur(tmp, out, false);
@@ -184,8 +189,8 @@ void ssim_backward(T* dx, T* dy, double g, const T* x, const T* y, int64_t P, in
         gxx[i] = gyy[i] = -w * S / B2;
         gxy[i] = w * 2 * S / A2;
       }
-      std::vector<double> bmx(size_t(H * W), 0.0), bmy(bmx.size(), 0.0), bxx(bmx.size(), 0.0),
-          byy(bmx.size(), 0.0), bxy(bmx.size(), 0.0);
+      std::vector<double> bmx(size_t(H * W), 0.0), bmy(bmx.size(), 0.0), bxx(bmx.size(), 0.0), byy(bmx.size(), 0.0),
+          bxy(bmx.size(), 0.0);
       if (dx) {
         detail::ssim_filter_transpose(bmx.data(), gmx.data(), H, W, Ho, Wo);
         detail::ssim_filter_transpose(bxx.data(), gxx.data(), H, W, Ho, Wo);

@@ -22,8 +22,9 @@ class HeadlessGl {
     // Client extensions: which platforms this libEGL (glvnd + its vendors) can open.
     const char* ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!ext || !std::strstr(ext, "EGL_MESA_platform_surfaceless"))
-      fail("EGL offers no surfaceless platform (EGL_MESA_platform_surfaceless); is Mesa's EGL installed "
-           "(Debian libegl-mesa0, libgl1-mesa-dri)?");
+      fail(
+          "EGL offers no surfaceless platform (EGL_MESA_platform_surfaceless); is Mesa's EGL installed "
+          "(Debian libegl-mesa0, libgl1-mesa-dri)?");
     auto get_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
     if (!get_display) fail("eglGetPlatformDisplayEXT is missing");
     display_ = get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
@@ -31,8 +32,9 @@ class HeadlessGl {
     if (display_ == EGL_NO_DISPLAY || !eglInitialize(display_, &major, &minor))
       fail("cannot initialise the surfaceless EGL display (no Mesa driver: Debian libgl1-mesa-dri)");
     if (!eglBindAPI(EGL_OPENGL_API)) fail("EGL cannot bind desktop OpenGL");
-    const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                 EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    const EGLint attributes[] = {
+        EGL_CONTEXT_MAJOR_VERSION,           3,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     // No config and no surface (EGL_KHR_no_config_context, EGL_KHR_surfaceless_context):
     // every pass draws into its own framebuffer object.
     context_ = eglCreateContext(display_, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);

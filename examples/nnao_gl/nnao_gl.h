@@ -115,9 +115,11 @@ class NnaoGlPasses {
   }
   // The blur alone, on an image given top row first (full-resolution models).
   std::vector<float> blur(const std::vector<float>& image) {
-    if (scale_ > 1) throw std::logic_error("NnaoGlPasses::blur: a model at 1/s resolution blurs its low frame inside run()");
+    if (scale_ > 1)
+      throw std::logic_error("NnaoGlPasses::blur: a model at 1/s resolution blurs its low frame inside run()");
     glBindTexture(GL_TEXTURE_2D, ao_);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, g_.width, g_.height, GL_RED, GL_FLOAT, flip_rows(image.data(), 1, g_.width, g_.height).data());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, g_.width, g_.height, GL_RED, GL_FLOAT,
+                    flip_rows(image.data(), 1, g_.width, g_.height).data());
     draw_blur();
     return read(out_, g_.width, g_.height);
   }
@@ -185,8 +187,8 @@ class NnaoGlPasses {
       if (line.rfind(key, 0) == 0) {
         const int n = std::atoi(line.c_str() + key.size());
         if (n < lo || n > hi)
-          throw std::runtime_error(frag_file + ": " + name + " must be " + std::to_string(lo) + ".." + std::to_string(hi) +
-                                   ", not '" + line.substr(key.size()) + "'");
+          throw std::runtime_error(frag_file + ": " + name + " must be " + std::to_string(lo) + ".." +
+                                   std::to_string(hi) + ", not '" + line.substr(key.size()) + "'");
         return n;
       }
     return absent;
@@ -208,7 +210,8 @@ class NnaoGlPasses {
     glViewport(0, 0, w, h);
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
-    if (GLenum e = glGetError(); e != GL_NO_ERROR) throw std::runtime_error("OpenGL error " + std::to_string(e) + " in a pass");
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+      throw std::runtime_error("OpenGL error " + std::to_string(e) + " in a pass");
   }
   std::vector<float> read(GLuint source, int w, int h) {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
@@ -239,11 +242,14 @@ class NnaoGlPasses {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     return t;
   }
-  std::vector<float> flip_rows(const float* p, int channels) const { return flip_rows(p, channels, g_.width, g_.height); }
+  std::vector<float> flip_rows(const float* p, int channels) const {
+    return flip_rows(p, channels, g_.width, g_.height);
+  }
   static std::vector<float> flip_rows(const float* p, int channels, int w, int h) {
     const size_t row = size_t(w) * channels;
     std::vector<float> out(row * h);
-    for (int y = 0; y < h; ++y) std::copy(p + row * y, p + row * (y + 1), out.begin() + std::ptrdiff_t(row * (h - 1 - y)));
+    for (int y = 0; y < h; ++y)
+      std::copy(p + row * y, p + row * (y + 1), out.begin() + std::ptrdiff_t(row * (h - 1 - y)));
     return out;
   }
   static GLuint shader(GLenum kind, const std::string& source, const std::string& name) {

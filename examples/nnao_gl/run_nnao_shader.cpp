@@ -19,14 +19,17 @@ using namespace nns;
 
 int main(int argc, char** argv) {
   return apps::run_main("run-nnao-shader", [&]() -> int {
-    apps::Args args(argc, argv, "run-nnao-shader", "Run export-nnao's GLSL passes on a G-buffer view (headless OpenGL).");
+    apps::Args args(argc, argv, "run-nnao-shader",
+                    "Run export-nnao's GLSL passes on a G-buffer view (headless OpenGL).");
     std::string shaders = args.get_string("--shaders", "", "export-nnao's output folder");
     std::string in = args.get_string("--in", "", "input view (EXR with Z, N.X, N.Y, N.Z, fovY, aoRadius)");
     std::string out = args.get_string("--out", "", "output EXR (channel AO)");
     int samples = args.get_int("--samples", 64, "grid models: filter samples per pixel (uSamples)", 1, 1 << 20);
     int frame = args.get_int("--frame", 0, "grid models: frame index, the jitter pattern's seed (uFrame)", 0, INT_MAX);
     double radius = args.get_double("--radius", 0, "AO radius (0 = the view's aoRadius)", 0, HUGE_VAL);
-    const std::string reference = args.get_string("--reference", "", "an AO EXR of the same view (nnao-infer's): print the largest difference and the pixels that differ by more than 1e-4");
+    const std::string reference = args.get_string("--reference", "",
+                                                  "an AO EXR of the same view (nnao-infer's): print the largest "
+                                                  "difference and the pixels that differ by more than 1e-4");
     args.done();
     if (shaders.empty() || in.empty() || out.empty()) {
       std::fprintf(stderr, "run-nnao-shader: error: --shaders, --in and --out are required\n");
@@ -49,7 +52,8 @@ int main(int argc, char** argv) {
     if (!reference.empty()) {
       const data::View r = data::read_view(reference);
       if (r.width != v.width || r.height != v.height)
-        throw std::runtime_error(reference + ": " + std::to_string(r.width) + "x" + std::to_string(r.height) + ", not the view's size");
+        throw std::runtime_error(reference + ": " + std::to_string(r.width) + "x" + std::to_string(r.height) +
+                                 ", not the view's size");
       const auto& a = o.channel("AO");
       const auto& b = r.channel("AO");
       double worst = 0;

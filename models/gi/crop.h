@@ -20,8 +20,7 @@ template <class T>
 void crop2d_forward(T* out, const T* inp, int64_t NC, int64_t H, int64_t W, const Rect& r) {
   for (int64_t p = 0; p < NC; ++p)
     for (int64_t y = 0; y < r.h; ++y)
-      std::memcpy(out + (p * r.h + y) * r.w, inp + (p * H + r.y0 + y) * W + r.x0,
-                  sizeof(T) * size_t(r.w));
+      std::memcpy(out + (p * r.h + y) * r.w, inp + (p * H + r.y0 + y) * W + r.x0, sizeof(T) * size_t(r.w));
 }
 
 // Accumulates dout into the rectangle of dinp (the gradient contract).
@@ -37,11 +36,10 @@ void crop2d_backward(T* dinp, const T* dout, int64_t NC, int64_t H, int64_t W, c
 
 template <class T>
 Tensor<T> crop2d(const Tensor<T>& x, const Rect& r) {
-  if (x.dim() != 4 || r.x0 < 0 || r.y0 < 0 || r.w <= 0 || r.h <= 0 || r.x0 + r.w > x.size(3) ||
-      r.y0 + r.h > x.size(2))
-    throw std::invalid_argument("crop2d: rectangle (" + std::to_string(r.x0) + "," +
-                                std::to_string(r.y0) + ") " + std::to_string(r.w) + "x" +
-                                std::to_string(r.h) + " does not fit in " + x.shape().str());
+  if (x.dim() != 4 || r.x0 < 0 || r.y0 < 0 || r.w <= 0 || r.h <= 0 || r.x0 + r.w > x.size(3) || r.y0 + r.h > x.size(2))
+    throw std::invalid_argument("crop2d: rectangle (" + std::to_string(r.x0) + "," + std::to_string(r.y0) + ") " +
+                                std::to_string(r.w) + "x" + std::to_string(r.h) + " does not fit in " +
+                                x.shape().str());
   Tensor<T> out({x.size(0), x.size(1), r.h, r.w});
   crop2d_forward(out.data(), x.data(), x.size(0) * x.size(1), x.size(2), x.size(3), r);
   return out;

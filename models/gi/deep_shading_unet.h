@@ -33,8 +33,8 @@ namespace nns::gi {
 struct DeepShadingConfig {
   int in_channels = 12;
   int out_channels = 3;
-  int u0 = 16;       // kernels on level 0
-  int levels = 5;    // resolutions, the coarsest included
+  int u0 = 16;     // kernels on level 0
+  int levels = 5;  // resolutions, the coarsest included
   int kernel = 3;
   double slope = 0.01;  // leaky ReLU (Maas et al. 2013's 0.01)
 };
@@ -53,11 +53,13 @@ class DeepShadingUnet : public GiGenerator<T> {
     }
     for (int l = 0; l + 1 < c.levels; ++l) {
       const int out = l == 0 ? c.out_channels : width(l);
-      up_.push_back(this->register_module("up" + std::to_string(l),
-                                          std::make_shared<Conv2d<T>>(rng, width(l + 1) + width(l), out, c.kernel, 1, pad, true)));
+      up_.push_back(this->register_module(
+          "up" + std::to_string(l),
+          std::make_shared<Conv2d<T>>(rng, width(l + 1) + width(l), out, c.kernel, 1, pad, true)));
     }
     if (c.levels == 1)  // no up branch: a 1-level net maps level 0's features to the output
-      up_.push_back(this->register_module("up0", std::make_shared<Conv2d<T>>(rng, width(0), c.out_channels, c.kernel, 1, pad, true)));
+      up_.push_back(this->register_module(
+          "up0", std::make_shared<Conv2d<T>>(rng, width(0), c.out_channels, c.kernel, 1, pad, true)));
   }
 
   Var<T> forward(const Var<T>& x) override {

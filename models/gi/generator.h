@@ -58,7 +58,7 @@ inline const char* residual_name(GiResidual r) {
 
 struct GeneratorConfig {
   GiArch arch = GiArch::pix2pix;
-  UnetConfig unet;   // in/out channels, ngf, levels, dropout (dropout: pix2pix only)
+  UnetConfig unet;  // in/out channels, ngf, levels, dropout (dropout: pix2pix only)
   GiResidual residual = GiResidual::off;
   float hdr_scale = 1.0f;  // the HDR mapping's k (residual linear)
   static constexpr int kLuminationChannel = 7;
@@ -76,7 +76,8 @@ struct GeneratorConfig {
 
 template <class T = float>
 std::unique_ptr<GiGenerator<T>> make_generator(const GeneratorConfig& c, Rng& rng) {
-  if (c.residual != GiResidual::off && (c.unet.in_channels < GeneratorConfig::kLuminationChannel + 3 || c.unet.out_channels != 3))
+  if (c.residual != GiResidual::off &&
+      (c.unet.in_channels < GeneratorConfig::kLuminationChannel + 3 || c.unet.out_channels != 3))
     throw std::invalid_argument("residual generator: needs the lumination input channels 7-9 and 3 outputs");
   if (c.arch == GiArch::pix2pix) return std::make_unique<UnetGenerator<T>>(c.unet, rng);
   return std::make_unique<DeepShadingUnet<T>>(c.deep_shading(), rng);

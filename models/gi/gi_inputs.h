@@ -59,14 +59,14 @@ struct GiInputConfig {
 
 // One training or test example.
 struct GiSample {
-  std::string name;   // the view file or the frame folder
+  std::string name;  // the view file or the frame folder
   std::string scene;
   Tensor<float> input;   // (1, C, H, W)      the generator's input
   Tensor<float> target;  // (1, 3, h, w)      Tanh range, the front view; undefined without ground truth
   Rect front;            // the front view inside the input (all of it in front mode)
   // The front view, linear HDR, (3, h, w): for shading, references and metrics.
   Tensor<float> albedo, emission, direct_env, target_linear;  // target_linear: as target
-  std::vector<uint8_t> geometry;  // h * w, 1 where there is geometry (not sky)
+  std::vector<uint8_t> geometry;                              // h * w, 1 where there is geometry (not sky)
   // Share of the frame's direct light on the front face (gi_samples.h); NaN for a single
   // view, where the surroundings are unknown.
   float front_direct_share = NAN;
@@ -91,8 +91,7 @@ inline const std::vector<float>& finite_channel(const data::View& v, const std::
   for (size_t i = 0; i < c.size(); ++i)
     if (!std::isfinite(c[i]))
       throw std::runtime_error(v.source + ": channel '" + name + "' has a non-finite value at pixel " +
-                               std::to_string(i % size_t(v.width)) + "," +
-                               std::to_string(i / size_t(v.width)));
+                               std::to_string(i % size_t(v.width)) + "," + std::to_string(i / size_t(v.width)));
   return c;
 }
 
@@ -127,8 +126,7 @@ inline Tensor<float> view_planes(const data::View& v, const GiNormalisation& nor
   for (int c = 0; c < 3; ++c) {
     const auto& dir = finite_channel(v, std::string("direct.") + "RGB"[c]);
     auto em = rgb_or_zero(v, "emission", c), env = rgb_or_zero(v, "env", c);
-    for (int64_t i = 0; i < n; ++i)
-      p[(7 + c) * n + i] = hdr.to_tanh(dir[size_t(i)] + em[size_t(i)] + env[size_t(i)]);
+    for (int64_t i = 0; i < n; ++i) p[(7 + c) * n + i] = hdr.to_tanh(dir[size_t(i)] + em[size_t(i)] + env[size_t(i)]);
   }
   return t;
 }

@@ -20,8 +20,7 @@ namespace nns::gi {
 
 inline constexpr const char* kGeneratorKind = "pix2pix-unet";
 
-inline void put_generator_config(Blob& b, const GiInputConfig& in, const GeneratorConfig& gc,
-                                 const std::string& loss) {
+inline void put_generator_config(Blob& b, const GiInputConfig& in, const GeneratorConfig& gc, const std::string& loss) {
   const UnetConfig& u = gc.unet;
   b.set_config("arch", arch_name(gc.arch));
   b.set_config("residual", residual_name(gc.residual));
@@ -42,9 +41,8 @@ inline void put_generator_config(Blob& b, const GiInputConfig& in, const Generat
   b.set_config("loss", loss);
 }
 
-inline void save_generator_blob(const std::string& path, GiGenerator<float>& g,
-                                const GiInputConfig& in, const GeneratorConfig& gc,
-                                const std::string& loss) {
+inline void save_generator_blob(const std::string& path, GiGenerator<float>& g, const GiInputConfig& in,
+                                const GeneratorConfig& gc, const std::string& loss) {
   Blob b(kGeneratorKind);
   put_generator_config(b, in, gc, loss);
   put_module(b, g, "G.");
@@ -61,8 +59,8 @@ struct LoadedGenerator {
 inline LoadedGenerator load_generator(const std::string& path) {
   Blob b = Blob::load(path);
   if (b.kind() != kGeneratorKind)
-    throw std::runtime_error(path + ": not a GI generator (kind '" + b.kind() + "', expected '" +
-                             kGeneratorKind + "')");
+    throw std::runtime_error(path + ": not a GI generator (kind '" + b.kind() + "', expected '" + kGeneratorKind +
+                             "')");
   LoadedGenerator g;
   g.inputs.mode = parse_mode(b.config_string("mode"));
   g.inputs.coordconv = b.config_string("coordconv") == "on";
@@ -105,12 +103,13 @@ inline LoadedGenerator load_generator(const std::string& path) {
   u.ngf = b.config_int("ngf", 1, 1024);
   u.levels = b.config_int("levels", 1, 12);
   u.dropout = float(b.config_double("dropout"));
-  if (!(u.dropout >= 0 && u.dropout < 1)) throw b.error("config key 'dropout' is " + b.config_string("dropout") + ", expected 0 <= p < 1");
+  if (!(u.dropout >= 0 && u.dropout < 1))
+    throw b.error("config key 'dropout' is " + b.config_string("dropout") + ", expected 0 <= p < 1");
   u.dropout_blocks = b.config_int("dropout_blocks", 0, 12);
   u.batchnorm = !(b.has_config("batchnorm") && b.config_string("batchnorm") == "off");
   if (u.in_channels != g.inputs.channels())
-    throw std::runtime_error(path + ": in_channels " + std::to_string(u.in_channels) +
-                             " does not match coordconv " + b.config_string("coordconv"));
+    throw std::runtime_error(path + ": in_channels " + std::to_string(u.in_channels) + " does not match coordconv " +
+                             b.config_string("coordconv"));
   g.loss = b.config_string("loss");
   Rng rng(0);
   g.G = make_generator<float>(g.config, rng);
@@ -137,7 +136,8 @@ inline std::unique_ptr<PatchGan<float>> load_discriminator(const std::string& pa
   Blob b = Blob::load(path);
   if (b.kind() != kDiscriminatorKind)
     throw b.error("holds a '" + b.kind() + "' model, expected '" + kDiscriminatorKind + "'");
-  const PatchGanConfig c{b.config_int("in_channels", 1, 64), b.config_int("ndf", 1, 1024), b.config_int("layers", 1, 10)};
+  const PatchGanConfig c{b.config_int("in_channels", 1, 64), b.config_int("ndf", 1, 1024),
+                         b.config_int("layers", 1, 10)};
   Rng rng(0);
   auto d = std::make_unique<PatchGan<float>>(c, rng);
   get_module(b, *d, "D.");
@@ -145,8 +145,7 @@ inline std::unique_ptr<PatchGan<float>> load_discriminator(const std::string& pa
 }
 
 // The generator's linear-light prediction of the front view, (3, h, w).
-inline Tensor<float> predict_linear(LoadedGenerator& g, const GiSample& s, bool bn_batch_stats,
-                                    bool dropout_on) {
+inline Tensor<float> predict_linear(LoadedGenerator& g, const GiSample& s, bool bn_batch_stats, bool dropout_on) {
   NoGradGuard ng;
   g.G->set_test_modes(bn_batch_stats, dropout_on);
   Tensor<float> y = crop2d(generate(*g.G, g.config, Var<float>(s.input)).value(), s.front);

@@ -68,8 +68,9 @@ inline Tensor<float> guided_upsample(const Tensor<float>& low, const data::View&
           continue;
         }
         const double dz = (double(zj) - z) / (double(e.depth) * z);
-        const double nd = std::max(0.0, double(nxf[size_t(i)]) * nxl[size_t(j)] + double(nyf[size_t(i)]) * nyl[size_t(j)] +
-                                            double(nzf[size_t(i)]) * nzl[size_t(j)]);
+        const double nd =
+            std::max(0.0, double(nxf[size_t(i)]) * nxl[size_t(j)] + double(nyf[size_t(i)]) * nyl[size_t(j)] +
+                              double(nzf[size_t(i)]) * nzl[size_t(j)]);
         wt[t] = bw * std::exp(-dz * dz) * std::pow(nd, e.normal_power);
         w_sum += wt[t];
         if (std::abs(dz) < nearest_dz) nearest_dz = std::abs(dz), nearest = j;

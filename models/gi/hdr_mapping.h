@@ -30,8 +30,7 @@ struct HdrMapping {
 
   explicit HdrMapping(float k = 1.0f) : scale(k) {
     if (!(k > 0) || !std::isfinite(k))
-      throw std::invalid_argument("HdrMapping: scale must be positive and finite, got " +
-                                  std::to_string(k));
+      throw std::invalid_argument("HdrMapping: scale must be positive and finite, got " + std::to_string(k));
   }
 
   float to_unit(float x) const {

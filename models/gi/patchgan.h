@@ -38,9 +38,8 @@ class PatchGan : public Module<T> {
       const bool last_strided = n < c.layers;
       const int out = width(n);
       Stage s;
-      s.conv = this->register_module("conv" + std::to_string(n),
-                                     make_conv<T>(ch, out, /*bias=*/n == 0, rng,
-                                                  /*stride=*/last_strided ? 2 : 1));
+      s.conv = this->register_module("conv" + std::to_string(n), make_conv<T>(ch, out, /*bias=*/n == 0, rng,
+                                                                              /*stride=*/last_strided ? 2 : 1));
       if (n > 0) s.norm = this->register_module("norm" + std::to_string(n), make_bn<T>(out));
       stages_.push_back(s);
       ch = out;
@@ -65,9 +64,9 @@ class PatchGan : public Module<T> {
 
   // Side of the square patch one output logit sees (70 for layers = 3).
   static int receptive_field(int layers) {
-    int rf = 1;  // walk back from one output pixel: rf = rf * stride + (k - stride)
-    rf = rf * 1 + 3;                       // head, stride 1
-    rf = rf * 1 + 3;                       // last conv, stride 1
+    int rf = 1;       // walk back from one output pixel: rf = rf * stride + (k - stride)
+    rf = rf * 1 + 3;  // head, stride 1
+    rf = rf * 1 + 3;  // last conv, stride 1
     for (int n = 0; n < layers; ++n) rf = rf * 2 + 2;  // strided convs
     return rf;
   }

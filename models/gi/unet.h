@@ -53,15 +53,13 @@ class UnetBlock : public Module<T> {
     const bool down_bn = !outermost && !innermost && c.batchnorm;
     down_ = this->register_module("down", make_conv<T>(input, inner, /*bias=*/!down_bn, rng));
     if (down_bn) down_norm_ = this->register_module("down_norm", make_bn<T>(inner));
-    if (!innermost)
-      sub_ = this->register_module("sub", std::make_shared<UnetBlock<T>>(c, level + 1, rng));
+    if (!innermost) sub_ = this->register_module("sub", std::make_shared<UnetBlock<T>>(c, level + 1, rng));
     const int up_in = innermost ? inner : 2 * inner;
     const bool up_bn = !outermost && c.batchnorm;
     up_ = this->register_module("up", make_conv_transpose<T>(up_in, outer, /*bias=*/!up_bn, rng));
     if (up_bn) up_norm_ = this->register_module("up_norm", make_bn<T>(outer));
     if (!outermost && level >= c.levels - c.dropout_blocks && c.dropout > 0)
-      dropout_ = this->register_module(
-          "dropout", make_dropout<T>(c.dropout, rng.next_u64()));
+      dropout_ = this->register_module("dropout", make_dropout<T>(c.dropout, rng.next_u64()));
   }
 
   Var<T> forward(const Var<T>& x) override {
@@ -103,12 +101,10 @@ class UnetGenerator : public GiGenerator<T> {
 
   Var<T> forward(const Var<T>& x) override {
     const int64_t m = int64_t(1) << config_.levels;
-    if (x.shape().dim() != 4 || x.size(1) != config_.in_channels || x.size(2) % m ||
-        x.size(3) % m)
+    if (x.shape().dim() != 4 || x.size(1) != config_.in_channels || x.size(2) % m || x.size(3) % m)
       throw std::invalid_argument("UnetGenerator: input " + x.shape().str() + " needs " +
                                   std::to_string(config_.in_channels) +
-                                  " channels and a size divisible by 2^levels = " +
-                                  std::to_string(m));
+                                  " channels and a size divisible by 2^levels = " + std::to_string(m));
     return root_->forward(x);
   }
 

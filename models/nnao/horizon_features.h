@@ -67,7 +67,8 @@ struct HorizonLayout {
 inline int64_t horizon_base_index(const HorizonLayout& L) { return L.features() - 1; }
 
 // Writes L.features() floats for centre pixel (px, py), which must not be sky.
-inline void compute_horizon_features(const screen_space::GBuffer& g, int px, int py, const HorizonLayout& L, float* out) {
+inline void compute_horizon_features(const screen_space::GBuffer& g, int px, int py, const HorizonLayout& L,
+                                     float* out) {
   const int64_t c = int64_t(py) * g.width + px;
   const Vec3 P = g.position(px, py), N = screen_space::normalize_or_facing(g.normal(c));
   const float r = g.radius, r2 = r * r;

@@ -18,26 +18,29 @@ namespace nns::nnao {
 inline void infer_exact_per_pixel(const NnaoWeights& m, const screen_space::GBuffer& g, float* out) {
   const int64_t F = m.features();
   const int H = m.hidden;
-  parallel_for(g.height, [&](int64_t y0, int64_t y1) {
-    std::vector<float> f(static_cast<size_t>(F));
-    float h[64];
-    for (int64_t y = y0; y < y1; ++y)
-      for (int x = 0; x < g.width; ++x) {
-        const int64_t i = y * g.width + x;
-        if (g.sky(i)) {
-          out[i] = 1;
-          continue;
-        }
-        m.input.compute(g, x, int(y), f.data());
-        for (int k = 0; k < H; ++k) {
-          const float* wk = m.w0.data() + int64_t(k) * F;
-          float s = 0;
-          for (int64_t q = 0; q < F; ++q) s += wk[q] * f[size_t(q)];
-          h[k] = s + m.b0[size_t(k)];
-        }
-        out[i] = m.head(h, m.input.base(f.data()));
-      }
-  }, 1);
+  parallel_for(
+      g.height,
+      [&](int64_t y0, int64_t y1) {
+        std::vector<float> f(static_cast<size_t>(F));
+        float h[64];
+        for (int64_t y = y0; y < y1; ++y)
+          for (int x = 0; x < g.width; ++x) {
+            const int64_t i = y * g.width + x;
+            if (g.sky(i)) {
+              out[i] = 1;
+              continue;
+            }
+            m.input.compute(g, x, int(y), f.data());
+            for (int k = 0; k < H; ++k) {
+              const float* wk = m.w0.data() + int64_t(k) * F;
+              float s = 0;
+              for (int64_t q = 0; q < F; ++q) s += wk[q] * f[size_t(q)];
+              h[k] = s + m.b0[size_t(k)];
+            }
+            out[i] = m.head(h, m.input.base(f.data()));
+          }
+      },
+      1);
 }
 
 }  // namespace nns::nnao

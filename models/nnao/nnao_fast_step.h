@@ -26,8 +26,7 @@ namespace nns::nnao {
 
 class NnaoFastStep {
  public:
-  NnaoFastStep(NnaoNet<float>& net, int batch)
-      : net_(net), B_(batch), F_(net.config.inputs()), H_(net.config.hidden) {
+  NnaoFastStep(NnaoNet<float>& net, int batch) : net_(net), B_(batch), F_(net.config.inputs()), H_(net.config.hidden) {
     if (H_ > kMaxHidden || B_ < 1 || B_ > kMaxBatch)
       throw std::invalid_argument("NnaoFastStep: needs hidden <= 64 and 1 <= batch <= 256");
     xm_.resize(size_t(B_ * F_));

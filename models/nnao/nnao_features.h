@@ -22,9 +22,7 @@ namespace nns::nnao {
 inline int64_t feature_count(int w) { return int64_t(w) * w * 4; }
 
 // Grid offset of index i in [0, w): -r .. r (w = 1 gives the centre only).
-inline float grid_offset(int i, int w, float r) {
-  return w == 1 ? 0.0f : r * (2.0f * float(i) / float(w - 1) - 1.0f);
-}
+inline float grid_offset(int i, int w, float r) { return w == 1 ? 0.0f : r * (2.0f * float(i) / float(w - 1) - 1.0f); }
 
 // The per-centre quantities every grid sample needs. All grid points share the
 // centre's depth, so their projection is affine in the offset: pixel = centre pixel +

@@ -21,7 +21,8 @@ void finish_block(const NnaoWeights& m, const Block& b, const VF* h, float scale
   auto prelu = [](VF x, float alpha, float beta) { return screen_space::simd::prelu(x, splat(alpha), splat(beta)); };
   VF a[HS > 0 ? HS : 64], c[HS > 0 ? HS : 64];
   for (int k = 0; k < H; ++k)
-    a[k] = prelu((scaled ? h[k] * splat(scale) : h[k]) + splat(m.b0[size_t(k)]), m.alpha[0][size_t(k)], m.beta[0][size_t(k)]);
+    a[k] = prelu((scaled ? h[k] * splat(scale) : h[k]) + splat(m.b0[size_t(k)]), m.alpha[0][size_t(k)],
+                 m.beta[0][size_t(k)]);
   int n = H;
   for (int l = 0; l < 3; ++l) {
     const int outs = l == 2 ? 1 : H;

@@ -142,7 +142,8 @@ struct CentreBlock {
 
 // HS > 0: the hidden width known at compile time (the paper's 4 stays in registers).
 template <int HS>
-void exact_block(const NnaoWeights& m, const screen_space::GBuffer& g, const Block& b, const float* packed, float* out) {
+void exact_block(const NnaoWeights& m, const screen_space::GBuffer& g, const Block& b, const float* packed,
+                 float* out) {
   const int w = m.input.window, H = HS > 0 ? HS : m.hidden;
   const int64_t F = m.features();
   VF h[HS > 0 ? HS : 64];
@@ -185,7 +186,8 @@ inline void bilateral_blur(const screen_space::GBuffer& g, const float* in, floa
       const VF z = load(g.z + i0, valid, INFINITY);
       const Mask centre_sky = sky(z);
       VF nx = splat(0.0f), ny = splat(0.0f), nz = splat(0.0f);
-      if (normals) nx = load(g.nx + i0, valid, 0.0f), ny = load(g.ny + i0, valid, 0.0f), nz = load(g.nz + i0, valid, 0.0f);
+      if (normals)
+        nx = load(g.nx + i0, valid, 0.0f), ny = load(g.ny + i0, valid, 0.0f), nz = load(g.nz + i0, valid, 0.0f);
       VF s = splat(0.0f), ws = splat(0.0f);
       for (int k = -2; k <= 2; ++k) {
         Mask m = valid;
@@ -205,7 +207,8 @@ inline void bilateral_blur(const screen_space::GBuffer& g, const float* in, floa
         const VF dz = (zj - z) * splat(inv_dz);  // lanes outside m reach nothing: wk selects 0 there
         VF nd = splat(1.0f);
         if (normals) {
-          nd = max(splat(0.0f), nx * load(g.nx + j0, m, 0.0f) + ny * load(g.ny + j0, m, 0.0f) + nz * load(g.nz + j0, m, 0.0f));
+          nd = max(splat(0.0f),
+                   nx * load(g.nx + j0, m, 0.0f) + ny * load(g.ny + j0, m, 0.0f) + nz * load(g.nz + j0, m, 0.0f));
           nd = pow_by_squaring(nd, e.normal_power, splat(1.0f));
         }
         const VF wk = select(m, splat(spatial[k + 2]) * exp_nonpositive(-(dz * dz)) * nd, splat(0.0f));
@@ -262,8 +265,8 @@ inline void infer_exact(const NnaoWeights& m, const screen_space::GBuffer& g, fl
 }
 
 // `blur` false gives the raw stochastic estimate (tests check its mean).
-inline void infer_shader_style(const NnaoWeights& m, const screen_space::GBuffer& g, int samples,
-                               float* out, bool blur = true, uint32_t seed = 0) {
+inline void infer_shader_style(const NnaoWeights& m, const screen_space::GBuffer& g, int samples, float* out,
+                               bool blur = true, uint32_t seed = 0) {
   using namespace screen_space::simd;
   int mx, my;
   sample_grid(samples, m.input.window, mx, my);
@@ -326,7 +329,7 @@ inline void infer_shader_style(const NnaoWeights& m, const screen_space::GBuffer
         const __m512 of[4] = {o[0].v, o[1].v, o[2].v, o[3].v};
         __m512 u[4];
         detail::transpose_chunks(of, u);
-#define NNS_LANE(i, r)                                                                            \
+#define NNS_LANE(i, r)                                                                         \
   acc[4 * i + r] = _mm512_fmadd_ps(_mm512_loadu_ps(taps.data() + int64_t(qa[4 * i + r]) * 16), \
                                    _mm512_shuffle_f32x4(u[r], u[r], i * 0x55), acc[4 * i + r]);
 #define NNS_CHUNK(i) NNS_LANE(i, 0) NNS_LANE(i, 1) NNS_LANE(i, 2) NNS_LANE(i, 3)

@@ -20,9 +20,9 @@
 
 namespace nns::nnao {
 
-
 // bilateral_blur of nnao_inference.h, one pixel at a time.
-inline void bilateral_blur_reference(const screen_space::GBuffer& g, const float* in, float* out, const BlurEdges& e = {}) {
+inline void bilateral_blur_reference(const screen_space::GBuffer& g, const float* in, float* out,
+                                     const BlurEdges& e = {}) {
   const float inv_dz = 1.0f / (e.depth * g.radius);
   float spatial[5];
   for (int k = -2; k <= 2; ++k) spatial[k + 2] = std::exp(-float(k * k) / (2 * 1.5f * 1.5f));
@@ -76,8 +76,8 @@ inline void infer_exact_reference(const NnaoWeights& m, const screen_space::GBuf
 }
 
 // `blur` false gives the raw stochastic estimate (tests check its mean).
-inline void infer_shader_style_reference(const NnaoWeights& m, const screen_space::GBuffer& g, int samples,
-                               float* out, bool blur = true, uint32_t seed = 0) {
+inline void infer_shader_style_reference(const NnaoWeights& m, const screen_space::GBuffer& g, int samples, float* out,
+                                         bool blur = true, uint32_t seed = 0) {
   int mx, my;
   sample_grid(samples, m.input.window, mx, my);
   const int w = m.input.window, H = m.hidden;
@@ -101,11 +101,9 @@ inline void infer_shader_style_reference(const NnaoWeights& m, const screen_spac
         if (!c.sample(ii, j, f)) continue;
         const float* wq = m.w0.data() + (int64_t(j) * w + ii) * 4;
         if (H == 4) {  // the paper's size: keep the four sums in registers
-          for (int k = 0; k < 4; ++k, wq += F)
-            h4[k] += wq[0] * f[0] + wq[1] * f[1] + wq[2] * f[2] + wq[3] * f[3];
+          for (int k = 0; k < 4; ++k, wq += F) h4[k] += wq[0] * f[0] + wq[1] * f[1] + wq[2] * f[2] + wq[3] * f[3];
         } else {
-          for (int k = 0; k < H; ++k, wq += F)
-            h[k] += wq[0] * f[0] + wq[1] * f[1] + wq[2] * f[2] + wq[3] * f[3];
+          for (int k = 0; k < H; ++k, wq += F) h[k] += wq[0] * f[0] + wq[1] * f[1] + wq[2] * f[2] + wq[3] * f[3];
         }
       }
     }

@@ -39,10 +39,8 @@ class NnaoNet : public Module<T> {
     drop = this->register_module("drop", std::make_shared<Dropout<T>>(c.dropout, rng.next_u64()));
     const int64_t in[4] = {F, H, H, H}, out[4] = {H, H, H, 1};
     for (int l = 0; l < 4; ++l) {
-      fc[l] = this->register_module("fc" + std::to_string(l),
-                                    std::make_shared<Linear<T>>(rng, in[l], out[l]));
-      act[l] = this->register_module("act" + std::to_string(l),
-                                     std::make_shared<PReLUBeta<T>>(out[l]));
+      fc[l] = this->register_module("fc" + std::to_string(l), std::make_shared<Linear<T>>(rng, in[l], out[l]));
+      act[l] = this->register_module("act" + std::to_string(l), std::make_shared<PReLUBeta<T>>(out[l]));
     }
     feature_mean = &this->register_buffer("feature_mean", Tensor<T>::zeros({F}));
     feature_std = &this->register_buffer("feature_std", Tensor<T>::ones({F}));

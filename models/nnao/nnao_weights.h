@@ -46,7 +46,7 @@ using screen_space::pow_by_squaring;
 
 struct NnaoWeights {
   int hidden = 4;
-  InputSpec input;  // what layer 0 reads: the grid (input.window) or horizon profiles
+  InputSpec input;   // what layer 0 reads: the grid (input.window) or horizon profiles
   float radius = 0;  // 0: each view's own aoRadius
   // Horizon models: how many times the exact inference applies the bilateral blur
   // (nnao_inference.h), chosen on validation families (docs/nnao.md, "Flicker").
@@ -57,9 +57,9 @@ struct NnaoWeights {
   // normals (screen_space/low_resolution.h); the model was trained on points of frames
   // downsampled the same way, against the full-resolution truth. 1: full resolution.
   int downsample = 1;
-  std::vector<float> w0;              // (hidden, F) with the standardisation folded in
-  std::vector<float> b0;              // (hidden)
-  std::vector<float> w[3], b[3];      // layers 1..3: (hidden, hidden), (hidden, hidden), (1, hidden)
+  std::vector<float> w0;          // (hidden, F) with the standardisation folded in
+  std::vector<float> b0;          // (hidden)
+  std::vector<float> w[3], b[3];  // layers 1..3: (hidden, hidden), (hidden, hidden), (1, hidden)
   std::vector<float> alpha[4], beta[4];
   float target_mean = 0, target_std = 1;
 
@@ -88,14 +88,15 @@ struct NnaoWeights {
   }
 
   static NnaoWeights from_blob(const Blob& blob) {
-    if (blob.kind() != "nnao")
-      throw blob.error("holds a '" + blob.kind() + "' model, expected 'nnao'");
+    if (blob.kind() != "nnao") throw blob.error("holds a '" + blob.kind() + "' model, expected 'nnao'");
     NnaoWeights m;
     // Checked as stored, then narrowed (a window of 4294967303 read as 7).
     m.input.window = blob.config_int("window", 0, 63);  // horizon models store 0 (unused)
     m.hidden = blob.config_int("hidden", 1, 64);
     m.radius = float(blob.config_double("radius"));
-    if (!(m.radius >= 0)) throw blob.error("radius " + blob.config_string("radius") + " out of range: expected >= 0 (0: each view's aoRadius)");
+    if (!(m.radius >= 0))
+      throw blob.error("radius " + blob.config_string("radius") +
+                       " out of range: expected >= 0 (0: each view's aoRadius)");
     if (blob.has_config("features")) {
       m.input.kind = blob.config_string("features");
       auto layout_int = [&](const char* key) {  // range-checked before it becomes an int
@@ -118,11 +119,13 @@ struct NnaoWeights {
             v = blob.config_double(key);
           } catch (const std::runtime_error&) {
           }
-          if (!(v >= lo && v <= hi)) throw blob.error(std::string(key) + " " + blob.config_string(key) + " out of range " + range);
+          if (!(v >= lo && v <= hi))
+            throw blob.error(std::string(key) + " " + blob.config_string(key) + " out of range " + range);
           return float(v);
         };
         if (blob.has_config("radius_term_max"))  // 0: no ceiling
-          if (const float v = ranged_double("radius_term_max", 0, 100, "0..100"); v > 0) m.input.horizon.radius_term_max = v;
+          if (const float v = ranged_double("radius_term_max", 0, 100, "0..100"); v > 0)
+            m.input.horizon.radius_term_max = v;
         if (blob.has_config("blur_depth")) m.blur_edges.depth = ranged_double("blur_depth", 0.01, 100, "0.01..100");
         if (blob.has_config("downsample")) {  // absent in blobs made before it: full resolution
           const int64_t d = blob.config_int("downsample");
@@ -150,10 +153,13 @@ struct NnaoWeights {
     m.target_std = ts[1];
     // The trainer stores a constant's std as 1 (nnao_points.h): a zero or negative one
     // is no trained model's, and dividing by it makes the weights infinite.
-    if (!(m.target_std > 0)) throw blob.error("tensor 'target_stats' holds a standard deviation of " + std::to_string(ts[1]) + ", expected > 0");
+    if (!(m.target_std > 0))
+      throw blob.error("tensor 'target_stats' holds a standard deviation of " + std::to_string(ts[1]) +
+                       ", expected > 0");
     for (int64_t f = 0; f < F; ++f)
       if (!(stdv[size_t(f)] > 0))
-        throw blob.error("tensor 'feature_std' holds " + std::to_string(stdv[size_t(f)]) + " at index " + std::to_string(f) + ", expected > 0");
+        throw blob.error("tensor 'feature_std' holds " + std::to_string(stdv[size_t(f)]) + " at index " +
+                         std::to_string(f) + ", expected > 0");
     m.w0.resize(size_t(H * F));
     m.b0.resize(size_t(H));
     for (int64_t k = 0; k < H; ++k) {
@@ -171,7 +177,8 @@ struct NnaoWeights {
         throw blob.error("tensor 'fc0.weight' divided by 'feature_std' overflows at index " + std::to_string(i));
     for (int64_t k = 0; k < H; ++k)
       if (!std::isfinite(m.b0[size_t(k)]))
-        throw blob.error("tensor 'fc0.bias' with the standardisation folded in overflows at index " + std::to_string(k));
+        throw blob.error("tensor 'fc0.bias' with the standardisation folded in overflows at index " +
+                         std::to_string(k));
     for (int l = 0; l < 3; ++l) {
       const int64_t out = l == 2 ? 1 : H;
       m.w[l] = vec("fc" + std::to_string(l + 1) + ".weight", {out, H});

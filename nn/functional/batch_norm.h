@@ -7,7 +7,8 @@
 //    1, 1x1 spatial, which pix2pix's bottleneck reaches) the variance is 0, the output
 //    is beta and the running variance takes the biased value 0 (PyTorch refuses M = 1).
 //  * eval: normalize with the running statistics (required).
-// running_mean / running_var may be nullptr (no update). The mode is the caller's to choose; it never depends on the batch size.
+// running_mean / running_var may be nullptr (no update). The mode is the caller's to choose; it never depends on the
+// batch size.
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -19,9 +20,8 @@ namespace nns {
 
 template <class T>
 Var<T> batch_norm(const Var<T>& x, const Var<T>& gamma, const Var<T>& beta,
-                  std::type_identity_t<Tensor<T>>* running_mean,
-                  std::type_identity_t<Tensor<T>>* running_var, bool training,
-                  double momentum = 0.1, double eps = 1e-5) {
+                  std::type_identity_t<Tensor<T>>* running_mean, std::type_identity_t<Tensor<T>>* running_var,
+                  bool training, double momentum = 0.1, double eps = 1e-5) {
   const Shape& xs = x.shape();
   if (xs.dim() != 2 && xs.dim() != 4)
     throw std::invalid_argument("batch_norm: input must be (N, C) or (N, C, H, W), got " + xs.str());
@@ -38,34 +38,29 @@ Var<T> batch_norm(const Var<T>& x, const Var<T>& gamma, const Var<T>& beta,
   Tensor<T> out(xs), mean(cs), rstd(cs);
   if (training) {
     Tensor<T> var(cs);
-    batch_norm_forward_train(out.data(), mean.data(), var.data(), rstd.data(), x.value().data(), g, b,
-                             N, C, S, eps);
+    batch_norm_forward_train(out.data(), mean.data(), var.data(), rstd.data(), x.value().data(), g, b, N, C, S, eps);
     const double M = double(N * S), unbias = M > 1 ? M / (M - 1) : 1.0;
     for (int64_t c = 0; c < C; ++c) {
       if (running_mean)
         (*running_mean)[c] = T((1 - momentum) * double((*running_mean)[c]) + momentum * double(mean[c]));
       if (running_var)
-        (*running_var)[c] =
-            T((1 - momentum) * double((*running_var)[c]) + momentum * double(var[c]) * unbias);
+        (*running_var)[c] = T((1 - momentum) * double((*running_var)[c]) + momentum * double(var[c]) * unbias);
     }
   } else {
     if (!running_mean || !running_var)
       throw std::invalid_argument("batch_norm: eval mode needs running_mean and running_var");
     mean = running_mean->clone();  // saved: the buffers may change before backward
-    batch_norm_forward_eval(out.data(), rstd.data(), x.value().data(), g, b, mean.data(),
-                            running_var->data(), N, C, S, eps);
+    batch_norm_forward_eval(out.data(), rstd.data(), x.value().data(), g, b, mean.data(), running_var->data(), N, C, S,
+                            eps);
   }
-  return make_result<T>(std::move(out), {x, gamma, beta}, "batch_norm",
-                        [mean, rstd, N, C, S, training](Node<T>& n) {
-                          const auto& gp = n.parents[1];
-                          batch_norm_backward(
-                              wants_grad(n, 0) ? n.parents[0]->grad_buffer().data() : nullptr,
-                              wants_grad(n, 1) ? n.parents[1]->grad_buffer().data() : nullptr,
-                              wants_grad(n, 2) ? n.parents[2]->grad_buffer().data() : nullptr,
-                              n.grad.data(), n.parents[0]->value.data(),
-                              gp ? gp->value.data() : nullptr, mean.data(), rstd.data(), N, C, S,
-                              training);
-                        });
+  return make_result<T>(std::move(out), {x, gamma, beta}, "batch_norm", [mean, rstd, N, C, S, training](Node<T>& n) {
+    const auto& gp = n.parents[1];
+    batch_norm_backward(wants_grad(n, 0) ? n.parents[0]->grad_buffer().data() : nullptr,
+                        wants_grad(n, 1) ? n.parents[1]->grad_buffer().data() : nullptr,
+                        wants_grad(n, 2) ? n.parents[2]->grad_buffer().data() : nullptr, n.grad.data(),
+                        n.parents[0]->value.data(), gp ? gp->value.data() : nullptr, mean.data(), rstd.data(), N, C, S,
+                        training);
+  });
 }
 
 }  // namespace nns

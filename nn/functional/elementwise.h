@@ -27,8 +27,8 @@ Var<T> broadcast_op(const Var<T>& a, const Var<T>& b, const char* name, Fwd fwd,
   fwd(out.data(), a.value().data(), b.value().data(), plan);
   return make_result<T>(std::move(out), {a, b}, name, [bwd, plan](Node<T>& n) {
     bwd(wants_grad(n, 0) ? n.parents[0]->grad_buffer().data() : nullptr,
-        wants_grad(n, 1) ? n.parents[1]->grad_buffer().data() : nullptr, n.grad.data(),
-        n.parents[0]->value.data(), n.parents[1]->value.data(), plan);
+        wants_grad(n, 1) ? n.parents[1]->grad_buffer().data() : nullptr, n.grad.data(), n.parents[0]->value.data(),
+        n.parents[1]->value.data(), plan);
   });
 }
 }  // namespace detail
@@ -102,21 +102,60 @@ Var<T> abs(const Var<T>& x) {
       [](T* di, const T* d, const T* i, const T*, int64_t n) { abs_backward(di, d, i, n); });
 }
 
-template <class T> Var<T> operator+(const Var<T>& a, const Var<T>& b) { return add(a, b); }
-template <class T> Var<T> operator-(const Var<T>& a, const Var<T>& b) { return sub(a, b); }
-template <class T> Var<T> operator*(const Var<T>& a, const Var<T>& b) { return mul(a, b); }
-template <class T> Var<T> operator/(const Var<T>& a, const Var<T>& b) { return div(a, b); }
-template <class T> Var<T> operator-(const Var<T>& x) { return neg(x); }
+template <class T>
+Var<T> operator+(const Var<T>& a, const Var<T>& b) {
+  return add(a, b);
+}
+template <class T>
+Var<T> operator-(const Var<T>& a, const Var<T>& b) {
+  return sub(a, b);
+}
+template <class T>
+Var<T> operator*(const Var<T>& a, const Var<T>& b) {
+  return mul(a, b);
+}
+template <class T>
+Var<T> operator/(const Var<T>& a, const Var<T>& b) {
+  return div(a, b);
+}
+template <class T>
+Var<T> operator-(const Var<T>& x) {
+  return neg(x);
+}
 
 // Scalars: std::type_identity_t keeps T deduced from the Var alone, so `x * 2.0` works
 // on a Var<float>.
-template <class T> Var<T> operator+(const Var<T>& x, std::type_identity_t<T> s) { return affine(x, T(1), s); }
-template <class T> Var<T> operator+(std::type_identity_t<T> s, const Var<T>& x) { return affine(x, T(1), s); }
-template <class T> Var<T> operator-(const Var<T>& x, std::type_identity_t<T> s) { return affine(x, T(1), T(-s)); }
-template <class T> Var<T> operator-(std::type_identity_t<T> s, const Var<T>& x) { return affine(x, T(-1), s); }
-template <class T> Var<T> operator*(const Var<T>& x, std::type_identity_t<T> s) { return affine(x, s, T(0)); }
-template <class T> Var<T> operator*(std::type_identity_t<T> s, const Var<T>& x) { return affine(x, s, T(0)); }
-template <class T> Var<T> operator/(const Var<T>& x, std::type_identity_t<T> s) { return affine(x, T(1) / s, T(0)); }
-template <class T> Var<T> operator/(std::type_identity_t<T> s, const Var<T>& x) { return rdiv(s, x); }
+template <class T>
+Var<T> operator+(const Var<T>& x, std::type_identity_t<T> s) {
+  return affine(x, T(1), s);
+}
+template <class T>
+Var<T> operator+(std::type_identity_t<T> s, const Var<T>& x) {
+  return affine(x, T(1), s);
+}
+template <class T>
+Var<T> operator-(const Var<T>& x, std::type_identity_t<T> s) {
+  return affine(x, T(1), T(-s));
+}
+template <class T>
+Var<T> operator-(std::type_identity_t<T> s, const Var<T>& x) {
+  return affine(x, T(-1), s);
+}
+template <class T>
+Var<T> operator*(const Var<T>& x, std::type_identity_t<T> s) {
+  return affine(x, s, T(0));
+}
+template <class T>
+Var<T> operator*(std::type_identity_t<T> s, const Var<T>& x) {
+  return affine(x, s, T(0));
+}
+template <class T>
+Var<T> operator/(const Var<T>& x, std::type_identity_t<T> s) {
+  return affine(x, T(1) / s, T(0));
+}
+template <class T>
+Var<T> operator/(std::type_identity_t<T> s, const Var<T>& x) {
+  return rdiv(s, x);
+}
 
 }  // namespace nns

@@ -15,8 +15,7 @@ Var<T> pointwise_op(const Var<T>& x, const char* name, Fwd fwd, Bwd bwd) {
   Tensor<T> out(x.shape());
   fwd(out.data(), x.value().data(), n);
   return make_result<T>(std::move(out), {x}, name, [bwd, n](Node<T>& node) {
-    bwd(node.parents[0]->grad_buffer().data(), node.grad.data(), node.parents[0]->value.data(),
-        node.value.data(), n);
+    bwd(node.parents[0]->grad_buffer().data(), node.grad.data(), node.parents[0]->value.data(), node.value.data(), n);
   });
 }
 

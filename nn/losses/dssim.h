@@ -15,11 +15,9 @@ namespace nns {
 
 namespace detail {
 inline void ssim_check(const Shape& a, const Shape& b, const char* op) {
-  if (a != b)
-    throw std::invalid_argument(std::string(op) + ": shapes " + a.str() + " and " + b.str() + " differ");
+  if (a != b) throw std::invalid_argument(std::string(op) + ": shapes " + a.str() + " and " + b.str() + " differ");
   if (a.dim() < 2 || a[-1] < kSsimWindow || a[-2] < kSsimWindow)
-    throw std::invalid_argument(std::string(op) + ": needs images of at least 11x11 (the SSIM window), got " +
-                                a.str());
+    throw std::invalid_argument(std::string(op) + ": needs images of at least 11x11 (the SSIM window), got " + a.str());
 }
 }  // namespace detail
 
@@ -38,8 +36,8 @@ Var<T> dssim_loss(const Var<T>& pred, const Var<T>& target) {
   out[0] = T((1 - ssim_forward(pred.value().data(), target.value().data(), P, H, W)) / 2);
   return make_result<T>(std::move(out), {pred, target}, "dssim_loss", [P, H, W](Node<T>& n) {
     ssim_backward(wants_grad(n, 0) ? n.parents[0]->grad_buffer().data() : nullptr,
-                  wants_grad(n, 1) ? n.parents[1]->grad_buffer().data() : nullptr,
-                  -0.5 * double(n.grad[0]), n.parents[0]->value.data(), n.parents[1]->value.data(), P, H, W);
+                  wants_grad(n, 1) ? n.parents[1]->grad_buffer().data() : nullptr, -0.5 * double(n.grad[0]),
+                  n.parents[0]->value.data(), n.parents[1]->value.data(), P, H, W);
   });
 }
 

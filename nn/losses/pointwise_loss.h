@@ -12,8 +12,8 @@ namespace nns {
 template <class T, class Fwd, class Bwd>
 Var<T> pointwise_loss(const Var<T>& pred, const Var<T>& target, const char* name, Fwd fwd, Bwd bwd) {
   if (pred.shape() != target.shape())
-    throw std::invalid_argument(std::string(name) + ": prediction " + pred.shape().str() +
-                                " and target " + target.shape().str() + " differ");
+    throw std::invalid_argument(std::string(name) + ": prediction " + pred.shape().str() + " and target " +
+                                target.shape().str() + " differ");
   const int64_t n = pred.numel();
   if (n == 0) throw std::invalid_argument(std::string(name) + ": empty input");
   Tensor<T> out(Shape{});

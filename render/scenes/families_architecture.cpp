@@ -20,8 +20,8 @@ void add_column(Scene& s, Vec3 base, float r, float h, uint32_t m, const SceneSt
   float shaft0 = 0.12f + 0.24f * r, shaft1 = h - 0.3f * r - 0.1f;
   for (int i = 0; i <= 6; ++i) {
     float t = float(i) / 6;
-    prof.push_back({r * (1 + 0.04f * std::sin(kPi * std::min(1.0f, t * 1.5f))) * (1 - 0.12f * t),
-                    shaft0 + (shaft1 - shaft0) * t});
+    prof.push_back(
+        {r * (1 + 0.04f * std::sin(kPi * std::min(1.0f, t * 1.5f))) * (1 - 0.12f * t), shaft0 + (shaft1 - shaft0) * t});
   }
   prof.push_back({r * 0.88f, shaft1});
   prof.push_back({r * 1.3f, h - 0.1f});
@@ -87,7 +87,8 @@ Scene make_arcade(uint64_t seed) {
   float z_front = 0, z_back = -depth_walk - thick;
   float y = 0, sc = 1;
   for (int storey = 0; storey < storeys; ++storey) {
-    for (int i = 0; i <= bays; ++i) add_column(s, {x0 + spacing * float(i), y, z_front - thick / 2}, r * sc, hcol * sc, stone, st);
+    for (int i = 0; i <= bays; ++i)
+      add_column(s, {x0 + spacing * float(i), y, z_front - thick / 2}, r * sc, hcol * sc, stone, st);
     for (int i = 0; i < bays; ++i)
       add_arch_piece(s, {x0 + spacing * (float(i) + 0.5f), y + hcol * sc, z_front}, {1, 0, 0}, {0, 1, 0},
                      {0, 0, -thick}, spacing, rise, arch_r, st.segments(16), stone, st);
@@ -233,7 +234,8 @@ Scene make_street(uint64_t seed) {
           holes.push_back(o);
           // The glass (or the door) sits back in the wall: a recess with a deep sill.
           float xb = side * (half_w + thick + recess);
-          add_box(s, {std::min(xb, xb + side * 0.05f), o.y0, o.a0}, {std::max(xb, xb + side * 0.05f), o.y1, o.a1}, glass);
+          add_box(s, {std::min(xb, xb + side * 0.05f), o.y0, o.a0}, {std::max(xb, xb + side * 0.05f), o.y1, o.a1},
+                  glass);
           float xi = side * (half_w + thick), lo = std::min(xi, xb), hi = std::max(xi, xb);
           add_box(s, {lo, o.y0, o.a0 - 0.05f}, {hi, o.y1, o.a0}, m);  // reveals
           add_box(s, {lo, o.y0, o.a1}, {hi, o.y1, o.a1 + 0.05f}, m);

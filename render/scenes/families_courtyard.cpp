@@ -25,7 +25,8 @@ std::vector<Opening> storey_openings(Scene& s, Rng& rng, const Wing& w, float u,
     float vc = -span + step * (float(i) + 0.5f), ww = std::min(step - 0.6f, float(rng.uniform(0.7, 1.3)));
     if (ww < 0.4f || rng.below(100) < 15) continue;
     bool door = ground && rng.below(3) == 0;
-    Opening o{vc - ww / 2, vc + ww / 2, y0 + (door ? 0.0f : float(rng.uniform(0.7, 1.0))), y0 + std::min(fh - 0.5f, 2.3f)};
+    Opening o{vc - ww / 2, vc + ww / 2, y0 + (door ? 0.0f : float(rng.uniform(0.7, 1.0))),
+              y0 + std::min(fh - 0.5f, 2.3f)};
     if (o.a1 > skip.a0 - 0.3f && o.a0 < skip.a1 + 0.3f) continue;
     holes.push_back(o);
     w.box(s, u + 0.12f, o.y0, o.a0, u + 0.2f, o.y1, o.a1, door ? m.wood : m.glass);
@@ -33,7 +34,8 @@ std::vector<Opening> storey_openings(Scene& s, Rng& rng, const Wing& w, float u,
       w.box(s, u - 1.1f, o.y0 - 0.12f, o.a0 - 0.3f, u - 0.2f, o.y0, o.a1 + 0.3f, m.stone);
       for (float v : {o.a0 - 0.28f, 0.5f * (o.a0 + o.a1), o.a1 + 0.28f})
         add_beam(s, w.at(u - 1.05f, o.y0, v), w.at(u - 1.05f, o.y0 + 0.95f, v), 0.04f, m.iron);
-      add_beam(s, w.at(u - 1.05f, o.y0 + 0.95f, o.a0 - 0.3f), w.at(u - 1.05f, o.y0 + 0.95f, o.a1 + 0.3f), 0.05f, m.iron);
+      add_beam(s, w.at(u - 1.05f, o.y0 + 0.95f, o.a0 - 0.3f), w.at(u - 1.05f, o.y0 + 0.95f, o.a1 + 0.3f), 0.05f,
+               m.iron);
     }
   }
   if (skip.a1 > skip.a0) {
@@ -64,8 +66,8 @@ Scene make_courtyard(uint64_t seed) {
   const int passage_wing = rng.below(10) < 6 ? int(rng.below(4)) : -1;
   for (int k = 0; k < 4; ++k) {
     Wing w{k, k % 2 ? cz : cx};
-    const float span = k % 2 ? cx : cz;                     // the courtyard part of the facade: v in [-span, span]
-    const float vmax = k % 2 ? span : span + depth;         // x-wings take the corners
+    const float span = k % 2 ? cx : cz;              // the courtyard part of the facade: v in [-span, span]
+    const float vmax = k % 2 ? span : span + depth;  // x-wings take the corners
     const float H = fh * float(storeys[k]);
     const bool arcade = rng.below(2) != 0;
     const float ad = float(rng.uniform(2.0, 3.2)), eave = rng.below(3) ? float(rng.uniform(0.4, 1.5)) : 0.0f;
@@ -79,11 +81,14 @@ Scene make_courtyard(uint64_t seed) {
       w.box(s, ground_u + 0.2f, passage.y1, passage.a0, depth - 0.2f, passage.y1 + 0.2f, passage.a1, m.plaster);
     }
     // Ground storey: the facade, or an arcade's back wall behind a row of columns.
-    w.wall(s, ground_u, -span, span, 0, fh, storey_openings(s, rng, w, ground_u, span, 0, fh, true, passage, m), m.plaster);
+    w.wall(s, ground_u, -span, span, 0, fh, storey_openings(s, rng, w, ground_u, span, 0, fh, true, passage, m),
+           m.plaster);
     if (vmax > span)
-      for (float sgn : {-1.0f, 1.0f}) w.wall(s, 0, std::min(sgn * span, sgn * vmax), std::max(sgn * span, sgn * vmax), 0, fh, {}, m.plaster);
+      for (float sgn : {-1.0f, 1.0f})
+        w.wall(s, 0, std::min(sgn * span, sgn * vmax), std::max(sgn * span, sgn * vmax), 0, fh, {}, m.plaster);
     if (arcade) {
-      for (float sgn : {-1.0f, 1.0f}) w.box(s, -0.2f, 0, sgn * span - 0.2f, ad + 0.2f, fh, sgn * span + 0.2f, m.plaster);
+      for (float sgn : {-1.0f, 1.0f})
+        w.box(s, -0.2f, 0, sgn * span - 0.2f, ad + 0.2f, fh, sgn * span + 0.2f, m.plaster);
       w.box(s, -0.3f, fh - 0.35f, -span, ad, fh, span, m.stone);  // the walkway's ceiling
       const int bays = std::max(2, int(2 * span / float(rng.uniform(2.2, 3.4))));
       const bool round = rng.below(3) != 0;
@@ -101,7 +106,8 @@ Scene make_courtyard(uint64_t seed) {
     std::vector<Opening> far;
     if (k == passage_wing) far.push_back(passage);
     w.wall(s, depth, -vmax, vmax, 0, H, far, m.plaster);
-    const int left = k % 2 ? (k == 1 ? 0 : 2) : -1, right = k % 2 ? (k == 1 ? 2 : 0) : -1;  // the x-wings beside a z-wing
+    const int left = k % 2 ? (k == 1 ? 0 : 2) : -1,
+              right = k % 2 ? (k == 1 ? 2 : 0) : -1;  // the x-wings beside a z-wing
     for (float sgn : {-1.0f, 1.0f}) {
       // An x-wing closes its own ends; a z-wing's ends are the x-wings' walls, up to their height.
       float below = k % 2 ? fh * float(storeys[sgn < 0 ? left : right]) : 0.0f;
@@ -125,9 +131,10 @@ Scene make_courtyard(uint64_t seed) {
         float hw = float(rng.uniform(0.3, 0.6));
         add_box(s, c - Vec3(hw, 0, hw), c + Vec3(hw, 0.5f, hw), m.stone);
         uint64_t shrub = rng.next_u64();
-        add_displaced_sphere(s, c + Vec3(0, 0.5f + hw * 0.7f, 0), {hw * 1.1f, hw * 0.9f, hw * 1.1f}, 3,
-                             [shrub](Vec3 p) { return 0.25f * fbm(shrub, p * 3.0f, 3); },
-                             s.add_material(random_material(rng, 0.1f, 0.4f)), st.smooth);
+        add_displaced_sphere(
+            s, c + Vec3(0, 0.5f + hw * 0.7f, 0), {hw * 1.1f, hw * 0.9f, hw * 1.1f}, 3,
+            [shrub](Vec3 p) { return 0.25f * fbm(shrub, p * 3.0f, 3); },
+            s.add_material(random_material(rng, 0.1f, 0.4f)), st.smooth);
         break;
       }
       case 1:  // a bench

@@ -40,20 +40,20 @@ Scene make_cloister(uint64_t seed) {
   const float b = float(rng.uniform(2.4, 3.6)) * st.scale;
   const int nx = 2 + int(rng.below(4)), nz = 2 + int(rng.below(4));
   const float X = b * float(nx) / 2, Z = b * float(nz) / 2;
-  const float t = float(rng.uniform(0.45, 0.65));                     // arcade wall thickness
+  const float t = float(rng.uniform(0.45, 0.65));                              // arcade wall thickness
   const float r = float(rng.uniform(0.15, 0.22)) * std::min(st.scale, 1.15f);  // column radius
   const float parapet = rng.below(5) < 2 ? float(rng.uniform(0.5, 0.9)) : 0.0f;
-  const float hc = float(rng.uniform(2.0, 2.8)) * st.scale;          // column height
+  const float hc = float(rng.uniform(2.0, 2.8)) * st.scale;  // column height
   const float arch_r = b / 2 - 1.4f * r, rise = arch_r + float(rng.uniform(0.25, 0.6));
   const float spring = parapet + hc, arch_top = spring + rise;
   const bool groin = rng.below(5) < 3;
   const float ceiling = groin ? arch_top + float(rng.uniform(0.0, 0.4)) : arch_top + float(rng.uniform(0.2, 0.8));
-  const float top = groin ? ceiling + b / 2 + 0.3f : ceiling;        // the walk roof's underside
+  const float top = groin ? ceiling + b / 2 + 0.3f : ceiling;  // the walk roof's underside
   const float eave = float(rng.uniform(0.2, 0.9)), depth = float(rng.uniform(4, 8));
-  const float building = top + float(rng.uniform(1.0, 7.0));         // the buildings round the cloister
+  const float building = top + float(rng.uniform(1.0, 7.0));  // the buildings round the cloister
   for (int k = 0; k < 4; ++k) {
     const Wing w{k, k % 2 ? Z : X};
-    const float span = k % 2 ? X : Z;            // the arcade runs over v in [-span, span]
+    const float span = k % 2 ? X : Z;             // the arcade runs over v in [-span, span]
     const float reach = k % 2 ? span : span + b;  // x-wings (k even) take the corner bays
     const int bays = k % 2 ? nx : nz;
     // Walk floor, the buildings behind (their face is the walk's back wall), roof.
@@ -67,14 +67,13 @@ Scene make_cloister(uint64_t seed) {
     const float pier = std::max(1.4f * r, t / 2);
     for (float sgn : {-1.0f, 1.0f})
       if (k % 2 == 0) w.box(s, -t / 2, 0, sgn * span - pier, t / 2, top, sgn * span + pier, stone);
-    for (int i = 1; i < bays; ++i)
-      add_column(s, w.at(0, parapet, -span + b * float(i)), r, hc, stone, st);
+    for (int i = 1; i < bays; ++i) add_column(s, w.at(0, parapet, -span + b * float(i)), r, hc, stone, st);
     for (int i = 0; i < bays; ++i) {
       const float vc = -span + b * (float(i) + 0.5f);
       if (parapet > 0 && i != bays / 2)
         w.box(s, -t / 2 + 0.05f, 0, vc - b / 2, t / 2 - 0.05f, parapet, vc + b / 2, stone);
-      add_arch_piece(s, w.at(-t / 2, spring, vc), wing_v(w), {0, 1, 0}, wing_u(w) * t, b, rise, arch_r,
-                     st.segments(16), stone, st);
+      add_arch_piece(s, w.at(-t / 2, spring, vc), wing_v(w), {0, 1, 0}, wing_u(w) * t, b, rise, arch_r, st.segments(16),
+                     stone, st);
     }
     w.box(s, -t / 2, arch_top, -span, t / 2, top, span, stone);
     // Overhead: a groin vault per bay, or a flat ceiling on beams across the walk.
@@ -109,9 +108,9 @@ Scene make_cloister(uint64_t seed) {
     add_round_cylinder(s, {0, 0, 0}, {0, h, 0}, 0.15f, st.segments(12), wood, st.smooth);
     const uint64_t crown = rng.next_u64();
     const float cr = float(rng.uniform(1.0, std::min(X, Z) * 0.5));
-    add_displaced_sphere(s, {0, h + cr * 0.6f, 0}, {cr, cr * 0.8f, cr}, 3,
-                         [crown](Vec3 p) { return 0.25f * fbm(crown, p * 2.5f, 3); },
-                         s.add_material(random_material(rng, 0.1f, 0.35f)), st.smooth);
+    add_displaced_sphere(
+        s, {0, h + cr * 0.6f, 0}, {cr, cr * 0.8f, cr}, 3, [crown](Vec3 p) { return 0.25f * fbm(crown, p * 2.5f, 3); },
+        s.add_material(random_material(rng, 0.1f, 0.35f)), st.smooth);
   }
   if (rng.below(2)) {  // four raised beds between the paths
     const uint32_t bed = s.add_material(random_material(rng, 0.1f, 0.3f));
@@ -154,23 +153,23 @@ Scene make_basilica(uint64_t seed) {
   const uint32_t wood = s.add_material(random_material(rng, 0.1f, 0.4f));
   const uint32_t roof = s.add_material(random_material(rng, 0.2f, 0.5f));
   add_quad(s, {-80, 0, -80}, {160, 0, 0}, {0, 0, 160}, s.add_material(random_material(rng, 0.2f, 0.5f)));
-  const float N = float(rng.uniform(3.0, 5.5));       // nave half-width, to the arcades' centre lines
-  const float A = float(rng.uniform(2.6, 4.2));       // aisle width, arcade line to the outer wall's face
-  const float b = float(rng.uniform(3.0, 4.4));       // bay
+  const float N = float(rng.uniform(3.0, 5.5));  // nave half-width, to the arcades' centre lines
+  const float A = float(rng.uniform(2.6, 4.2));  // aisle width, arcade line to the outer wall's face
+  const float b = float(rng.uniform(3.0, 4.4));  // bay
   const int bays = 5 + int(rng.below(4));
-  const float L = b * float(bays) / 2;                // half-length
-  const float t = float(rng.uniform(0.5, 0.8));       // arcade wall thickness
+  const float L = b * float(bays) / 2;           // half-length
+  const float t = float(rng.uniform(0.5, 0.8));  // arcade wall thickness
   const bool columns = rng.below(3) != 0;
   const float r = float(rng.uniform(0.22, 0.34));
   const float hc = float(rng.uniform(3.2, 5.0)) * st.scale;
   const float arch_r = b / 2 - 1.4f * r, rise = arch_r + float(rng.uniform(0.3, 0.7));
-  const float gallery = hc + rise + 0.3f;              // gallery floor (the aisles' ceiling)
-  const float hg = float(rng.uniform(2.4, 3.4));      // gallery arcade: piers' height
+  const float gallery = hc + rise + 0.3f;         // gallery floor (the aisles' ceiling)
+  const float hg = float(rng.uniform(2.4, 3.4));  // gallery arcade: piers' height
   const float g_r = b / 4 - 0.22f, g_rise = g_r + 0.25f;
   const float clerestory = gallery + hg + g_rise + float(rng.uniform(0.4, 1.0));  // gallery roof / clerestory sill
   const float H = clerestory + float(rng.uniform(2.5, 4.0));                      // nave wall top
   const bool vault = rng.below(2) != 0;
-  const float O = N + A;                                // the outer walls' inner faces at x = +-O
+  const float O = N + A;  // the outer walls' inner faces at x = +-O
   // Floor, outer walls with a window per bay (some bays), the end walls with a door
   // (west, z = +L) and a high window (east), the gallery's outer wall and roof.
   add_box(s, {-O - 0.5f, 0, -L - 0.5f}, {O + 0.5f, 0.1f, L + 0.5f}, floor);
@@ -184,8 +183,8 @@ Scene make_basilica(uint64_t seed) {
     add_wall_band(s, false, sx * (O + 0.25f), -L - 0.5f, L + 0.5f, 0, gallery, 0.5f, low, wall);
     add_wall_band(s, false, sx * (O + 0.25f), -L - 0.5f, L + 0.5f, gallery, clerestory + 0.3f, 0.5f, high, wall);
     const float x0 = sx * (N + t / 2), x1 = sx * (O + 0.5f);
-    add_box(s, {std::min(x0, x1), gallery - 0.3f, -L}, {std::max(x0, x1), gallery, L}, stone);          // gallery floor
-    add_box(s, {std::min(x0, x1), clerestory, -L}, {std::max(x0, x1), clerestory + 0.3f, L}, roof);   // gallery roof
+    add_box(s, {std::min(x0, x1), gallery - 0.3f, -L}, {std::max(x0, x1), gallery, L}, stone);       // gallery floor
+    add_box(s, {std::min(x0, x1), clerestory, -L}, {std::max(x0, x1), clerestory + 0.3f, L}, roof);  // gallery roof
   }
   const float end_top = H + (vault ? N + 0.5f : 0.5f);
   const float dw = float(rng.uniform(0.8, 1.4)), ew = float(rng.uniform(0.8, 1.6));
@@ -199,8 +198,9 @@ Scene make_basilica(uint64_t seed) {
     for (int i = 1; i < bays; ++i) {
       const Vec3 base = w.at(0, 0.1f, -L + b * float(i));
       if (columns) add_column(s, base, r, hc - 0.1f, stone, st);
-      else add_bevelled_box(s, base + Vec3(0, (hc - 0.1f) / 2, 0), {1.4f * r, (hc - 0.1f) / 2, 1.4f * r}, 0.05f, 0,
-                            stone, st.smooth, 2);
+      else
+        add_bevelled_box(s, base + Vec3(0, (hc - 0.1f) / 2, 0), {1.4f * r, (hc - 0.1f) / 2, 1.4f * r}, 0.05f, 0, stone,
+                         st.smooth, 2);
     }
     for (float sv : {-1.0f, 1.0f})  // responds: half-piers against the end walls
       w.box(s, -t / 2, 0, sv * L - 1.4f * r, t / 2, H, sv * L + 1.4f * r, stone);

@@ -78,7 +78,10 @@ Scene make_lounge(uint64_t seed) {
       float y0 = sh * float(l) / float(levels) + 0.015f, room = sh / float(levels) - 0.05f;
       for (float a = -len / 2 + 0.03f; a < len / 2 - 0.06f;) {
         float bw = float(rng.uniform(0.015, 0.05)), bh = room * float(rng.uniform(0.6, 0.95));
-        if (rng.below(8) == 0) { a += float(rng.uniform(0.05, 0.2)); continue; }  // a gap
+        if (rng.below(8) == 0) {
+          a += float(rng.uniform(0.05, 0.2));
+          continue;
+        }  // a gap
         box(at(a + bw / 2, y0 + bh / 2, float(rng.uniform(0, 0.05))), bw / 2, bh / 2, depth * 0.4f,
             s.add_material(random_material(rng)));
         a += bw + 0.002f;
@@ -131,8 +134,8 @@ Scene make_clutter(uint64_t seed) {
   }
   if (indoor) indoor_lights(s, rng, hx, hz, h);
   else outdoor_lighting(s, rng);
-  s.cameras = {{-hx + 0.5f, 0.5f, -hz + 0.5f}, {hx + (indoor ? -0.5f : 3.0f), 2.2f, hz + (indoor ? -0.5f : 3.0f)},
-               -45, 10};
+  s.cameras = {
+      {-hx + 0.5f, 0.5f, -hz + 0.5f}, {hx + (indoor ? -0.5f : 3.0f), 2.2f, hz + (indoor ? -0.5f : 3.0f)}, -45, 10};
   return s;
 }
 
@@ -168,7 +171,8 @@ Scene make_stairwell(uint64_t seed) {
       float hy = solid ? (rise + thick) / 2 : thick / 2;
       add_box_yaw(s, {mid * std::cos(a), y - hy, mid * std::sin(a)}, {(R - rc) / 2, hy, w}, yaw, stone);
       Vec3 post(R * 0.92f * std::cos(a), y, R * 0.92f * std::sin(a));
-      if (i % 2 == 0) add_round_cylinder(s, post, post + Vec3(0, 0.9f, 0), 0.015f, st.segments(8), rail, st.smooth, false);
+      if (i % 2 == 0)
+        add_round_cylinder(s, post, post + Vec3(0, 0.9f, 0), 0.015f, st.segments(8), rail, st.smooth, false);
       rail_points.push_back(post + Vec3(0, 0.9f, 0));
     }
     for (size_t i = 1; i < rail_points.size(); ++i)
@@ -202,7 +206,7 @@ Scene make_stairwell(uint64_t seed) {
         add_round_cylinder(s, p - Vec3(0, 0.9f, 0), p, 0.015f, st.segments(8), rail, st.smooth, false);
       }
     }
-    add_box(s, {-hx, mid_h - slab, -hz}, {hx, mid_h, z_land}, stone);  // the landing
+    add_box(s, {-hx, mid_h - slab, -hz}, {hx, mid_h, z_land}, stone);          // the landing
     add_box(s, {-hx, top - slab, z_land + flight_len}, {hx, top, hz}, stone);  // the upper floor
   }
   float h = top + float(rng.uniform(1.8, 2.6));

@@ -25,8 +25,10 @@ void add_branch(Scene& s, Rng& rng, Vec3 a, Vec3 dir, float len, float r, int de
   if (depth == 0) {
     int n = scaled_count(30, leaf_density);
     for (int i = 0; i < n; ++i)
-      add_leaf(s, rng, b + Vec3(float(rng.normal(0, 0.3)), float(rng.normal(0, 0.25)), float(rng.normal(0, 0.3))) * (len * 1.2f),
-               leaf_size * float(rng.uniform(0.7, 1.3)), leaf);
+      add_leaf(
+          s, rng,
+          b + Vec3(float(rng.normal(0, 0.3)), float(rng.normal(0, 0.25)), float(rng.normal(0, 0.3))) * (len * 1.2f),
+          leaf_size * float(rng.uniform(0.7, 1.3)), leaf);
     return;
   }
   int kids = 2 + int(rng.below(2));
@@ -55,22 +57,27 @@ Scene make_foliage(uint64_t seed) {
   SceneStyle st = draw_style(rng);
   uint64_t gseed = rng.next_u64();
   uint32_t ground = s.add_material(random_material(rng, 0.2f, 0.45f));
-  add_height_field(s, -30, 30, -30, 30, 60, 60,
-                   [gseed](float x, float z) { return 0.6f * fbm(gseed, {x * 0.08f, 0.3f, z * 0.08f}, 3); }, ground,
-                   st.smooth);
+  add_height_field(
+      s, -30, 30, -30, 30, 60, 60,
+      [gseed](float x, float z) {
+        return 0.6f * fbm(gseed, {x * 0.08f, 0.3f, z * 0.08f}, 3);
+      },
+      ground, st.smooth);
   auto ground_at = [gseed](float x, float z) { return 0.6f * fbm(gseed, {x * 0.08f, 0.3f, z * 0.08f}, 3); };
-  uint32_t bark = s.add_material({{float(rng.uniform(0.25, 0.45)), float(rng.uniform(0.18, 0.3)), float(rng.uniform(0.1, 0.2))}, {}});
+  uint32_t bark = s.add_material(
+      {{float(rng.uniform(0.25, 0.45)), float(rng.uniform(0.18, 0.3)), float(rng.uniform(0.1, 0.2))}, {}});
   std::vector<uint32_t> leaves;
   for (int i = 0; i < 3; ++i)
-    leaves.push_back(s.add_material({{float(rng.uniform(0.1, 0.35)), float(rng.uniform(0.3, 0.6)), float(rng.uniform(0.05, 0.2))}, {}}));
+    leaves.push_back(s.add_material(
+        {{float(rng.uniform(0.1, 0.35)), float(rng.uniform(0.3, 0.6)), float(rng.uniform(0.05, 0.2))}, {}}));
   // Trees and shrubs over the camera box too, so views look into foliage, not only at
   // ground with trees in the distance.
   for (int k = scaled_count(5, st.density); k > 0; --k) {  // trees
     float x = float(rng.uniform(-9, 9)), z = float(rng.uniform(-12, 6));
     Vec3 base(x, ground_at(x, z) - 0.1f, z);
     float th = float(rng.uniform(1.0, 3.0)) * st.scale, tr = float(rng.uniform(0.08, 0.2)) * st.scale;
-    add_lathe(s, base, {0, 1, 0}, {{tr * 1.5f, 0}, {tr * 1.1f, 0.3f}, {tr, th * 0.5f}, {tr * 0.8f, th}}, st.segments(14),
-              bark, st.smooth);
+    add_lathe(s, base, {0, 1, 0}, {{tr * 1.5f, 0}, {tr * 1.1f, 0.3f}, {tr, th * 0.5f}, {tr * 0.8f, th}},
+              st.segments(14), bark, st.smooth);
     add_branch(s, rng, base + Vec3(0, th, 0), normalize(Vec3(float(rng.normal(0, 0.2)), 1, float(rng.normal(0, 0.2)))),
                th * 0.6f, tr * 0.7f, 3, bark, leaves[rng.below(leaves.size())], float(rng.uniform(0.08, 0.2)),
                st.density, st);
@@ -81,8 +88,10 @@ Scene make_foliage(uint64_t seed) {
     Vec3 c(x, ground_at(x, z) + rad * 0.7f, z);
     uint32_t m = leaves[rng.below(leaves.size())];
     for (int i = int(250 * rad * rad * 4); i > 0; --i)
-      add_leaf(s, rng, c + Vec3(float(rng.normal(0, rad * 0.5)), float(rng.normal(0, rad * 0.4)), float(rng.normal(0, rad * 0.5))),
-               float(rng.uniform(0.05, 0.12)), m);
+      add_leaf(
+          s, rng,
+          c + Vec3(float(rng.normal(0, rad * 0.5)), float(rng.normal(0, rad * 0.4)), float(rng.normal(0, rad * 0.5))),
+          float(rng.uniform(0.05, 0.12)), m);
   }
   uint32_t grass = s.add_material({{0.2f, 0.45f, 0.12f}, {}});
   for (int p = scaled_count(10, st.density); p > 0; --p) {  // patches of grass blades
@@ -123,8 +132,9 @@ Scene make_terrain(uint64_t seed) {
     float r = float(std::exp(rng.uniform(std::log(0.1), std::log(1.5)))) * st.scale;
     uint64_t rseed = rng.next_u64();
     Vec3 radii(r, r * float(rng.uniform(0.4, 0.9)), r * float(rng.uniform(0.6, 1.2)));
-    add_displaced_sphere(s, {x, height(x, z) + radii.y * 0.2f, z}, radii, 2 + int(r > 0.5f),
-                         [rseed](Vec3 p) { return 0.3f * fbm(rseed, p * 1.5f, 3); }, rock, st.smooth);
+    add_displaced_sphere(
+        s, {x, height(x, z) + radii.y * 0.2f, z}, radii, 2 + int(r > 0.5f),
+        [rseed](Vec3 p) { return 0.3f * fbm(rseed, p * 1.5f, 3); }, rock, st.smooth);
   }
   // The camera box sits just above the highest ground under it, so no camera starts
   // underground (placement cannot tell the underside of the terrain from a floor).
@@ -147,7 +157,8 @@ Scene make_cave(uint64_t seed) {
   uint64_t wseed = rng.next_u64();
   float amp = float(rng.uniform(0.15, 0.3));
   uint32_t rock = s.add_material(random_material(rng, 0.3f, 0.65f));
-  add_displaced_sphere(s, {0, 0, 0}, radii, 5, [=](Vec3 p) { return amp * fbm(wseed, p * 2.5f, 4); }, rock, st.smooth);
+  add_displaced_sphere(
+      s, {0, 0, 0}, radii, 5, [=](Vec3 p) { return amp * fbm(wseed, p * 2.5f, 4); }, rock, st.smooth);
   float floor_y = -radii.y * 0.55f;
   uint64_t fseed = rng.next_u64();
   auto floor_at = [=](float x, float z) { return floor_y + 0.4f * fbm(fseed, {x * 0.3f, 0.7f, z * 0.3f}, 3); };
@@ -167,16 +178,19 @@ Scene make_cave(uint64_t seed) {
     float x = float(rng.uniform(-radii.x * 0.6, radii.x * 0.6)), z = float(rng.uniform(-radii.z * 0.6, radii.z * 0.6));
     float r = float(rng.uniform(0.2, 1.2)) * st.scale;
     uint64_t bseed = rng.next_u64();
-    add_displaced_sphere(s, {x, floor_at(x, z) + r * 0.3f, z}, {r, r * 0.7f, r}, 3,
-                         [bseed](Vec3 p) { return 0.25f * fbm(bseed, p * 2.0f, 3); }, rock, st.smooth);
+    add_displaced_sphere(
+        s, {x, floor_at(x, z) + r * 0.3f, z}, {r, r * 0.7f, r}, 3,
+        [bseed](Vec3 p) { return 0.25f * fbm(bseed, p * 2.0f, 3); }, rock, st.smooth);
   }
   s.sky = Sky::constant({0, 0, 0});
   for (int k = 2 + int(rng.below(2)); k > 0; --k)
     s.points.push_back({{float(rng.uniform(-radii.x * 0.4, radii.x * 0.4)), floor_y + 1.5f,
                          float(rng.uniform(-radii.z * 0.4, radii.z * 0.4))},
                         Vec3(6, 5, 4)});
-  s.cameras = {{-radii.x * 0.45f, floor_y + 0.8f, -radii.z * 0.45f}, {radii.x * 0.45f, floor_y + 2.2f, radii.z * 0.45f},
-               -30, 20};
+  s.cameras = {{-radii.x * 0.45f, floor_y + 0.8f, -radii.z * 0.45f},
+               {radii.x * 0.45f, floor_y + 2.2f, radii.z * 0.45f},
+               -30,
+               20};
   return s;
 }
 

@@ -44,10 +44,11 @@ Scene make_colonnade(uint64_t seed) {
       add_cylinder(s, base, r, h, 16, stone);
       add_box(s, base + Vec3(-r * 1.3f, h, -r * 1.3f), base + Vec3(r * 1.3f, h + 0.25f, r * 1.3f), stone);
       if (c + 1 < cols && rng.below(3) != 0)
-        add_arch(s, base + Vec3(spacing / 2, h + 0.25f - spacing / 2 + r * 1.3f, 0), spacing / 2 - r * 1.3f, 0.3f,
-                 true, 10, stone);
+        add_arch(s, base + Vec3(spacing / 2, h + 0.25f - spacing / 2 + r * 1.3f, 0), spacing / 2 - r * 1.3f, 0.3f, true,
+                 10, stone);
     }
-    add_box(s, {x0 - r * 2, h + 0.25f + spacing / 2, z - 0.4f}, {-x0 + r * 2, h + 0.75f + spacing / 2, z + 0.4f}, stone);
+    add_box(s, {x0 - r * 2, h + 0.25f + spacing / 2, z - 0.4f}, {-x0 + r * 2, h + 0.75f + spacing / 2, z + 0.4f},
+            stone);
   }
   if (rng.below(2))  // a roof over the rows: a shaded hall
     add_box(s, {x0 - 1, h + 0.75f + spacing / 2, -depth * rows - 0.5f}, {-x0 + 1, h + 1.0f + spacing / 2, 0.5f}, stone);
@@ -68,7 +69,8 @@ Scene make_stairs(uint64_t seed) {
   for (int f = 0; f < flights; ++f) {
     uint32_t m = s.add_material(random_material(rng, 0.35f, 0.8f));
     int steps = 6 + int(rng.below(8));
-    float rise = float(rng.uniform(0.15, 0.2)), run = float(rng.uniform(0.25, 0.35)), width = float(rng.uniform(1.2, 2.5));
+    float rise = float(rng.uniform(0.15, 0.2)), run = float(rng.uniform(0.25, 0.35)),
+          width = float(rng.uniform(1.2, 2.5));
     for (int i = 0; i < steps; ++i) {
       Vec3 lo = at + Vec3(0, 0, -run * float(i + 1));
       add_box(s, lo, lo + Vec3(width, rise * float(i + 1), run), m);
@@ -109,7 +111,9 @@ Scene make_voxel(uint64_t seed) {
   // Height from a few random bumps, quantised to blocks.
   std::vector<int> height(n * n);
   float bumps[6][4];
-  for (auto& b : bumps) b[0] = float(rng.uniform(0, n)), b[1] = float(rng.uniform(0, n)), b[2] = float(rng.uniform(2, 6)), b[3] = float(rng.uniform(1, 4));
+  for (auto& b : bumps)
+    b[0] = float(rng.uniform(0, n)), b[1] = float(rng.uniform(0, n)), b[2] = float(rng.uniform(2, 6)),
+    b[3] = float(rng.uniform(1, 4));
   for (int z = 0; z < n; ++z)
     for (int x = 0; x < n; ++x) {
       float hgt = 1;
@@ -171,25 +175,32 @@ Scene make_thin(uint64_t seed) {
     float yaw = float(rng.uniform(0, kPi)), len = float(rng.uniform(3, 8));
     Vec3 dir(std::cos(yaw), 0, std::sin(yaw));
     int posts = int(len / 0.6f);
-    for (int i = 0; i <= posts; ++i) add_beam(s, a + dir * (0.6f * float(i)), a + dir * (0.6f * float(i)) + Vec3(0, 1.1f, 0), 0.06f, wood);
-    for (float y : {0.4f, 0.95f}) add_beam(s, a + Vec3(0, y, 0), a + dir * (0.6f * float(posts)) + Vec3(0, y, 0), 0.04f, wood);
+    for (int i = 0; i <= posts; ++i)
+      add_beam(s, a + dir * (0.6f * float(i)), a + dir * (0.6f * float(i)) + Vec3(0, 1.1f, 0), 0.06f, wood);
+    for (float y : {0.4f, 0.95f})
+      add_beam(s, a + Vec3(0, y, 0), a + dir * (0.6f * float(posts)) + Vec3(0, y, 0), 0.04f, wood);
   }
   for (int p = 0; p < 10 + int(rng.below(8)); ++p) {  // poles, some with wires between them
     Vec3 b(float(rng.uniform(-10, 10)), 0, float(rng.uniform(-11, 0)));
     add_beam(s, b, b + Vec3(0, float(rng.uniform(2.5, 5)), 0), float(rng.uniform(0.04, 0.12)), metal);
     if (p > 0 && rng.below(2)) {
       Vec3 top = b + Vec3(0, 2.4f, 0);
-      add_beam(s, top, top + Vec3(float(rng.uniform(-4, 4)), float(rng.uniform(-0.3, 0.3)), float(rng.uniform(-4, 4))), 0.015f, metal);
+      add_beam(s, top, top + Vec3(float(rng.uniform(-4, 4)), float(rng.uniform(-0.3, 0.3)), float(rng.uniform(-4, 4))),
+               0.015f, metal);
     }
   }
   std::vector<Vec3> bushes;
-  for (int b = 0; b < 6; ++b) bushes.push_back({float(rng.uniform(-8, 8)), float(rng.uniform(0.6, 1.6)), float(rng.uniform(-10, 0))});
+  for (int b = 0; b < 6; ++b)
+    bushes.push_back({float(rng.uniform(-8, 8)), float(rng.uniform(0.6, 1.6)), float(rng.uniform(-10, 0))});
   for (int l = 0; l < 200 + int(rng.below(100)); ++l) {  // leaf slabs clustered in bushes
-    uint32_t m = s.add_material({{float(rng.uniform(0.1, 0.3)), float(rng.uniform(0.3, 0.6)), float(rng.uniform(0.05, 0.2))}, {}});
+    uint32_t m = s.add_material(
+        {{float(rng.uniform(0.1, 0.3)), float(rng.uniform(0.3, 0.6)), float(rng.uniform(0.05, 0.2))}, {}});
     Vec3 c = bushes[rng.below(bushes.size())] +
              Vec3(float(rng.normal(0, 0.5)), float(rng.normal(0, 0.4)), float(rng.normal(0, 0.5)));
-    Vec3 e1 = normalize(Vec3(float(rng.normal()), float(rng.normal()), float(rng.normal()))) * float(rng.uniform(0.15, 0.4));
-    Vec3 e2 = normalize(cross(e1, Vec3(float(rng.normal()), float(rng.normal()), float(rng.normal())))) * float(rng.uniform(0.08, 0.25));
+    Vec3 e1 =
+        normalize(Vec3(float(rng.normal()), float(rng.normal()), float(rng.normal()))) * float(rng.uniform(0.15, 0.4));
+    Vec3 e2 = normalize(cross(e1, Vec3(float(rng.normal()), float(rng.normal()), float(rng.normal())))) *
+              float(rng.uniform(0.08, 0.25));
     add_quad(s, c, e1, e2, m);
   }
   // A hedge row behind, so views are not all ground and sky.

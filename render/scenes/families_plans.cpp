@@ -18,7 +18,8 @@ void add_windows(FloorPlan& p, const WallSpan& span, Rng& rng, float share) {
     if (rng.uniform() >= share) continue;
     WallSpan piece{span.along_x, span.plane, span.lo + step * float(k), span.lo + step * float(k + 1)};
     float sill = float(rng.uniform(0.5, 1.0)), top = std::min(p.height - 0.25f, float(rng.uniform(2.0, 2.4)));
-    if (auto h = hole_in(piece, rng, float(rng.uniform(0.8, 2.2)), sill, top, p.thick / 2 + 0.2f)) p.holes.push_back(*h);
+    if (auto h = hole_in(piece, rng, float(rng.uniform(0.8, 2.2)), sill, top, p.thick / 2 + 0.2f))
+      p.holes.push_back(*h);
   }
 }
 
@@ -67,7 +68,8 @@ void furnish_room(Scene& s, Rng& rng, const PlanRect& room, const std::vector<Ke
       add_round_table(s, *c, r, th, s.add_material(random_material(rng)), st);
       for (int i = int(rng.below(3)); i > 0; --i)
         add_turned_object(s, rng, *c + Vec3(float(rng.uniform(-r / 2, r / 2)), th, float(rng.uniform(-r / 2, r / 2))),
-                          float(rng.uniform(0.04, 0.1)), float(rng.uniform(0.1, 0.35)), s.add_material(random_material(rng)), st);
+                          float(rng.uniform(0.04, 0.1)), float(rng.uniform(0.1, 0.35)),
+                          s.add_material(random_material(rng)), st);
     }
   }
   if (kind == 1 || kind == 3) {
@@ -102,7 +104,8 @@ void light_room(Scene& s, Rng& rng, const PlanRect& room, float h, const SceneSt
   }
   float lh = float(rng.uniform(1.3, 1.7));
   uint32_t m = s.add_material(random_material(rng, 0.3f, 0.8f));
-  add_lathe(s, c, {0, 1, 0}, {{0, 0}, {0.15f, 0}, {0.15f, 0}, {0.12f, 0.03f}, {0.015f, 0.04f}, {0.015f, lh - 0.1f}, {0, lh - 0.1f}},
+  add_lathe(s, c, {0, 1, 0},
+            {{0, 0}, {0.15f, 0}, {0.15f, 0}, {0.12f, 0.03f}, {0.015f, 0.04f}, {0.015f, lh - 0.1f}, {0, lh - 0.1f}},
             st.segments(16), m, st.smooth);
   s.points.push_back({c + Vec3(0, lh, 0), Vec3(4.0f, 3.5f, 2.7f)});
 }
@@ -122,7 +125,8 @@ Scene make_corridor(uint64_t seed) {
   const float t = p.thick, h = p.height, w = float(rng.uniform(1.6, 3.2)), L = float(rng.uniform(10, 22));
   const float half = (w + t) / 2;
   const int junction = int(rng.below(3));  // 0: a T, 1: a turn to -x, 2: a turn to +x
-  const float arm_l = junction != 2 ? float(rng.uniform(4, 9)) : 0, arm_r = junction != 1 ? float(rng.uniform(4, 9)) : 0;
+  const float arm_l = junction != 2 ? float(rng.uniform(4, 9)) : 0,
+              arm_r = junction != 1 ? float(rng.uniform(4, 9)) : 0;
   p.spaces = {{-half, -L, half, 0}, {-half - arm_l, -L - (w + t), half + arm_r, -L}};
   p.holes.push_back({true, -L, {-w / 2, w / 2, 0, h}});  // the junction: open
   uint32_t wall = s.add_material(random_material(rng, 0.4f, 0.85f));
@@ -167,7 +171,8 @@ Scene make_corridor(uint64_t seed) {
       bool arm_end = i == 1 && !e.along_x;  // the ends of the cross corridor open to the outside
       if (arm_end) {
         float top = std::min(h - 0.15f, float(rng.uniform(2.1, 2.8)));
-        if (auto hole = hole_in(e, rng, w * float(rng.uniform(0.6, 1.0)), 0, top, t / 2 + 0.1f)) p.holes.push_back(*hole);
+        if (auto hole = hole_in(e, rng, w * float(rng.uniform(0.6, 1.0)), 0, top, t / 2 + 0.1f))
+          p.holes.push_back(*hole);
       } else {
         add_windows(p, e, rng, i < 2 ? 0.5f : 0.3f);
       }
@@ -185,7 +190,8 @@ Scene make_corridor(uint64_t seed) {
                         s.add_material(random_material(rng)), st);
   }
   // Ceiling beams across the corridor; lamps between them, some left off.
-  const float pitch = float(rng.uniform(1.5, 3.0)), beam_d = float(rng.uniform(0.15, 0.4)), beam_w = float(rng.uniform(0.15, 0.3));
+  const float pitch = float(rng.uniform(1.5, 3.0)), beam_d = float(rng.uniform(0.15, 0.4)),
+              beam_w = float(rng.uniform(0.15, 0.3));
   const bool beams = rng.below(10) < 7, lamps = rng.below(10) < 8;
   for (float z = -pitch / 2; z > -L; z -= pitch) {
     if (beams) add_box(s, {-w / 2, h - beam_d, z - beam_w / 2}, {w / 2, h, z + beam_w / 2}, wood);
@@ -201,8 +207,10 @@ Scene make_corridor(uint64_t seed) {
     if (rng.below(3) != 0) furnish_room(s, rng, in, keep, st);
   }
   outdoor_lighting(s, rng, 10, 55);
-  s.cameras = {{-w / 2 + 0.35f, 0.8f, -L - w - t / 2 + 0.35f}, {w / 2 - 0.35f, std::min(1.9f, h - 0.5f), -t / 2 - 0.35f},
-               -25, 20};
+  s.cameras = {{-w / 2 + 0.35f, 0.8f, -L - w - t / 2 + 0.35f},
+               {w / 2 - 0.35f, std::min(1.9f, h - 0.5f), -t / 2 - 0.35f},
+               -25,
+               20};
   return s;
 }
 
@@ -279,7 +287,9 @@ Scene make_multiroom(uint64_t seed) {
   }
   outdoor_lighting(s, rng, 10, 60);
   s.cameras = {{-W / 2 + t / 2 + 0.3f, 0.7f, -D / 2 + t / 2 + 0.3f},
-               {W / 2 - t / 2 - 0.3f, std::min(1.8f, h - 0.5f), D / 2 - t / 2 - 0.3f}, -30, 15};
+               {W / 2 - t / 2 - 0.3f, std::min(1.8f, h - 0.5f), D / 2 - t / 2 - 0.3f},
+               -30,
+               15};
   return s;
 }
 

@@ -27,12 +27,17 @@ Scene make_round(uint64_t seed) {
     float yaw = float(rng.uniform(0, 2 * kPi));
     Vec3 ax(std::cos(yaw), 0, std::sin(yaw));
     switch (rng.below(8)) {
-      case 0: add_sphere(s, c + Vec3(0, size / 2, 0), size / 2, st.segments(32), m, st.smooth); break;
+      case 0:
+        add_sphere(s, c + Vec3(0, size / 2, 0), size / 2, st.segments(32), m, st.smooth);
+        break;
       case 1:  // standing ring, half sunk: an arch of revolution
         add_torus(s, c + Vec3(0, size * float(rng.uniform(0.1, 0.4)), 0), ax, size / 2, size * 0.1f, st.segments(40),
                   st.segments(16), m, st.smooth);
         break;
-      case 2: add_torus(s, c + Vec3(0, size * 0.12f, 0), {0, 1, 0}, size / 2, size * 0.12f, st.segments(40), st.segments(16), m, st.smooth); break;
+      case 2:
+        add_torus(s, c + Vec3(0, size * 0.12f, 0), {0, 1, 0}, size / 2, size * 0.12f, st.segments(40), st.segments(16),
+                  m, st.smooth);
+        break;
       case 3: {  // capsule lying down
         float r = size * 0.2f;
         Vec3 a = c + Vec3(0, r, 0) - ax * (size / 2), b = c + Vec3(0, r, 0) + ax * (size / 2);
@@ -41,9 +46,16 @@ Scene make_round(uint64_t seed) {
         add_sphere(s, b, r, st.segments(24), m, st.smooth);
         break;
       }
-      case 4: add_cone(s, c, size * 0.35f, size, st.segments(32), m, st.smooth); break;
-      case 5: add_dome(s, c, size / 2, st.segments(32), m, st.smooth); break;
-      case 6: add_round_cylinder(s, c, c + Vec3(0, size * float(rng.uniform(0.5, 2.0)), 0), size * 0.15f, st.segments(24), m, st.smooth); break;
+      case 4:
+        add_cone(s, c, size * 0.35f, size, st.segments(32), m, st.smooth);
+        break;
+      case 5:
+        add_dome(s, c, size / 2, st.segments(32), m, st.smooth);
+        break;
+      case 6:
+        add_round_cylinder(s, c, c + Vec3(0, size * float(rng.uniform(0.5, 2.0)), 0), size * 0.15f, st.segments(24), m,
+                           st.smooth);
+        break;
       default: {  // a bowl on a foot: the inside is a concave hemisphere
         float r = size / 2;
         std::vector<ProfilePoint> prof = {{0, 0}, {r * 0.3f, 0}, {r * 0.3f, 0}, {r * 0.2f, r * 0.15f}};
@@ -100,7 +112,8 @@ Scene make_pipes(uint64_t seed) {
   for (int k = scaled_count(7, st.density); k > 0; --k) {
     uint32_t m = s.add_material(random_material(rng, 0.2f, 0.8f));
     float r = float(rng.uniform(0.04, 0.2));
-    Vec3 p(float(rng.uniform(-hx + 0.5, hx - 0.5)), float(rng.uniform(0.3, h - 0.5)), float(rng.uniform(-hz + 0.5, hz - 0.5)));
+    Vec3 p(float(rng.uniform(-hx + 0.5, hx - 0.5)), float(rng.uniform(0.3, h - 0.5)),
+           float(rng.uniform(-hz + 0.5, hz - 0.5)));
     for (int seg = 2 + int(rng.below(4)); seg > 0; --seg) {
       int axis = int(rng.below(3));
       float len = float(rng.uniform(1, 5)) * (rng.below(2) ? 1.0f : -1.0f);
@@ -132,7 +145,8 @@ Scene make_pipes(uint64_t seed) {
   if (rng.below(3) != 0) {  // a raised grating walkway on I-beam posts along one wall
     float y = float(rng.uniform(1.8, std::min(3.0f, h - 1.6f))), w = float(rng.uniform(1.0, 1.6));
     float z0 = -hz + 0.1f;
-    for (float x = -hx + 0.1f; x < hx - 0.1f; x += 0.04f) add_box(s, {x, y - 0.03f, z0}, {x + 0.008f, y, z0 + w}, metal);
+    for (float x = -hx + 0.1f; x < hx - 0.1f; x += 0.04f)
+      add_box(s, {x, y - 0.03f, z0}, {x + 0.008f, y, z0 + w}, metal);
     add_box(s, {-hx, y - 0.15f, z0 + w}, {hx, y - 0.03f, z0 + w + 0.02f}, metal);  // edge beam
     for (float x = -hx + 1; x < hx; x += 2.5f) {
       add_box(s, {x - 0.1f, 0, z0 + w - 0.01f}, {x + 0.1f, y - 0.15f, z0 + w + 0.01f}, metal);

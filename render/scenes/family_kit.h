@@ -71,8 +71,7 @@ inline void indoor_lights(Scene& s, Rng& rng, float hx, float hz, float h) {
 inline void add_turned_object(Scene& s, Rng& rng, Vec3 base, float r, float h, uint32_t m, const SceneStyle& st) {
   std::vector<ProfilePoint> prof = {{0, 0}, {r * float(rng.uniform(0.5, 0.9)), 0}};
   int n = 4 + int(rng.below(4));
-  for (int i = 1; i <= n; ++i)
-    prof.push_back({r * float(rng.uniform(0.25, 1.0)), h * float(i) / float(n)});
+  for (int i = 1; i <= n; ++i) prof.push_back({r * float(rng.uniform(0.25, 1.0)), h * float(i) / float(n)});
   prof.push_back({0, h});
   add_lathe(s, base, {0, 1, 0}, prof, st.segments(24), m, st.smooth);
 }
@@ -81,8 +80,18 @@ inline void add_turned_object(Scene& s, Rng& rng, Vec3 base, float r, float h, u
 inline void add_round_table(Scene& s, Vec3 c, float r, float h, uint32_t m, const SceneStyle& st) {
   float t = 0.04f, foot = r * 0.45f;
   add_lathe(s, c, {0, 1, 0},
-            {{0, 0}, {foot, 0}, {foot, 0}, {foot * 0.8f, 0.05f}, {0.05f, 0.12f}, {0.04f, h - t - 0.05f},
-             {0.08f, h - t}, {r, h - t}, {r, h - t}, {r, h}, {r, h}, {0, h}},
+            {{0, 0},
+             {foot, 0},
+             {foot, 0},
+             {foot * 0.8f, 0.05f},
+             {0.05f, 0.12f},
+             {0.04f, h - t - 0.05f},
+             {0.08f, h - t},
+             {r, h - t},
+             {r, h - t},
+             {r, h},
+             {r, h},
+             {0, h}},
             st.segments(32), m, st.smooth);
 }
 
@@ -96,8 +105,7 @@ inline void add_round_chair(Scene& s, Vec3 c, float yaw, uint32_t m, const Scene
     Vec3 p = local((i & 1 ? 1 : -1) * (w - 0.03f), (i & 2 ? 1 : -1) * (w - 0.03f));
     add_round_cylinder(s, p, p + Vec3(0, seat - 0.03f, 0), 0.018f, st.segments(10), m, st.smooth, false);
   }
-  add_bevelled_box(s, local(0, -w + 0.02f) + Vec3(0, seat + 0.3f, 0), {w, 0.22f, 0.02f}, 0.015f, yaw, m,
-                   st.smooth, 2);
+  add_bevelled_box(s, local(0, -w + 0.02f) + Vec3(0, seat + 0.3f, 0), {w, 0.22f, 0.02f}, 0.015f, yaw, m, st.smooth, 2);
 }
 
 // A sofa (or armchair, when short): seat, back and arms as bevelled boxes, cushions
@@ -114,9 +122,9 @@ inline void add_sofa(Scene& s, Rng& rng, Vec3 c, float len, float yaw, uint32_t 
   for (int i = 0; i < cushions; ++i) {
     float x = float(rng.uniform(-len / 2 + 0.35, len / 2 - 0.35));
     uint64_t seed = rng.next_u64();
-    add_displaced_sphere(s, local(x, 0.62f, -d + 0.3f), {0.2f, 0.16f, 0.07f}, 2,
-                         [seed](Vec3 p) { return 0.1f * fbm(seed, p * 2.0f, 2); }, s.add_material(random_material(rng)),
-                         st.smooth);
+    add_displaced_sphere(
+        s, local(x, 0.62f, -d + 0.3f), {0.2f, 0.16f, 0.07f}, 2,
+        [seed](Vec3 p) { return 0.1f * fbm(seed, p * 2.0f, 2); }, s.add_material(random_material(rng)), st.smooth);
   }
 }
 
@@ -130,7 +138,8 @@ inline float add_random_object(Scene& s, Rng& rng, float x, float z, float floor
   float yaw = float(rng.uniform(0, kPi));
   switch (rng.below(8)) {
     case 0: {  // rounded box
-      Vec3 half(size * float(rng.uniform(0.3, 0.6)), size * float(rng.uniform(0.2, 0.6)), size * float(rng.uniform(0.3, 0.6)));
+      Vec3 half(size * float(rng.uniform(0.3, 0.6)), size * float(rng.uniform(0.2, 0.6)),
+                size * float(rng.uniform(0.3, 0.6)));
       float bevel = std::min({half.x, half.y, half.z}) * float(rng.uniform(0.1, 0.6));
       add_bevelled_box(s, base + Vec3(0, half.y, 0), half, bevel, yaw, m, st.smooth);
       return 2 * half.y;
@@ -145,8 +154,9 @@ inline float add_random_object(Scene& s, Rng& rng, float x, float z, float floor
       uint64_t seed = rng.next_u64();
       float amp = float(rng.uniform(0.1, 0.35)), freq = float(rng.uniform(1.0, 3.0));
       Vec3 radii(r, r * float(rng.uniform(0.5, 1.0)), r * float(rng.uniform(0.7, 1.2)));
-      add_displaced_sphere(s, base + Vec3(0, radii.y * 0.8f, 0), radii, 3,
-                           [=](Vec3 p) { return amp * fbm(seed, p * freq, 3); }, m, st.smooth);
+      add_displaced_sphere(
+          s, base + Vec3(0, radii.y * 0.8f, 0), radii, 3, [=](Vec3 p) { return amp * fbm(seed, p * freq, 3); }, m,
+          st.smooth);
       return radii.y * 1.8f;
     }
     case 3: {  // ring lying down or standing up
@@ -155,8 +165,8 @@ inline float add_random_object(Scene& s, Rng& rng, float x, float z, float floor
         add_torus(s, base + Vec3(0, r, 0), {0, 1, 0}, R, r, st.segments(32), st.segments(16), m, st.smooth);
         return 2 * r;
       }
-      add_torus(s, base + Vec3(0, R + r, 0), {std::cos(yaw), 0, std::sin(yaw)}, R, r, st.segments(32),
-                st.segments(16), m, st.smooth);
+      add_torus(s, base + Vec3(0, R + r, 0), {std::cos(yaw), 0, std::sin(yaw)}, R, r, st.segments(32), st.segments(16),
+                m, st.smooth);
       return 2 * (R + r);
     }
     case 4: {  // cone
@@ -173,8 +183,9 @@ inline float add_random_object(Scene& s, Rng& rng, float x, float z, float floor
       Vec3 half(size * 0.4f, size * 0.25f, size * 0.3f);
       add_bevelled_box(s, base + Vec3(0, half.y, 0), half, half.y * 0.2f, yaw, m, st.smooth, 2);
       Vec3 ax(std::cos(yaw), 0, -std::sin(yaw));
-      add_round_cylinder(s, base + Vec3(0, half.y, 0) - ax * (half.x * 1.3f), base + Vec3(0, half.y, 0) + ax * (half.x * 1.3f),
-                         half.y * 0.6f, st.segments(20), m, st.smooth);
+      add_round_cylinder(s, base + Vec3(0, half.y, 0) - ax * (half.x * 1.3f),
+                         base + Vec3(0, half.y, 0) + ax * (half.x * 1.3f), half.y * 0.6f, st.segments(20), m,
+                         st.smooth);
       add_sphere(s, base + Vec3(0, 2 * half.y + size * 0.1f, 0), size * 0.18f, st.segments(20), m, st.smooth);
       return 2 * half.y + size * 0.28f;
     }

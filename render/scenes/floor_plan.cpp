@@ -64,7 +64,8 @@ void build_plan(Scene& s, const FloorPlan& p, uint32_t wall, uint32_t floor, uin
     std::sort(spans.begin(), spans.end());
     std::vector<std::pair<float, float>> merged;
     for (auto sp : spans) {
-      if (!merged.empty() && sp.first <= merged.back().second) merged.back().second = std::max(merged.back().second, sp.second);
+      if (!merged.empty() && sp.first <= merged.back().second)
+        merged.back().second = std::max(merged.back().second, sp.second);
       else merged.push_back(sp);
     }
     for (auto [lo, hi] : merged) {
@@ -73,8 +74,7 @@ void build_plan(Scene& s, const FloorPlan& p, uint32_t wall, uint32_t floor, uin
         if (h.along_x == line.first && h.plane == line.second && h.o.a0 >= lo && h.o.a1 <= hi) holes.push_back(h.o);
       std::sort(holes.begin(), holes.end(), [](const Opening& a, const Opening& b) { return a.a0 < b.a0; });
       for (size_t k = 1; k < holes.size(); ++k)
-        if (holes[k].a0 < holes[k - 1].a1)
-          throw std::logic_error("build_plan: overlapping openings on a wall line");
+        if (holes[k].a0 < holes[k - 1].a1) throw std::logic_error("build_plan: overlapping openings on a wall line");
       add_wall_band(s, line.first, line.second, lo, hi, 0, p.height, t, holes, wall);
     }
   }

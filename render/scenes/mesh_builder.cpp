@@ -31,8 +31,8 @@ void quad(Scene& s, uint32_t a, uint32_t b, uint32_t c, uint32_t d, uint32_t m) 
 }
 }  // namespace
 
-void add_lathe(Scene& s, Vec3 base, Vec3 axis, const std::vector<ProfilePoint>& profile, int segments,
-               uint32_t m, bool smooth, bool closed) {
+void add_lathe(Scene& s, Vec3 base, Vec3 axis, const std::vector<ProfilePoint>& profile, int segments, uint32_t m,
+               bool smooth, bool closed) {
   if (smooth) pad_normals(s);
   const uint32_t v0 = uint32_t(s.positions.size());
   const size_t t0 = s.triangles.size();
@@ -149,8 +149,8 @@ void add_displaced_sphere(Scene& s, Vec3 c, Vec3 radii, int levels, const std::f
                           uint32_t m, bool smooth) {
   // Icosahedron, then each triangle split in four with shared midpoints.
   const float g = (1 + std::sqrt(5.0f)) / 2;
-  std::vector<Vec3> v = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                         {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  std::vector<Vec3> v = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
+                         {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
   for (auto& p : v) p = normalize(p);
   std::vector<std::array<uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
@@ -201,8 +201,7 @@ void add_height_field(Scene& s, float x0, float x1, float z0, float z1, int nx, 
 }
 
 void add_band_extrusion(Scene& s, const std::vector<ProfilePoint>& outer, const std::vector<ProfilePoint>& inner,
-                        Vec3 origin, Vec3 eu, Vec3 ev, Vec3 depth, uint32_t m, bool smooth_inner,
-                        bool smooth_outer) {
+                        Vec3 origin, Vec3 eu, Vec3 ev, Vec3 depth, uint32_t m, bool smooth_inner, bool smooth_outer) {
   size_t n = std::min(outer.size(), inner.size());
   if (n < 2) return;
   auto at = [&](const ProfilePoint& p, bool back) { return origin + eu * p.r + ev * p.y + (back ? depth : Vec3()); };

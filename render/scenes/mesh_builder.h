@@ -67,8 +67,7 @@ void add_height_field(Scene& s, float x0, float x1, float z0, float z1, int nx, 
 // The inner and outer walls are smooth (vertex normals averaged along the polyline)
 // when their flag says so; the two end faces and the two end walls are always flat.
 void add_band_extrusion(Scene& s, const std::vector<ProfilePoint>& outer, const std::vector<ProfilePoint>& inner,
-                        Vec3 origin, Vec3 eu, Vec3 ev, Vec3 depth, uint32_t m, bool smooth_inner,
-                        bool smooth_outer);
+                        Vec3 origin, Vec3 eu, Vec3 ev, Vec3 depth, uint32_t m, bool smooth_inner, bool smooth_outer);
 
 // A groin vault over the square bay [-R, R]^2 around `centre` (at springing height):
 // the union of two barrel vaults of radius R crossing at right angles, seen from

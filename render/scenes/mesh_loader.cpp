@@ -89,10 +89,22 @@ Mat4 node_matrix(const tinygltf::Node& n) {
   if (n.translation.size() == 3) t[12] = n.translation[0], t[13] = n.translation[1], t[14] = n.translation[2];
   if (n.rotation.size() == 4) {
     double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
-    r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
-         2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
-         2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
-         0,                       0,                       0,                       1};
+    r = {1 - 2 * (y * y + z * z),
+         2 * (x * y + z * w),
+         2 * (x * z - y * w),
+         0,
+         2 * (x * y - z * w),
+         1 - 2 * (x * x + z * z),
+         2 * (y * z + x * w),
+         0,
+         2 * (x * z + y * w),
+         2 * (y * z - x * w),
+         1 - 2 * (x * x + y * y),
+         0,
+         0,
+         0,
+         0,
+         1};
   }
   if (n.scale.size() == 3) sc[0] = n.scale[0], sc[5] = n.scale[1], sc[10] = n.scale[2];
   return mul(t, mul(r, sc));
@@ -109,11 +121,25 @@ double read_component(const tinygltf::Model& model, const tinygltf::Accessor& ac
   if (off + size_t(size) > buf.data.size()) throw std::out_of_range("accessor reads past its buffer");
   const unsigned char* p = buf.data.data() + off;
   switch (acc.componentType) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p, 4); return v; }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p, 2); return v; }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return *p;
-    default: throw std::runtime_error("unsupported accessor component type " + std::to_string(acc.componentType));
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return *p;
+    default:
+      throw std::runtime_error("unsupported accessor component type " + std::to_string(acc.componentType));
   }
 }
 
@@ -141,8 +167,8 @@ bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const 
 void load_gltf(const std::string& path, Scene& s) {
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
-  loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_regular_file,
-                         &tinygltf::WriteWholeFile, nullptr});
+  loader.SetFsCallbacks(
+      {&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_regular_file, &tinygltf::WriteWholeFile, nullptr});
   std::string err, warn;
   bool binary = std::filesystem::path(path).extension() == ".glb";
   bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
@@ -192,7 +218,8 @@ void load_gltf(const std::string& path, Scene& s) {
                                     base + uint32_t(read_component(model, idx, t + 2, 0))},
                                    mat});
         } else {
-          for (uint32_t t = 0; t + 2 < pos.count; t += 3) s.triangles.push_back({{base + t, base + t + 1, base + t + 2}, mat});
+          for (uint32_t t = 0; t + 2 < pos.count; t += 3)
+            s.triangles.push_back({{base + t, base + t + 1, base + t + 2}, mat});
         }
       }
     }
@@ -251,7 +278,8 @@ Scene load_mesh_scene(const std::string& path) {
   s.cameras.min = lo + Vec3(ext3.x * 0.15f, ext3.y * 0.1f, ext3.z * 0.15f);
   s.cameras.max = hi - Vec3(ext3.x * 0.15f, ext3.y * 0.4f, ext3.z * 0.15f);
   float el = 50 * 3.14159265f / 180, az = 0.5f;
-  s.suns.push_back({{std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az)}, {3, 2.9f, 2.7f}, 0.0093f});
+  s.suns.push_back(
+      {{std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az)}, {3, 2.9f, 2.7f}, 0.0093f});
   s.sky = Sky{{0.25f, 0.45f, 0.9f}, {0.7f, 0.8f, 0.95f}, {0.15f, 0.13f, 0.1f}};
   return s;
 }

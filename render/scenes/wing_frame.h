@@ -17,10 +17,14 @@ struct Wing {
   Vec3 at(float u, float y, float v) const {
     const float a = c + u;
     switch (k) {
-      case 0: return {a, y, v};
-      case 1: return {-v, y, a};
-      case 2: return {-a, y, -v};
-      default: return {v, y, -a};
+      case 0:
+        return {a, y, v};
+      case 1:
+        return {-v, y, a};
+      case 2:
+        return {-a, y, -v};
+      default:
+        return {v, y, -a};
     }
   }
   void box(Scene& s, float u0, float y0, float v0, float u1, float y1, float v1, uint32_t m) const {

@@ -51,8 +51,9 @@ inline std::string pareto_fmt(double v, int prec) {
 inline std::string pareto_csv(const std::vector<ParetoRow>& rows) {
   std::string csv = "method,setting,wall_ms,cpu_ms,mse,ssim,flicker_x_truth,on_front,beaten_by_nnao_at_no_more_time\n";
   for (auto& r : rows)
-    csv += r.method + "," + r.setting + "," + pareto_fmt(r.ms, 5) + "," + pareto_fmt(r.cpu_ms, 5) + "," + pareto_fmt(r.mse, 6) +
-           "," + pareto_fmt(r.ssim, 6) + "," + pareto_fmt(r.flicker, 4) + "," + (r.on_front ? "yes" : "no") + "," + r.beaten_by + "\n";
+    csv += r.method + "," + r.setting + "," + pareto_fmt(r.ms, 5) + "," + pareto_fmt(r.cpu_ms, 5) + "," +
+           pareto_fmt(r.mse, 6) + "," + pareto_fmt(r.ssim, 6) + "," + pareto_fmt(r.flicker, 4) + "," +
+           (r.on_front ? "yes" : "no") + "," + r.beaten_by + "\n";
   return csv;
 }
 
@@ -69,7 +70,8 @@ inline void add_pareto_section(report::Report& r, const std::vector<ParetoRow>& 
   bool any_nnao = false;
   for (auto& q : rows) any_nnao |= q.is_nnao();
   if (!any_nnao) return;
-  report::Table t{{"classical setting", "ms", "MSE", "SSIM", "beaten at no more time by", "its ms", "its MSE", "its SSIM"}, {}};
+  report::Table t{
+      {"classical setting", "ms", "MSE", "SSIM", "beaten at no more time by", "its ms", "its MSE", "its SSIM"}, {}};
   for (auto& q : rows) {
     if (q.is_nnao()) continue;
     ++classical;
@@ -90,7 +92,9 @@ inline void add_pareto_section(report::Report& r, const std::vector<ParetoRow>& 
   for (auto& q : rows)
     if (q.on_front) front.push_back(&q);
   std::sort(front.begin(), front.end(), [](const ParetoRow* a, const ParetoRow* b) { return a->ms < b->ms; });
-  for (auto* q : front) f.rows.push_back({q->method + "@" + q->setting, pareto_fmt(q->ms, 3), pareto_fmt(q->mse, 4), pareto_fmt(q->ssim, 4)});
+  for (auto* q : front)
+    f.rows.push_back(
+        {q->method + "@" + q->setting, pareto_fmt(q->ms, 3), pareto_fmt(q->mse, 4), pareto_fmt(q->ssim, 4)});
   r.table(f);
 }
 

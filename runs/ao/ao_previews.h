@@ -58,9 +58,8 @@ inline std::string fmt(double v, int prec = 6) {
 // before_view(view_file) runs before the methods on a view (shader-style NNAO's jitter
 // seed follows the frame number). Error heat-maps saturate at 0.5 (white).
 inline std::vector<report::Comparison> write_ao_previews(const std::vector<std::string>& views, int count,
-                                                      const std::vector<Method>& methods,
-                                                      const std::string& out,
-                                                      const std::function<void(const std::string&)>& before_view) {
+                                                         const std::vector<Method>& methods, const std::string& out,
+                                                         const std::function<void(const std::string&)>& before_view) {
   namespace fs = std::filesystem;
   std::vector<report::Comparison> comparisons;
   const size_t n = std::min(views.size(), size_t(std::max(count, 0)));
@@ -87,7 +86,8 @@ inline std::vector<report::Comparison> write_ao_previews(const std::vector<std::
           fmt(report::masked_ssim(result.data(), gt.data(), mask.data(), g.width, g.height), 4);
       report::write_png_gray((fs::path(out) / (base + ".png")).string(), result.data(), g.width, g.height);
       report::write_png_heatmap((fs::path(out) / (base + "_error.png")).string(), err.data(), g.width, g.height, 0.5f);
-      const std::string label = m.name + ", " + (m.setting.empty() ? std::to_string(m.samples) + " samples" : m.setting);
+      const std::string label =
+          m.name + ", " + (m.setting.empty() ? std::to_string(m.samples) + " samples" : m.setting);
       c.images.push_back({label, base + ".png", numbers});
       c.images.push_back({label + ": error", base + "_error.png", numbers + "; |AO - truth| black 0, white 0.5"});
     }

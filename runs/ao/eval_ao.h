@@ -94,16 +94,16 @@ inline std::vector<std::string> split_commas(const std::string& s) {
 }
 
 struct EvalAoOptions {
-  std::string data_dir;         // a split folder, a flat folder, or a root with test/
-  std::string model;            // nnao.blob; empty: classical methods only
-  std::string ladder;           // a trained ladder's folder (train-nnao --ladder): every rung as NNAO-exact
+  std::string data_dir;  // a split folder, a flat folder, or a root with test/
+  std::string model;     // nnao.blob; empty: classical methods only
+  std::string ladder;    // a trained ladder's folder (train-nnao --ladder): every rung as NNAO-exact
   std::string out = "eval-out";
   std::string methods = "NNAO-exact,NNAO,SSAO,SSAO+,HBAO,Alchemy,GTAO";
   std::vector<int> nnao_samples = {16, 32, 64, 128, 256};
   int threads = 2, previews = 3, max_views = 0, repeat = 3;
-  std::string params_file;      // tune-classical-ao's output; empty: built-in parameters
-  bool scalar = false;          // the scalar reference loops instead of the vectorised ones
-  std::string split = "test";   // "test", or "holdout": the families render-dataset held out
+  std::string params_file;     // tune-classical-ao's output; empty: built-in parameters
+  bool scalar = false;         // the scalar reference loops instead of the vectorised ones
+  std::string split = "test";  // "test", or "holdout": the families render-dataset held out
   // > 0: every method also runs with temporal accumulation ("<method>+TA"): on a camera
   // path, out_t = a * m_t + (1 - a) * out_t-1 reprojected (temporal.h), the raw m_t where
   // the previous frame does not see the point — the history blend engines run with TAA.
@@ -125,8 +125,8 @@ inline EvalViews open_split(const EvalAoOptions& o) {
     throw std::runtime_error(o.data_dir + ": no holdout/ split (render-dataset --holdout-families makes one)");
   const data::SplitListing& split = o.split == "holdout" ? d.holdout : d.flat ? d.train : d.test;
   EvalViews v{split.views, o.split == "holdout" ? d.holdout.dir + " (the held-out families: never in train/ or test/)"
-                           : d.flat            ? o.data_dir
-                                               : (d.test.dir + " (the test split)")};
+                           : d.flat             ? o.data_dir
+                                                : (d.test.dir + " (the test split)")};
   // Surround (cube) frames: their front faces, in path order — camera-path data, where
   // the temporal check means something.
   for (auto& f : split.frames)
@@ -161,7 +161,9 @@ inline MethodList build_methods(const EvalAoOptions& o, MethodInputs& in) {
   for (auto& w : wanted) {
     bool known = w == "NNAO" || w == "NNAO-exact";
     for (auto& c : classical_ao::classical_methods()) known |= c.name == w;
-    if (!known) throw std::invalid_argument("--methods: unknown method '" + w + "' (known: NNAO-exact, NNAO, SSAO, SSAO+, HBAO, Alchemy, GTAO)");
+    if (!known)
+      throw std::invalid_argument("--methods: unknown method '" + w +
+                                  "' (known: NNAO-exact, NNAO, SSAO, SSAO+, HBAO, Alchemy, GTAO)");
     if ((w == "NNAO" || w == "NNAO-exact") && !have_model)
       throw std::invalid_argument("--methods " + w + " needs --model nnao.blob or --ladder DIR");
   }
@@ -249,7 +251,9 @@ struct ViewScoring {
       st.by_family[family].add(mse, px, ssim);
     }
     for (size_t b = 0; b < bands.masks.size(); ++b)
-      if (band_pixels[b]) st.bands[b].add(report::masked_mse(res.data(), gt.data(), bands.masks[b].data(), g.pixels()), band_pixels[b], 0);
+      if (band_pixels[b])
+        st.bands[b].add(report::masked_mse(res.data(), gt.data(), bands.masks[b].data(), g.pixels()), band_pixels[b],
+                        0);
     if (same_path && !st.previous.empty()) {
       st.temporal.add_pair(to_prev, res.data(), st.previous.data(), gt.data(), prev_gt);
       st.temporal_by_family[family].add_pair(to_prev, res.data(), st.previous.data(), gt.data(), prev_gt);
@@ -259,7 +263,8 @@ struct ViewScoring {
 
 // Runs method m `repeat` times on g and keeps the fastest wall and CPU time (the run
 // least disturbed by other processes; the output is the same every time).
-inline void timed_run(const Method& m, const screen_space::GBuffer& g, int repeat, float* out, double& ms, double& cpu) {
+inline void timed_run(const Method& m, const screen_space::GBuffer& g, int repeat, float* out, double& ms,
+                      double& cpu) {
   ms = 1e300, cpu = 1e300;
   for (int k = 0; k < repeat; ++k) {
     const double c0 = pool_cpu_ms();
@@ -287,7 +292,8 @@ inline Evaluation evaluate_views(const EvalAoOptions& o, const std::vector<std::
       throw std::runtime_error(views[v] + ": missing channel 'AO' (eval-ao scores against ground-truth AO)");
     const screen_space::GBuffer g = screen_space::gbuffer_from_view(view);
     ev.width = g.width, ev.height = g.height;
-    ViewScoring sc{view, g, view.channel("AO"), std::vector<uint8_t>(size_t(g.pixels())), classical_ao::failure_bands(g)};
+    ViewScoring sc{view, g, view.channel("AO"), std::vector<uint8_t>(size_t(g.pixels())),
+                   classical_ao::failure_bands(g)};
     for (int64_t i = 0; i < g.pixels(); ++i) sc.mask[size_t(i)] = !g.sky(i);
     sc.px = std::count(sc.mask.begin(), sc.mask.end(), uint8_t(1));
     ev.band_names = sc.bands.names;
@@ -298,8 +304,8 @@ inline Evaluation evaluate_views(const EvalAoOptions& o, const std::vector<std::
     sc.same_path = sc.on_path && path == prev_path && frame == prev_frame + 1;
     in.pattern_seed = o.vary_pattern && sc.on_path ? uint32_t(frame) : 0u;
     if (sc.same_path) {
-      sc.to_prev = classical_ao::reproject_to_previous(g, view.world_to_camera, screen_space::gbuffer_from_view(prev_view),
-                                             prev_view.world_to_camera);
+      sc.to_prev = classical_ao::reproject_to_previous(
+          g, view.world_to_camera, screen_space::gbuffer_from_view(prev_view), prev_view.world_to_camera);
       sc.prev_gt = prev_view.channel("AO").data();
       const float* gt = sc.gt.data();
       ev.gt_temporal.add_pair(sc.to_prev, gt, sc.prev_gt, gt, sc.prev_gt);
@@ -324,7 +330,8 @@ inline Evaluation evaluate_views(const EvalAoOptions& o, const std::vector<std::
           const int64_t j = blend ? sc.to_prev[i] : -1;
           history[i] = j >= 0 ? w * result[i] + (1 - w) * ta.previous[size_t(j)] : result[i];
         }
-        const double blend_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        const double blend_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         ta.ms.push_back(ms + blend_ms);
         ta.cpu_ms.push_back(cpu + blend_ms);
         sc.score(ta, history);
@@ -362,8 +369,12 @@ inline std::vector<std::string> method_order(const Evaluation& ev) {
 // results*.csv, failure_bands.csv, temporal.csv, timing.csv; returns results.csv's text.
 inline std::string write_tables(const EvalAoOptions& o, const Evaluation& ev) {
   const auto& methods = ev.list.methods;
-  std::string csv = "method,samples,ms_per_frame,mse,ssim,psnr,setting\n", by_scene = "method,samples,scene,views,mse,ssim,psnr\n";
-  std::string band_csv = "method,samples,band,pixels,mse\n", temporal = "method,samples,flicker,ground_truth_flicker,flicker_relative_to_ground_truth,temporal_error,pairs,coverage\n";
+  std::string csv = "method,samples,ms_per_frame,mse,ssim,psnr,setting\n",
+              by_scene = "method,samples,scene,views,mse,ssim,psnr\n";
+  std::string band_csv = "method,samples,band,pixels,mse\n",
+              temporal =
+                  "method,samples,flicker,ground_truth_flicker,flicker_relative_to_ground_truth,temporal_error,pairs,"
+                  "coverage\n";
   // threads_used: CPU time over wall time, the cores a method kept busy (timing is fair
   // only if every method uses the threads it is given).
   std::string timing = "method,samples,wall_ms_median,cpu_ms_median,threads,threads_used,setting\n";
@@ -371,18 +382,23 @@ inline std::string write_tables(const EvalAoOptions& o, const Evaluation& ev) {
     const auto& st = ev.stats[m];
     const std::string nm = methods[m].name, ns = std::to_string(methods[m].samples);
     const double ms = median(st.ms), mse = st.all.mse();
-    csv += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(mse) + "," + fmt(st.all.ssim()) + "," + fmt(report::psnr_from_mse(mse), 5) + "," + methods[m].setting + "\n";
+    csv += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(mse) + "," + fmt(st.all.ssim()) + "," +
+           fmt(report::psnr_from_mse(mse), 5) + "," + methods[m].setting + "\n";
     for (auto& [scene, sc] : st.by_scene)
-      by_scene += nm + "," + ns + "," + scene + "," + std::to_string(sc.views) + "," + fmt(sc.mse()) + "," + fmt(sc.ssim()) + "," + fmt(report::psnr_from_mse(sc.mse()), 5) + "\n";
+      by_scene += nm + "," + ns + "," + scene + "," + std::to_string(sc.views) + "," + fmt(sc.mse()) + "," +
+                  fmt(sc.ssim()) + "," + fmt(report::psnr_from_mse(sc.mse()), 5) + "\n";
     for (size_t b = 0; b < st.bands.size(); ++b)
-      band_csv += nm + "," + ns + "," + ev.band_names[b] + "," + std::to_string(st.bands[b].pixels) + "," + fmt(st.bands[b].mse()) + "\n";
+      band_csv += nm + "," + ns + "," + ev.band_names[b] + "," + std::to_string(st.bands[b].pixels) + "," +
+                  fmt(st.bands[b].mse()) + "\n";
     if (st.temporal.pairs) {
       const double f = st.temporal.flicker(), gf = ev.gt_temporal.flicker();
-      temporal += nm + "," + ns + "," + fmt(f) + "," + fmt(gf) + "," + (gf > 0 ? fmt(f / gf, 4) : std::string("nan")) + "," +
-                  fmt(st.temporal.error()) + "," + std::to_string(st.temporal.pairs) + "," + fmt(st.temporal.coverage(), 4) + "\n";
+      temporal += nm + "," + ns + "," + fmt(f) + "," + fmt(gf) + "," + (gf > 0 ? fmt(f / gf, 4) : std::string("nan")) +
+                  "," + fmt(st.temporal.error()) + "," + std::to_string(st.temporal.pairs) + "," +
+                  fmt(st.temporal.coverage(), 4) + "\n";
     }
     const double cpu = median(st.cpu_ms);
-    timing += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(cpu, 5) + "," + std::to_string(o.threads) + "," + fmt(cpu / ms, 3) + "," + methods[m].setting + "\n";
+    timing += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(cpu, 5) + "," + std::to_string(o.threads) + "," +
+              fmt(cpu / ms, 3) + "," + methods[m].setting + "\n";
   }
   write_file_atomic((fs::path(o.out) / "results.csv").string(), csv);
   write_file_atomic((fs::path(o.out) / "results_by_scene.csv").string(), by_scene);
@@ -411,9 +427,11 @@ inline report::Table write_family_table(const EvalAoOptions& o, const Evaluation
       const bool has_t = t != st.temporal_by_family.end() && t->second.pairs && gt != ev.gt_temporal_by_family.end();
       const double f = has_t ? t->second.flicker() : std::nan(""), gf = has_t ? gt->second.flicker() : std::nan("");
       const std::string label = ev.list.methods[m].label();
-      by_family += fam + "," + n + "," + std::to_string(ev.list.methods[m].samples) + "," + std::to_string(sc->second.views) + "," +
-                   fmt(sc->second.mse()) + "," + fmt(sc->second.ssim()) + "," + fmt(f) + "," + fmt(gf) + "\n";
-      table.rows.push_back({fam, n, label, fmt(sc->second.mse(), 4), fmt(sc->second.ssim(), 4), has_t ? fmt(f / gf, 3) : std::string("-")});
+      by_family += fam + "," + n + "," + std::to_string(ev.list.methods[m].samples) + "," +
+                   std::to_string(sc->second.views) + "," + fmt(sc->second.mse()) + "," + fmt(sc->second.ssim()) + "," +
+                   fmt(f) + "," + fmt(gf) + "\n";
+      table.rows.push_back({fam, n, label, fmt(sc->second.mse(), 4), fmt(sc->second.ssim(), 4),
+                            has_t ? fmt(f / gf, 3) : std::string("-")});
     }
   write_file_atomic((fs::path(o.out) / "results_by_family.csv").string(), by_family);
   return table;
@@ -467,7 +485,8 @@ inline ChartNotes write_charts(const EvalAoOptions& o, const Evaluation& ev) {
     if (flicker_series.count(n)) flicker_chart.push_back(flicker_series[n]);
   }
   report::ChartOptions co;
-  co.title = "AO: error against time (" + std::to_string(ev.width) + "x" + std::to_string(ev.height) + ", " + std::to_string(o.threads) + " threads)";
+  co.title = "AO: error against time (" + std::to_string(ev.width) + "x" + std::to_string(ev.height) + ", " +
+             std::to_string(o.threads) + " threads)";
   co.x_label = "ms per frame (median over views)";
   co.y_label = "MSE vs ray-traced AO (non-sky pixels)";
   co.log_x = true;
@@ -497,7 +516,8 @@ inline std::vector<ParetoRow> write_pareto(const EvalAoOptions& o, const Evaluat
     if (!methods[m].run) continue;
     const auto& st = ev.stats[m];
     rows.push_back({methods[m].name, methods[m].label(), median(st.ms), median(st.cpu_ms), st.all.mse(), st.all.ssim(),
-                    st.temporal.pairs && ev.gt_temporal.flicker() > 0 ? st.temporal.flicker() / ev.gt_temporal.flicker() : std::nan("")});
+                    st.temporal.pairs && ev.gt_temporal.flicker() > 0 ? st.temporal.flicker() / ev.gt_temporal.flicker()
+                                                                      : std::nan("")});
   }
   mark_front_and_wins(rows);
   write_file_atomic((fs::path(o.out) / "pareto.csv").string(), pareto_csv(rows));
@@ -521,9 +541,10 @@ inline std::vector<std::string> paper_claims(const Evaluation& ev) {
     for (size_t m = 0; m < methods.size(); ++m)
       if (methods[m].name.rfind("NNAO", 0) != 0 && ev.stats[m].all.mse() <= nnao_mse)
         beaten_by += " " + methods[m].name + "@" + methods[m].label();
-    claims.push_back("NNAO (exact" + (methods[ex->second].setting.empty() ? std::string() : ", " + methods[ex->second].setting) +
-                     ", MSE " + fmt(nnao_mse, 4) + ") has lower MSE than every classical method at every sample count: **" +
-                     (beaten_by.empty() ? "holds**." : "does not hold** (not lower than:" + beaten_by + ")."));
+    claims.push_back(
+        "NNAO (exact" + (methods[ex->second].setting.empty() ? std::string() : ", " + methods[ex->second].setting) +
+        ", MSE " + fmt(nnao_mse, 4) + ") has lower MSE than every classical method at every sample count: **" +
+        (beaten_by.empty() ? "holds**." : "does not hold** (not lower than:" + beaten_by + ")."));
   }
   int n64 = find("NNAO", 64), h64 = find("HBAO", 64);
   if (n64 >= 0 && h64 >= 0) {
@@ -551,16 +572,20 @@ inline void write_report(const EvalAoOptions& o, const Evaluation& ev, const Eva
     in.pattern_seed = o.vary_pattern && on_path ? uint32_t(frame) : 0u;
   });
   report::Report r("AO evaluation");
-  r.text("Data: " + views.note + " — " + std::to_string(views.files.size()) + " views at " + std::to_string(ev.width) + "x" +
-         std::to_string(ev.height) + ", " + std::to_string(o.threads) + " threads, classical parameters: " +
-         (o.params_file.empty() ? std::string("built-in") : o.params_file) +
+  r.text("Data: " + views.note + " — " + std::to_string(views.files.size()) + " views at " + std::to_string(ev.width) +
+         "x" + std::to_string(ev.height) + ", " + std::to_string(o.threads) +
+         " threads, classical parameters: " + (o.params_file.empty() ? std::string("built-in") : o.params_file) +
          ". Errors over non-sky pixels against the ray-traced `AO` channel; ms per frame is the median over views of "
-         "the fastest of " + std::to_string(o.repeat) + " runs per view, every method on the same frames through the "
+         "the fastest of " +
+         std::to_string(o.repeat) +
+         " runs per view, every method on the same frames through the "
          "same thread pool.");
   if (!comparisons.empty()) {
-    r.heading("Previews").text("The ray-traced AO, each method at its best setting (lowest MSE over all views; the "
-                               "+TA forms are left out: they need a camera path's history) and its error heat-map "
-                               "(black 0, white 0.5), with the view's MSE and SSIM. PNGs in previews/.");
+    r.heading("Previews")
+        .text(
+            "The ray-traced AO, each method at its best setting (lowest MSE over all views; the "
+            "+TA forms are left out: they need a camera path's history) and its error heat-map "
+            "(black 0, white 0.5), with the view's MSE and SSIM. PNGs in previews/.");
     for (auto& c : comparisons) r.comparison(c);
   }
   r.heading("Speed against accuracy");
@@ -579,8 +604,9 @@ inline void write_report(const EvalAoOptions& o, const Evaluation& ev, const Eva
   if (claims.empty()) r.text("Not checked: they need NNAO-exact, or NNAO and HBAO at 64 samples.");
   else r.list(claims);
   r.heading("Failure bands (MSE)")
-      .text("halo: within 3 px of a depth discontinuity; border: within 8% of the width of the screen edge; thin: "
-            "surfaces under 6 px across. See failure_bands.csv.");
+      .text(
+          "halo: within 3 px of a depth discontinuity; border: within 8% of the width of the screen edge; thin: "
+          "surfaces under 6 px across. See failure_bands.csv.");
   report::Table band_table{{"method", "setting"}, {}};
   for (auto& b : ev.band_names) band_table.header.push_back(b);
   for (size_t m = 0; m < methods.size(); ++m) {
@@ -588,18 +614,23 @@ inline void write_report(const EvalAoOptions& o, const Evaluation& ev, const Eva
     for (auto& b : ev.stats[m].bands) band_table.rows.back().push_back(fmt(b.mse(), 4));
   }
   r.table(band_table).heading("Per family");
-  r.text("Each method at its setting of lowest MSE over all views; flicker relative to the ground truth's on the "
-         "family's camera-path frames. See results_by_family.csv.");
+  r.text(
+      "Each method at its setting of lowest MSE over all views; flicker relative to the ground truth's on the "
+      "family's camera-path frames. See results_by_family.csv.");
   r.table(write_family_table(o, ev));
-  r.text("Per scene: results_by_scene.csv. CPU ms (the CPU time of every thread of the pool, each read from its own "
-         "clock, median over views): timing.csv.");
+  r.text(
+      "Per scene: results_by_scene.csv. CPU ms (the CPU time of every thread of the pool, each read from its own "
+      "clock, median over views): timing.csv.");
   r.heading("Temporal stability")
-      .text("On camera-path frames (files `<scene>-pNN-fNNN.exr`), each frame reprojected to the one before it "
-            "(worldToCamera; disocclusions and off-screen points skipped). flicker = mean |m_t - m_t-1| over the mapped "
-            "pixels; temporal error = mean |(m_t - m_t-1) - (g_t - g_t-1)| against the ground truth g. See temporal.csv.");
+      .text(
+          "On camera-path frames (files `<scene>-pNN-fNNN.exr`), each frame reprojected to the one before it "
+          "(worldToCamera; disocclusions and off-screen points skipped). flicker = mean |m_t - m_t-1| over the mapped "
+          "pixels; temporal error = mean |(m_t - m_t-1) - (g_t - g_t-1)| against the ground truth g. See "
+          "temporal.csv.");
   if (ev.gt_temporal.pairs) {
-    r.text("Ground truth flicker " + fmt(ev.gt_temporal.flicker(), 4) + " over " + std::to_string(ev.gt_temporal.pairs) +
-           " frame pairs (" + fmt(100 * ev.gt_temporal.coverage(), 3) + "% of pixels mapped).");
+    r.text("Ground truth flicker " + fmt(ev.gt_temporal.flicker(), 4) + " over " +
+           std::to_string(ev.gt_temporal.pairs) + " frame pairs (" + fmt(100 * ev.gt_temporal.coverage(), 3) +
+           "% of pixels mapped).");
     if (notes.has_flicker) r.chart("flicker_vs_time.svg", "flicker vs time", notes.flicker);
     report::Table t_table{{"method", "setting", "flicker", "relative to ground truth", "temporal error"}, {}};
     for (size_t m = 0; m < methods.size(); ++m) {
@@ -625,7 +656,8 @@ inline MethodInputs load_method_inputs(const EvalAoOptions& o) {
       in.models.push_back(nnao::NnaoWeights::load(e.blob));
       in.model_settings.push_back(e.name);
     }
-  in.classical = o.params_file.empty() ? classical_ao::ClassicalParams{} : classical_ao::read_classical_params(o.params_file);
+  in.classical =
+      o.params_file.empty() ? classical_ao::ClassicalParams{} : classical_ao::read_classical_params(o.params_file);
   return in;
 }
 

@@ -36,7 +36,8 @@ inline data::View resize_nearest(const data::View& v, int width, int height) {
     for (int y = 0; y < height; ++y) {
       const int sy = std::min(v.height - 1, int((int64_t(y) * v.height) / height));
       for (int x = 0; x < width; ++x)
-        dst[size_t(y) * width + x] = src[size_t(sy) * v.width + std::min(v.width - 1, int((int64_t(x) * v.width) / width))];
+        dst[size_t(y) * width + x] =
+            src[size_t(sy) * v.width + std::min(v.width - 1, int((int64_t(x) * v.width) / width))];
     }
   }
   return out;
@@ -60,7 +61,8 @@ struct TimedRung {
 
 // Every rung timed on `view` resized to width x height (median of `rounds` runs after one
 // warm-up, on the thread pool as it is set).
-inline std::vector<TimedRung> time_ladder(const std::string& dir, const data::View& view, int width, int height, int rounds = 7) {
+inline std::vector<TimedRung> time_ladder(const std::string& dir, const data::View& view, int width, int height,
+                                          int rounds = 7) {
   const std::vector<LadderEntry> rungs = read_ladder(dir);
   const data::View frame = resize_nearest(view, width, height);
   const screen_space::GBuffer g = screen_space::gbuffer_from_view(frame);

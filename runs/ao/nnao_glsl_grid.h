@@ -17,7 +17,8 @@ inline std::string glsl_grid_pass(const nnao::NnaoWeights& m, int default_sample
   s << glsl_preamble("NNAO pass of a grid model (Holden et al. 2016, shader-style inference)")
     << "uniform sampler2D uFilters;  // nnao_filters.exr as stored (row j = grid row j, not flipped): (H*W) x W\n"
     << "                             // RGBA32F, filter k in columns [k*W, (k+1)*W), RGBA = Nx, Ny, Nz, depth weights\n"
-    << "uniform int uSamples = " << default_samples << ";  // filter samples per pixel: 64 = 8 x 8 strata, 128 = 16 x 8, ...\n"
+    << "uniform int uSamples = " << default_samples
+    << ";  // filter samples per pixel: 64 = 8 x 8 strata, 128 = 16 x 8, ...\n"
     << "uniform uint uFrame = 0u;   // seed of the jitter pattern: the frame index, for temporal accumulation\n"
     << "const int W = " << m.input.window << ";  // the grid: W x W view-space points spanning [-r, r]\n"
     << glsl_head(m);

@@ -31,7 +31,8 @@ struct Rung {
   std::string name() const {
     static const char* res[] = {"", "full", "half", "", "quarter"};
     return "d" + std::to_string(directions) + "s" + std::to_string(steps) + "h" + std::to_string(hidden) + "-" +
-           res[downsample] + "-b" + std::to_string(blur_passes) + (normal_power >= 0 ? "-n" + std::to_string(normal_power) : "");
+           res[downsample] + "-b" + std::to_string(blur_passes) +
+           (normal_power >= 0 ? "-n" + std::to_string(normal_power) : "");
   }
   // Depth samples per full-resolution pixel: the march's cost, spread over s^2 pixels.
   double samples_per_pixel() const { return double(directions) * steps / double(downsample * downsample); }
@@ -64,8 +65,9 @@ inline std::vector<Rung> parse_rungs(const std::string& text) {
   std::vector<Rung> rungs;
   std::stringstream ss(text);
   for (std::string item; std::getline(ss, item, ',');) {
-    const std::string form = "--ladder-rungs: '" + item +
-                             "' is not D:S:B:H:s:P[:N] (directions, steps, bands, hidden, downsample, blur passes, normal power 0..64)";
+    const std::string form =
+        "--ladder-rungs: '" + item +
+        "' is not D:S:B:H:s:P[:N] (directions, steps, bands, hidden, downsample, blur passes, normal power 0..64)";
     std::vector<int> v;
     std::stringstream fs(item);
     for (std::string f; std::getline(fs, f, ':');) {
@@ -119,7 +121,8 @@ struct LadderEntry {
 inline void train_ladder(const TrainOptions& base, const std::vector<Rung>& rungs) {
   namespace fs = std::filesystem;
   fs::create_directories(base.out_dir);
-  std::string csv = "rung,directions,steps,bands,hidden,downsample,blur_passes,samples_per_pixel,test_mse,val_mse,seconds\n";
+  std::string csv =
+      "rung,directions,steps,bands,hidden,downsample,blur_passes,samples_per_pixel,test_mse,val_mse,seconds\n";
   for (size_t i = 0; i < rungs.size(); ++i) {
     const Rung& r = rungs[i];
     if (!base.quiet) std::fprintf(stderr, "ladder: rung %zu of %zu: %s\n", i + 1, rungs.size(), r.name().c_str());
@@ -129,8 +132,9 @@ inline void train_ladder(const TrainOptions& base, const std::vector<Rung>& rung
       continue;
     }
     char line[256];
-    std::snprintf(line, sizeof line, "%s,%d,%d,%d,%d,%d,%d,%.6g,%.6g,%.6g,%.1f\n", r.name().c_str(), r.directions, r.steps,
-                  r.bands, r.hidden, r.downsample, r.blur_passes, r.samples_per_pixel(), t.test_mse, t.val_mse, t.seconds);
+    std::snprintf(line, sizeof line, "%s,%d,%d,%d,%d,%d,%d,%.6g,%.6g,%.6g,%.1f\n", r.name().c_str(), r.directions,
+                  r.steps, r.bands, r.hidden, r.downsample, r.blur_passes, r.samples_per_pixel(), t.test_mse, t.val_mse,
+                  t.seconds);
     csv += line;
   }
   write_file_atomic((fs::path(base.out_dir) / "ladder.csv").string(), csv);
@@ -146,7 +150,8 @@ inline std::vector<LadderEntry> read_ladder(const std::string& dir) {
   std::vector<LadderEntry> rungs;
   std::string line;
   std::getline(in, line);
-  if (line.rfind("rung,", 0) != 0) throw std::runtime_error(csv + ": not a ladder file (its first line must start 'rung,')");
+  if (line.rfind("rung,", 0) != 0)
+    throw std::runtime_error(csv + ": not a ladder file (its first line must start 'rung,')");
   for (int n = 2; std::getline(in, line); ++n) {
     if (line.empty()) continue;
     std::vector<std::string> f;
@@ -155,7 +160,8 @@ inline std::vector<LadderEntry> read_ladder(const std::string& dir) {
     if (f.size() < 8 || f[0].empty() || f[0].find_first_of("/\\") != std::string::npos || f[0][0] == '.')
       throw std::runtime_error(csv + ": line " + std::to_string(n) + " is not a rung");
     LadderEntry e{f[0], (fs::path(dir) / f[0] / "nnao.blob").string(), std::atof(f[7].c_str())};
-    if (!fs::is_regular_file(e.blob)) throw std::runtime_error(csv + ": rung " + e.name + " has no model (" + e.blob + ")");
+    if (!fs::is_regular_file(e.blob))
+      throw std::runtime_error(csv + ": rung " + e.name + " has no model (" + e.blob + ")");
     rungs.push_back(e);
   }
   if (rungs.empty()) throw std::runtime_error(csv + ": no rungs");

@@ -9,9 +9,9 @@
 // feature work, no allocation per step) and the memory does not grow with the number of
 // views. A row is w*w*4 features in IEEE half precision (binary16, 11-bit significand:
 // relative rounding error <= 2^-11, 2 bytes per feature: w = 31 needs 7.7 KB per point
-// instead of 15.4 KB, the default horizon layout 0.14 KB: 70 features) followed by the float target. Rows are widened to float when a
-// batch is gathered (to_float); the network, the statistics and every sum run in float
-// or double. See docs/nnao.md for the measured effect of both.
+// instead of 15.4 KB, the default horizon layout 0.14 KB: 70 features) followed by the float target. Rows are widened
+// to float when a batch is gathered (to_float); the network, the statistics and every sum run in float or double. See
+// docs/nnao.md for the measured effect of both.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -92,20 +92,24 @@ inline int64_t view_points(const data::View& v, const nnao::InputSpec& input, in
   std::vector<int64_t> pix = nnao::non_sky_pixels(g);
   const int64_t n = std::min<int64_t>(per_view, int64_t(pix.size()));
   // Partial Fisher-Yates: the first n entries become a uniform random subset.
-  for (int64_t i = 0; i < n; ++i) std::swap(pix[size_t(i)], pix[size_t(i + int64_t(rng.below(pix.size() - size_t(i))))]);
+  for (int64_t i = 0; i < n; ++i)
+    std::swap(pix[size_t(i)], pix[size_t(i + int64_t(rng.below(pix.size() - size_t(i))))]);
   const int64_t F = input.count(), R = point_row_bytes(F);
   rows.resize(size_t(n * R));
-  parallel_for(n, [&](int64_t b, int64_t e) {
-    std::vector<float> row(static_cast<size_t>(F));
-    for (int64_t k = b; k < e; ++k) {
-      const int64_t p = pix[size_t(k)];
-      input.compute(g, int(p % g.width), int(p / g.width), row.data());
-      char* dst = rows.data() + k * R;
-      Half* x = row_features(dst);
-      for (int64_t f = 0; f < F; ++f) x[f] = to_half(row[size_t(f)]);
-      set_row_target(dst, F, ao[size_t(p)] - input.base(row.data()));
-    }
-  }, 16);
+  parallel_for(
+      n,
+      [&](int64_t b, int64_t e) {
+        std::vector<float> row(static_cast<size_t>(F));
+        for (int64_t k = b; k < e; ++k) {
+          const int64_t p = pix[size_t(k)];
+          input.compute(g, int(p % g.width), int(p / g.width), row.data());
+          char* dst = rows.data() + k * R;
+          Half* x = row_features(dst);
+          for (int64_t f = 0; f < F; ++f) x[f] = to_half(row[size_t(f)]);
+          set_row_target(dst, F, ao[size_t(p)] - input.base(row.data()));
+        }
+      },
+      16);
   return n;
 }
 
@@ -128,16 +132,19 @@ struct StandardizerSums {
 
   void add(const char* rows, int64_t count) {
     const int64_t F = features, R = point_row_bytes(F);
-    parallel_for(F, [&](int64_t f0, int64_t f1) {
-      for (int64_t i = 0; i < count; ++i) {
-        const Half* x = row_features(rows + i * R);
-        for (int64_t f = f0; f < f1; ++f) {
-          const double v = double(x[f]);
-          sum[size_t(f)] += v;
-          sq[size_t(f)] += v * v;
-        }
-      }
-    }, 64, 16);
+    parallel_for(
+        F,
+        [&](int64_t f0, int64_t f1) {
+          for (int64_t i = 0; i < count; ++i) {
+            const Half* x = row_features(rows + i * R);
+            for (int64_t f = f0; f < f1; ++f) {
+              const double v = double(x[f]);
+              sum[size_t(f)] += v;
+              sq[size_t(f)] += v * v;
+            }
+          }
+        },
+        64, 16);
     for (int64_t i = 0; i < count; ++i) {
       const double v = row_target(rows + i * R, F);
       ts += v, tq += v * v;
@@ -165,14 +172,17 @@ struct StandardizerSums {
 // Standardises rows in place; the features are rounded to binary16 again.
 inline void standardize_rows(char* rows, int64_t count, int64_t F, const Standardizer& s) {
   const int64_t R = point_row_bytes(F);
-  parallel_for(count, [&](int64_t b, int64_t e) {
-    for (int64_t i = b; i < e; ++i) {
-      char* row = rows + i * R;
-      Half* x = row_features(row);
-      for (int64_t f = 0; f < F; ++f) x[f] = to_half((float(x[f]) - s.mean[size_t(f)]) / s.std[size_t(f)]);
-      set_row_target(row, F, (row_target(row, F) - s.target_mean) / s.target_std);
-    }
-  }, 64);
+  parallel_for(
+      count,
+      [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+          char* row = rows + i * R;
+          Half* x = row_features(row);
+          for (int64_t f = 0; f < F; ++f) x[f] = to_half((float(x[f]) - s.mean[size_t(f)]) / s.std[size_t(f)]);
+          set_row_target(row, F, (row_target(row, F) - s.target_mean) / s.target_std);
+        }
+      },
+      64);
 }
 
 // Standardises a point file in place, a bounded block of rows at a time (one read and

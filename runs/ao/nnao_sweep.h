@@ -85,7 +85,8 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<i
       }
       std::sort(ms.begin(), ms.end());
       const int64_t F = o.net.inputs();
-      entries.push_back({w, h, o.net.input().samples(), F * h + h + 2 * (h * h + h) + h + 1 + 2 * (3 * h + 1), val, mse, ms[1]});
+      entries.push_back(
+          {w, h, o.net.input().samples(), F * h + h + 2 * (h * h + h) + h + 1 + 2 * (3 * h + 1), val, mse, ms[1]});
     }
   double best = 1e300;
   // Chosen on the validation scenes (carved from the training split), never the test.
@@ -99,7 +100,8 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<i
   std::map<int, report::ChartSeries> by_hidden;
   for (auto& e : entries) {
     char line[160];
-    std::snprintf(line, sizeof line, "%d,%d,%d,%lld,%.6g,%.6g,%.4g\n", e.size, e.hidden, e.samples, (long long)e.parameters, e.val_mse, e.test_mse, e.ms_per_frame);
+    std::snprintf(line, sizeof line, "%d,%d,%d,%lld,%.6g,%.6g,%.4g\n", e.size, e.hidden, e.samples,
+                  (long long)e.parameters, e.val_mse, e.test_mse, e.ms_per_frame);
     csv += line;
     auto& s = by_hidden[e.hidden];
     s.name = "hidden " + std::to_string(e.hidden);
@@ -119,26 +121,33 @@ inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<i
   char setup[256];
   std::snprintf(setup, sizeof setup, "%d epochs each, gamma %g, %d training points per view, batch %d, seed %llu",
                 base.epochs, base.gamma, base.points_per_view, base.batch, (unsigned long long)base.seed);
-  std::string val_note = "whole scenes carved from the training split (" + std::to_string(base.validation_fraction) + " of it)";
+  std::string val_note =
+      "whole scenes carved from the training split (" + std::to_string(base.validation_fraction) + " of it)";
   if (!base.validation_families.empty()) {
     val_note = "the training split's families";
     for (auto& f : base.validation_families) val_note += " " + f;
     val_note += ", held out of training";
   }
-  std::string md = "# NNAO size sweep (" + base.net.features + " features)\n\n" + std::string(setup) + ", data " + base.data_dir +
-                   ". Validation MSE (the choice): " + val_note +
-                   "; test MSE: the test split, reported, never used to choose. Both: mean over the last 5 epochs. ms/frame: exact inference of the first test view, median of 3, " +
-                   std::to_string(num_threads()) + " thread(s).\n\n| " + size_name + " | hidden | samples | parameters | validation MSE | test MSE | ms/frame (exact) |\n|---|---|---|---|---|---|---|\n";
+  std::string md = "# NNAO size sweep (" + base.net.features + " features)\n\n" + std::string(setup) + ", data " +
+                   base.data_dir + ". Validation MSE (the choice): " + val_note +
+                   "; test MSE: the test split, reported, never used to choose. Both: mean over the last 5 epochs. "
+                   "ms/frame: exact inference of the first test view, median of 3, " +
+                   std::to_string(num_threads()) + " thread(s).\n\n| " + size_name +
+                   " | hidden | samples | parameters | validation MSE | test MSE | ms/frame (exact) "
+                   "|\n|---|---|---|---|---|---|---|\n";
   for (auto& e : entries) {
     char line[160];
-    std::snprintf(line, sizeof line, "| %d | %d | %d | %lld | %.5f | %.5f | %.1f |\n", e.size, e.hidden, e.samples, (long long)e.parameters, e.val_mse, e.test_mse, e.ms_per_frame);
+    std::snprintf(line, sizeof line, "| %d | %d | %d | %lld | %.5f | %.5f | %.1f |\n", e.size, e.hidden, e.samples,
+                  (long long)e.parameters, e.val_mse, e.test_mse, e.ms_per_frame);
     md += line;
   }
   if (pick) {
     char line[256];
     std::snprintf(line, sizeof line,
-                  "\nBest validation MSE %.5f. Cheapest model within 2%% of it: **%s = %d, hidden = %d** (%lld parameters, validation MSE %.5f, test MSE %.5f, %.1f ms/frame).\n",
-                  best, size_name.c_str(), pick->size, pick->hidden, (long long)pick->parameters, pick->val_mse, pick->test_mse, pick->ms_per_frame);
+                  "\nBest validation MSE %.5f. Cheapest model within 2%% of it: **%s = %d, hidden = %d** (%lld "
+                  "parameters, validation MSE %.5f, test MSE %.5f, %.1f ms/frame).\n",
+                  best, size_name.c_str(), pick->size, pick->hidden, (long long)pick->parameters, pick->val_mse,
+                  pick->test_mse, pick->ms_per_frame);
     md += line;
     std::printf("%s", line + 1);
   }

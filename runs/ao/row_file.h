@@ -134,7 +134,8 @@ class ShuffledRows {
     order_.resize(size_t(nchunks_));
     for (int64_t i = 0; i < nchunks_; ++i) order_[size_t(i)] = i;
     if (ngroups_ > 1)
-      for (int64_t i = nchunks_ - 1; i > 0; --i) std::swap(order_[size_t(i)], order_[size_t(rng.below(uint64_t(i + 1)))]);
+      for (int64_t i = nchunks_ - 1; i > 0; --i)
+        std::swap(order_[size_t(i)], order_[size_t(rng.below(uint64_t(i + 1)))]);
     next_group_ = 0;
     pos_ = loaded_ = 0;
     prefetch();

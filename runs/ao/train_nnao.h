@@ -78,21 +78,47 @@ struct Preset {
   int hidden;
   double dropout, gamma;
   int epochs;
-  int blur_passes;  // horizon models: the exact inference's bilateral blur passes
-  double blur_depth;      // and its edge terms (nnao::BlurEdges)
+  int blur_passes;    // horizon models: the exact inference's bilateral blur passes
+  double blur_depth;  // and its edge terms (nnao::BlurEdges)
   int blur_normal_power;
   double radius_term_max;  // horizon models: the inference's ceiling on the radius term (0: none)
 };
 inline Preset preset(const std::string& name) {
   if (name == "paper")
-    return {.features = "grid", .window = 31, .horizon = {}, .hidden = 4, .dropout = 0.5, .gamma = 0.01, .epochs = 12,
-            .blur_passes = 1, .blur_depth = 0.1, .blur_normal_power = 8, .radius_term_max = 0};
+    return {.features = "grid",
+            .window = 31,
+            .horizon = {},
+            .hidden = 4,
+            .dropout = 0.5,
+            .gamma = 0.01,
+            .epochs = 12,
+            .blur_passes = 1,
+            .blur_depth = 0.1,
+            .blur_normal_power = 8,
+            .radius_term_max = 0};
   if (name == "grid")
-    return {.features = "grid", .window = 31, .horizon = {}, .hidden = 4, .dropout = 0.5, .gamma = 1e-4, .epochs = 12,
-            .blur_passes = 1, .blur_depth = 0.1, .blur_normal_power = 8, .radius_term_max = 0};
+    return {.features = "grid",
+            .window = 31,
+            .horizon = {},
+            .hidden = 4,
+            .dropout = 0.5,
+            .gamma = 1e-4,
+            .epochs = 12,
+            .blur_passes = 1,
+            .blur_depth = 0.1,
+            .blur_normal_power = 8,
+            .radius_term_max = 0};
   if (name == "default")
-    return {.features = "horizon", .window = 31, .horizon = {.directions = 16, .steps = 8, .bands = 4}, .hidden = 16,
-            .dropout = 0.0, .gamma = 1e-4, .epochs = 8, .blur_passes = 4, .blur_depth = 0.3, .blur_normal_power = 2,
+    return {.features = "horizon",
+            .window = 31,
+            .horizon = {.directions = 16, .steps = 8, .bands = 4},
+            .hidden = 16,
+            .dropout = 0.0,
+            .gamma = 1e-4,
+            .epochs = 8,
+            .blur_passes = 4,
+            .blur_depth = 0.3,
+            .blur_normal_power = 2,
             .radius_term_max = 0.6};
   throw std::invalid_argument("unknown NNAO preset '" + name + "' (known: default, grid, paper)");
 }
@@ -102,13 +128,13 @@ struct TrainOptions {
   std::string out_dir = "nnao-out";
   nnao::NnaoNetConfig net;
   int epochs = 20;
-  int blur_passes = 1;  // horizon models: recorded in the blob for the exact inference
-  double blur_depth = 0.1;     // and the blur's edge terms (nnao::BlurEdges)
+  int blur_passes = 1;      // horizon models: recorded in the blob for the exact inference
+  double blur_depth = 0.1;  // and the blur's edge terms (nnao::BlurEdges)
   int blur_normal_power = 8;
   double radius_term_max = 0;  // horizon models: recorded for inference only (training sees the term unclamped)
-  int downsample = 1;  // horizon models: points and inference at 1/s of the resolution (NnaoWeights::downsample)
-  int batch = 16;       // the global batch, whatever the number of MPI ranks
-  int accumulate = 1;   // micro-batches per step (batch / accumulate points each)
+  int downsample = 1;     // horizon models: points and inference at 1/s of the resolution (NnaoWeights::downsample)
+  int batch = 16;         // the global batch, whatever the number of MPI ranks
+  int accumulate = 1;     // micro-batches per step (batch / accumulate points each)
   double bucket_mb = 25;  // MiB per gradient bucket of the MPI exchange (<= 0: one)
   double lr = 1e-3;
   double gamma = 0.01;
@@ -176,8 +202,7 @@ struct BuildShare {
   double exchange_seconds = 0;  // in the broadcasts, waiting for the owners included
 };
 inline PointFile build_points(const std::vector<std::string>& paths, const TrainOptions& o, int per_view,
-                              uint64_t stream, const std::string& name, StandardizerSums* sums,
-                              BuildShare& share) {
+                              uint64_t stream, const std::string& name, StandardizerSums* sums, BuildShare& share) {
   PointFile pf;
   pf.input = o.net.input();
   pf.features = pf.input.count();
@@ -261,11 +286,17 @@ inline std::string blob_config_double(double v) {
 
 inline std::map<std::string, std::string> blob_config(const TrainOptions& o) {
   const auto d = blob_config_double;
-  std::map<std::string, std::string> c = {{"window", std::to_string(o.net.window)}, {"hidden", std::to_string(o.net.hidden)},
-          {"radius", d(o.radius > 0 ? o.radius : 0)}, {"dropout", d(o.net.dropout)},
-          {"gamma", d(o.gamma)}, {"lr", d(o.lr)}, {"batch", std::to_string(o.batch)},
-          {"epochs", std::to_string(o.epochs)}, {"seed", std::to_string(o.seed)},
-          {"points_per_view", std::to_string(o.points_per_view)}, {"target", "ao"}};
+  std::map<std::string, std::string> c = {{"window", std::to_string(o.net.window)},
+                                          {"hidden", std::to_string(o.net.hidden)},
+                                          {"radius", d(o.radius > 0 ? o.radius : 0)},
+                                          {"dropout", d(o.net.dropout)},
+                                          {"gamma", d(o.gamma)},
+                                          {"lr", d(o.lr)},
+                                          {"batch", std::to_string(o.batch)},
+                                          {"epochs", std::to_string(o.epochs)},
+                                          {"seed", std::to_string(o.seed)},
+                                          {"points_per_view", std::to_string(o.points_per_view)},
+                                          {"target", "ao"}};
   // A grid model's blob stays as it was (readers take a missing "features" as grid).
   if (o.net.input().is_horizon()) {
     c["features"] = "horizon";
@@ -342,9 +373,11 @@ inline void check_options(const TrainOptions& o) {
   if (o.batch < 1 || o.epochs < 0 || o.net.window < 1 || o.net.hidden < 1 || o.net.hidden > 64 ||
       o.points_per_view < 1 || !(o.net.dropout >= 0 && o.net.dropout < 1) || o.shuffle_chunk < 1 ||
       !(o.shuffle_buffer_mb > 0))
-    throw std::invalid_argument("train-nnao: batch, epochs, window, hidden (1..64), points per view, dropout or shuffle sizes out of range");
+    throw std::invalid_argument(
+        "train-nnao: batch, epochs, window, hidden (1..64), points per view, dropout or shuffle sizes out of range");
   if (o.downsample != 1 && (o.downsample != 2 && o.downsample != 4 || !o.net.input().is_horizon()))
-    throw std::invalid_argument("train-nnao: --downsample " + std::to_string(o.downsample) + " needs horizon features and 1, 2 or 4");
+    throw std::invalid_argument("train-nnao: --downsample " + std::to_string(o.downsample) +
+                                " needs horizon features and 1, 2 or 4");
   if (o.accumulate < 1 || o.batch % o.accumulate != 0)
     throw std::invalid_argument("train-nnao: --accumulate " + std::to_string(o.accumulate) + " must divide --batch " +
                                 std::to_string(o.batch));
@@ -363,7 +396,9 @@ inline data::TrainingSplits open_splits(const TrainOptions& o) {
 // data order's generator forked from the same seed; the checkpoint holds all of it.
 struct NnaoModel {
   explicit NnaoModel(const TrainOptions& o)
-      : init_rng(o.seed), net(init_rng, o.net), opt(net.parameters(), AdamOptions{.lr = o.lr}),
+      : init_rng(o.seed),
+        net(init_rng, o.net),
+        opt(net.parameters(), AdamOptions{.lr = o.lr}),
         data_rng(init_rng.fork(77)) {
     ck.add_module("net", net).add_optimizer("adam", opt).add_rng("data", data_rng);
   }
@@ -392,8 +427,8 @@ inline NnaoPoints build_all_points(const TrainOptions& o, const data::TrainingSp
     if (!o.quiet) std::fprintf(stderr, "%s\n", line.c_str());
   };
   say("building training points: " + std::to_string(s.listing.train.views.size()) + " views x " +
-      std::to_string(o.points_per_view) + " pixels, " + std::to_string(o.net.inputs()) + " " +
-      o.net.features + " features each, in files in " + o.out_dir);
+      std::to_string(o.points_per_view) + " pixels, " + std::to_string(o.net.inputs()) + " " + o.net.features +
+      " features each, in files in " + o.out_dir);
   const auto t_build = std::chrono::steady_clock::now();
   NnaoPoints p;
   StandardizerSums sums(o.net.inputs());
@@ -420,9 +455,19 @@ inline NnaoPoints build_all_points(const TrainOptions& o, const data::TrainingSp
 class NnaoTask : public runs::TrainingTask {
  public:
   NnaoTask(const TrainOptions& o, NnaoModel& m, const NnaoPoints& p, runs::TrainingRun& run)
-      : o_(o), m_(m), p_(p), run_(run), F_(p.train.features), B_(o.batch), mb_(o.batch / o.accumulate),
-        order_(p.train.rows, o.shuffle_chunk, shuffle_buffer_rows(o)), params_(m.net.parameters()),
-        fast_(m.net, o.batch / o.accumulate), xb_(size_t(B_ * F_)), yb_(size_t(B_)), threads_(num_threads()),
+      : o_(o),
+        m_(m),
+        p_(p),
+        run_(run),
+        F_(p.train.features),
+        B_(o.batch),
+        mb_(o.batch / o.accumulate),
+        order_(p.train.rows, o.shuffle_chunk, shuffle_buffer_rows(o)),
+        params_(m.net.parameters()),
+        fast_(m.net, o.batch / o.accumulate),
+        xb_(size_t(B_ * F_)),
+        yb_(size_t(B_)),
+        threads_(num_threads()),
         blob_path_(run.path("nnao.blob")) {
     m_.net.train();
   }

@@ -198,7 +198,9 @@ class GradSync {
     bool ready = false, combined = false;
   };
 
-  static double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+  static double now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  }
 
   // Buckets of about bucket_mb MiB (<= 0: one bucket), last parameters first; at most
   // 32000 of them (a bucket's index is its message tag; MPI guarantees tags to 32767).
@@ -274,10 +276,8 @@ class GradSync {
     for (size_t k : b.params) {
       const Tensor<float>& g = params_[k].grad();
       float* d = flat + offset_[k];
-      if (g.defined())
-        std::memcpy(d, g.data(), sizeof(float) * size_t(g.numel()));
-      else
-        std::fill(d, d + params_[k].numel(), 0.f);
+      if (g.defined()) std::memcpy(d, g.data(), sizeof(float) * size_t(g.numel()));
+      else std::fill(d, d + params_[k].numel(), 0.f);
     }
   }
   void add(const Bucket& b, float* acc) const {
@@ -339,7 +339,8 @@ class GradSync {
     if (n_ > 1 && r_ == n_ - 1)
       while (next_broadcast_ < buckets_.size() && buckets_[next_broadcast_].combined) {
         const Bucket& b = buckets_[next_broadcast_];
-        MPI_Ibcast(final_.data() + b.offset, int(b.length), MPI_FLOAT, n_ - 1, MPI_COMM_WORLD, &bcast_[next_broadcast_]);
+        MPI_Ibcast(final_.data() + b.offset, int(b.length), MPI_FLOAT, n_ - 1, MPI_COMM_WORLD,
+                   &bcast_[next_broadcast_]);
         ++next_broadcast_;
       }
 #endif

@@ -130,8 +130,10 @@ class Session {
 #else
     if (launched > 1) {
       // N copies that each think they are alone would all write the same folder.
-      std::fprintf(stderr, "%s: started by an MPI launcher with %d processes, but was built without MPI "
-                   "(install libopenmpi-dev and rebuild; CMake option NNSHADE_MPI)\n", argv[0], launched);
+      std::fprintf(stderr,
+                   "%s: started by an MPI launcher with %d processes, but was built without MPI "
+                   "(install libopenmpi-dev and rebuild; CMake option NNSHADE_MPI)\n",
+                   argv[0], launched);
       std::exit(2);
     }
 #endif

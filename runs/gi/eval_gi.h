@@ -38,10 +38,10 @@ struct EvalOptions {
   // "test"; "validation": the train/ scenes the first model's train-gan held out (its
   // G.blob records the share); "holdout": the families render-dataset held out.
   std::string split = "test";
-  bool bn_batch_stats = true;       // test-time BatchNorm statistics (docs/gan.md)
-  bool dropout_on = false;          // test-time dropout
+  bool bn_batch_stats = true;  // test-time BatchNorm statistics (docs/gan.md)
+  bool dropout_on = false;     // test-time dropout
   size_t max_frames = size_t(-1);
-  int previews = 3;                 // frames with preview PNGs per model
+  int previews = 3;  // frames with preview PNGs per model
   // Off-screen-lit: the front face holds less than its uniform share (1/6) of the frame's
   // direct light, i.e. most directly lit surfaces are off the screen (docs/gan.md).
   float offscreen_share = 1.0f / 6;
@@ -122,10 +122,9 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<gi:
       add_flicker_pair(truth_temporal, map, truth, prev_truth, truth, prev_truth);
     }
     prev = &s, prev_pred = std::move(pred), prev_truth = std::move(truth);
-    frames_csv += model + "," + mode + "," + s.name + "," + s.scene + "," +
-                  detail::fmt(s.front_direct_share) + "," + (is_off ? "1" : "0") + "," +
-                  detail::fmt(m.mse) + "," + detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," +
-                  detail::fmt(m.mse_linear) + "," + detail::fmt(m.psnr_linear) + "," +
+    frames_csv += model + "," + mode + "," + s.name + "," + s.scene + "," + detail::fmt(s.front_direct_share) + "," +
+                  (is_off ? "1" : "0") + "," + detail::fmt(m.mse) + "," + detail::fmt(m.psnr) + "," +
+                  detail::fmt(m.ssim) + "," + detail::fmt(m.mse_linear) + "," + detail::fmt(m.psnr_linear) + "," +
                   detail::fmt(m.ssim_linear) + "," + detail::fmt(m.flip) + "," + detail::fmt(m.grad_error) + "\n";
     if (previews < o.previews) {
       const std::string prefix =
@@ -170,8 +169,9 @@ inline std::array<float, 3> fit_ambient(const std::vector<gi::GiSample>& train) 
 }
 
 inline std::string results_csv(const std::vector<EvalRow>& rows, bool offscreen) {
-  std::string s = "model,mode,ms_per_frame,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear,frames,flicker,"
-                  "flicker_truth,flicker_ratio,temporal_error,path_pairs,flip,grad_error\n";
+  std::string s =
+      "model,mode,ms_per_frame,mse,psnr,ssim,mse_linear,psnr_linear,ssim_linear,frames,flicker,"
+      "flicker_truth,flicker_ratio,temporal_error,path_pairs,flip,grad_error\n";
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
     s += r.model + "," + r.mode + "," + detail::fmt(r.ms_per_frame, "%.3f") + "," + detail::fmt(m.mse) + "," +
@@ -191,7 +191,8 @@ inline std::string cell(double v, const char* f) { return std::isfinite(v) ? det
 
 inline report::Table results_table(const std::vector<EvalRow>& rows, bool offscreen) {
   report::Table t{{"model", "mode", "ms/frame", "MSE", "PSNR", "SSIM", "MSE (linear)", "frames", "flicker (x truth)",
-                 "temporal error", "FLIP", "gradient error"}, {}};
+                   "temporal error", "FLIP", "gradient error"},
+                  {}};
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
     t.rows.push_back({r.model, r.mode, cell(r.ms_per_frame, "%.2f"), cell(m.mse, "%.5f"), cell(m.psnr, "%.2f"),
@@ -305,7 +306,8 @@ inline EvalSplits open_eval_splits(const EvalOptions& o, double validation_fract
   e.scored = &e.listing.test;
   if (o.split == "validation") {
     if (e.validation.size() == 0)
-      throw std::runtime_error(o.models.front() + ": trained without a validation split (train-gan --validation-fraction)");
+      throw std::runtime_error(o.models.front() +
+                               ": trained without a validation split (train-gan --validation-fraction)");
     e.scored = &e.validation;
   } else if (o.split == "holdout") {
     if (!e.listing.has_holdout)
@@ -324,7 +326,8 @@ inline EvalSplits open_eval_splits(const EvalOptions& o, double validation_fract
 // ambient term loses there by construction. Such frames are set aside and counted.
 inline size_t set_aside_unlit(std::vector<gi::GiSample>& frames, const EvalOptions& o) {
   const size_t before = frames.size();
-  frames.erase(std::remove_if(frames.begin(), frames.end(), [](const gi::GiSample& s) { return unlit(s); }), frames.end());
+  frames.erase(std::remove_if(frames.begin(), frames.end(), [](const gi::GiSample& s) { return unlit(s); }),
+               frames.end());
   const size_t unlit_frames = before - frames.size();
   if (unlit_frames && !o.quiet)
     std::fprintf(stderr, "eval-gi: %zu unlit %s frames set aside (no light on the front view)\n", unlit_frames,
@@ -342,15 +345,18 @@ inline void score_references(const EvalSplits& e, const GiItemReader& rd, const 
   auto train = load_samples(e.fit, rd, cfg, o.max_frames, "eval-gi ambient fit", o.quiet);
   const auto ambient = fit_ambient(train);
   train.clear();
-  rows.push_back(score("direct+env", "-", frames, hdr, o, [](const gi::GiSample& s) { return s.direct_env.clone(); },
-                       frames_csv));
-  rows.push_back(score("direct+env+ambient", "-", frames, hdr, o, [&](const gi::GiSample& s) {
-    Tensor<float> p = s.direct_env.clone();
-    const int64_t n = int64_t(s.geometry.size());
-    for (int c = 0; c < 3; ++c)
-      for (int64_t i = 0; i < n; ++i) p[c * n + i] += ambient[size_t(c)];
-    return p;
-  }, frames_csv));
+  rows.push_back(score(
+      "direct+env", "-", frames, hdr, o, [](const gi::GiSample& s) { return s.direct_env.clone(); }, frames_csv));
+  rows.push_back(score(
+      "direct+env+ambient", "-", frames, hdr, o,
+      [&](const gi::GiSample& s) {
+        Tensor<float> p = s.direct_env.clone();
+        const int64_t n = int64_t(s.geometry.size());
+        for (int c = 0; c < 3; ++c)
+          for (int64_t i = 0; i < n; ++i) p[c * n + i] += ambient[size_t(c)];
+        return p;
+      },
+      frames_csv));
 }
 
 // One model's row. With --upsample-from, the model sees the frames box-filtered to that
@@ -362,22 +368,25 @@ inline EvalRow score_model(const std::string& path, gi::LoadedGenerator& g, cons
   const gi::GiInputConfig& cfg = g.inputs;
   NoGradGuard ng;
   if (o.upsample_from <= 0)
-    return score(detail::label_of(path), gi::mode_name(cfg.mode), frames, hdr, o, [&](const gi::GiSample& s) {
-      return gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
-    }, frames_csv);
+    return score(
+        detail::label_of(path), gi::mode_name(cfg.mode), frames, hdr, o,
+        [&](const gi::GiSample& s) { return gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on); }, frames_csv);
   const GiItemReader low_rd{cfg.mode, o.upsample_from};
   std::vector<gi::GiSample> low = load_samples(*e.scored, low_rd, cfg, o.max_frames, "eval-gi low", o.quiet);
   std::map<std::string, size_t> low_of;
   for (size_t i = 0; i < low.size(); ++i) low_of[low[i].name] = i;
   const std::string label = detail::label_of(path) + " @" + std::to_string(o.upsample_from) + " guided";
-  return score(label, gi::mode_name(cfg.mode), frames, hdr, o, [&](const gi::GiSample& s) {
-    const gi::GiSample& l = low.at(low_of.at(s.name));
-    Tensor<float> indirect = gi::predict_linear(g, l, o.bn_batch_stats, o.dropout_on);
-    for (int64_t i = 0; i < indirect.numel(); ++i) indirect[i] -= l.direct_env[i];
-    Tensor<float> p = gi::guided_upsample(indirect, l.front_geometry, s.front_geometry);
-    for (int64_t i = 0; i < p.numel(); ++i) p[i] += s.direct_env[i];
-    return p;
-  }, frames_csv);
+  return score(
+      label, gi::mode_name(cfg.mode), frames, hdr, o,
+      [&](const gi::GiSample& s) {
+        const gi::GiSample& l = low.at(low_of.at(s.name));
+        Tensor<float> indirect = gi::predict_linear(g, l, o.bn_batch_stats, o.dropout_on);
+        for (int64_t i = 0; i < indirect.numel(); ++i) indirect[i] -= l.direct_env[i];
+        Tensor<float> p = gi::guided_upsample(indirect, l.front_geometry, s.front_geometry);
+        for (int64_t i = 0; i < p.numel(); ++i) p[i] += s.direct_env[i];
+        return p;
+      },
+      frames_csv);
 }
 
 inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOptions& o, size_t scored_frames,
@@ -388,22 +397,22 @@ inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOption
   write_file_atomic(o.out + "/results_by_family.csv", family_csv(rows));
   write_file_atomic(o.out + "/results_by_distance.csv", distance_csv(rows));
   report::Report report("eval-gi");
-  report.text("Data: `" + o.data + "`, split " + o.split + " (" + std::to_string(scored_frames) + " frames, of which " +
-              std::to_string(unlit_frames) + " unlit ones set aside: no light on the front view), test-time BatchNorm: " +
-              (o.bn_batch_stats ? "batch statistics" : "running statistics") + ", dropout: " +
-              (o.dropout_on ? "on" : "off") +
-              (o.size > 0 ? ", scored at face " + std::to_string(o.size) : std::string()) +
-              (o.upsample_from > 0 ? ", models run at face " + std::to_string(o.upsample_from) +
-                                         " and their indirect light upsampled, guided by depth and normals"
-                                   : std::string()) +
-              ". Metrics in mapped space (Reinhard x/(x+k), [0,1]) over geometry pixels of the "
-              "front view; MSE (linear) in HDR units. Flicker: on camera paths, each frame reprojected onto the one before "
-              "(disocclusions skipped), the mean frame-to-frame change in mapped space, relative to the ground truth's "
-              "on the same pixels (1 = as stable as the truth); temporal error: mean |predicted - true| change. "
-              "FLIP: the perceptual difference of Andersson et al. 2020 (LDR, 67 pixels per degree) between the "
-              "mapped images shown as the previews show them, mean over geometry pixels, in [0,1]; gradient error: "
-              "mean |difference of neighbouring pixels' differences| in mapped space, blind to uniform offsets, "
-              "sensitive to moved or missing edges (contact shadows, creases).");
+  report.text(
+      "Data: `" + o.data + "`, split " + o.split + " (" + std::to_string(scored_frames) + " frames, of which " +
+      std::to_string(unlit_frames) + " unlit ones set aside: no light on the front view), test-time BatchNorm: " +
+      (o.bn_batch_stats ? "batch statistics" : "running statistics") + ", dropout: " + (o.dropout_on ? "on" : "off") +
+      (o.size > 0 ? ", scored at face " + std::to_string(o.size) : std::string()) +
+      (o.upsample_from > 0 ? ", models run at face " + std::to_string(o.upsample_from) +
+                                 " and their indirect light upsampled, guided by depth and normals"
+                           : std::string()) +
+      ". Metrics in mapped space (Reinhard x/(x+k), [0,1]) over geometry pixels of the "
+      "front view; MSE (linear) in HDR units. Flicker: on camera paths, each frame reprojected onto the one before "
+      "(disocclusions skipped), the mean frame-to-frame change in mapped space, relative to the ground truth's "
+      "on the same pixels (1 = as stable as the truth); temporal error: mean |predicted - true| change. "
+      "FLIP: the perceptual difference of Andersson et al. 2020 (LDR, 67 pixels per degree) between the "
+      "mapped images shown as the previews show them, mean over geometry pixels, in [0,1]; gradient error: "
+      "mean |difference of neighbouring pixels' differences| in mapped space, blind to uniform offsets, "
+      "sensitive to moved or missing edges (contact shadows, creases).");
   std::vector<EvalPreview> previews;
   for (auto& r : rows) previews.insert(previews.end(), r.previews.begin(), r.previews.end());
   add_eval_previews(report, previews);
@@ -416,10 +425,11 @@ inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOption
   else report.table(results_table(rows, true));
   report.heading("Per scene family (SSIM mapped / MSE linear)").table(family_table(rows));
   report.heading("By distance to the nearest surface break (MSE mapped / FLIP)")
-      .text("Each geometry pixel of the front view by its distance (Chebyshev, pixels) to the nearest depth jump "
-            "(more than 10% of the nearer depth), crease (normals more than 30 degrees apart) or sky edge; in brackets "
-            "the band's share of the pixels. Contact shadows and creases sit in the first bands. Pooled over all "
-            "frames' pixels. See results_by_distance.csv.")
+      .text(
+          "Each geometry pixel of the front view by its distance (Chebyshev, pixels) to the nearest depth jump "
+          "(more than 10% of the nearer depth), crease (normals more than 30 degrees apart) or sky edge; in brackets "
+          "the band's share of the pixels. Contact shadows and creases sit in the first bands. Pooled over all "
+          "frames' pixels. See results_by_distance.csv.")
       .table(distance_table(rows));
   report.heading("Speed against accuracy");
   write_speed_charts(rows, o, report);

@@ -54,12 +54,12 @@ struct GanRunOptions {
   bool resume = false;
   int log_every = 10;
   int sample_every = 250;
-  int64_t poison_step = -1;     // test hook: make this step's input NaN (the NaN-stop test)
-  int stop_after_epochs = -1;   // test hook: stop (as if killed) after this many epochs
+  int64_t poison_step = -1;    // test hook: make this step's input NaN (the NaN-stop test)
+  int stop_after_epochs = -1;  // test hook: stop (as if killed) after this many epochs
   bool quiet = false;
-  int accumulate = 1;        // samples (micro-batches of one image) per optimizer step
-  double bucket_mb = 25;     // MiB per gradient bucket of the MPI exchange (<= 0: one)
-  std::string data_identity;    // the data's folder and frame counts: a resume must match
+  int accumulate = 1;         // samples (micro-batches of one image) per optimizer step
+  double bucket_mb = 25;      // MiB per gradient bucket of the MPI exchange (<= 0: one)
+  std::string data_identity;  // the data's folder and frame counts: a resume must match
   // bf16: every GEMM and convolution of the training takes bf16 inputs (fp32 sums); the
   // weights, Adam's moments, BatchNorm statistics and the losses stay fp32.
   Precision precision = Precision::fp32;
@@ -78,16 +78,17 @@ inline void add_augment_config(runs::RunSpec& spec, const GiAugment& a) {
   spec.config.emplace_back("aug_mirror", a.mirror ? "on" : "off");
   spec.config.emplace_back("aug_exposure", num(a.exposure));
   spec.config.emplace_back("aug_tint", num(a.tint));
-  for (auto [k, v] : {std::pair<const char*, const char*>{"aug_mirror", "off"}, {"aug_exposure", "1"}, {"aug_tint", "1"}})
+  for (auto [k, v] :
+       {std::pair<const char*, const char*>{"aug_mirror", "off"}, {"aug_exposure", "1"}, {"aug_tint", "1"}})
     spec.unrecorded_means.emplace_back(k, v);
 }
 
 struct GanRunResult {
-  bool finished = false;        // false: stopped on a non-finite value
+  bool finished = false;  // false: stopped on a non-finite value
   std::string stop_message;
   int epochs_done = 0;
   int64_t steps = 0;
-  double seconds = 0;           // training time of this process (excludes loading)
+  double seconds = 0;  // training time of this process (excludes loading)
   int64_t d_wins_windows = 0;
   int64_t first_d_wins_step = -1;
 };
@@ -116,8 +117,7 @@ inline runs::RunSpec run_spec(const GanRunOptions& o, const GanTrainer& t) {
 class GanTask : public runs::TrainingTask {
  public:
   GanTask(const GanRunOptions& o, GanTrainer& t, GiTrainData& train, runs::TrainingRun& run)
-      : o_(o), t_(t), train_(train), run_(run), n_(int64_t(train.size())), K_(o.accumulate),
-        files_{o.out} {}
+      : o_(o), t_(t), train_(train), run_(run), n_(int64_t(train.size())), K_(o.accumulate), files_{o.out} {}
   int64_t steps_per_epoch() const { return n_ / K_; }
 
   std::vector<Var<float>> trained_parameters() override { return t_.trained_parameters(); }
@@ -197,23 +197,30 @@ class GanTask : public runs::TrainingTask {
     if (o_.train.loss != GiLoss::gan || !t_.watch().add(l.d, l.g_adv)) return;
     if (first_d_wins_step < 0) first_d_wins_step = t_.step();
     if (!o_.quiet)
-      std::fprintf(stderr, "\ntrain-gan: warning: the discriminator wins outright at step %lld "
+      std::fprintf(stderr,
+                   "\ntrain-gan: warning: the discriminator wins outright at step %lld "
                    "(D loss < %.2f over %d steps while G's adversarial loss climbs)\n",
                    (long long)t_.step(), DiscriminatorWatch::kNearZero, DiscriminatorWatch::kWindow);
   }
   void flush_log() {
     const double k = 1.0 / acc_n_;
     // Epochs count from 1 in the log, as train-nnao's: the record's epoch is the one it belongs to.
-    run_.log({t_.step(), epoch_ + 1, {{"lr", t_.lr()}, {"d", acc_.d * k}, {"d_real", acc_.d_real * k}, {"d_fake", acc_.d_fake * k},
-                                  {"g_adv", acc_.g_adv * k}, {"g_rec", acc_.g_rec * k}, {"g", acc_.g * k}}});
+    run_.log({t_.step(),
+              epoch_ + 1,
+              {{"lr", t_.lr()},
+               {"d", acc_.d * k},
+               {"d_real", acc_.d_real * k},
+               {"d_fake", acc_.d_fake * k},
+               {"g_adv", acc_.g_adv * k},
+               {"g_rec", acc_.g_rec * k},
+               {"g", acc_.g * k}}});
     acc_ = {};
     acc_n_ = 0;
   }
   // The step's first sample (read again when the step read others after it).
   void write_samples(int64_t j) {
     const gi::GiSample& s = shown_ ? *shown_ : prepared(j * K_, sample(j * K_, -1));
-    write_sample_pngs(files_.sample_prefix(t_.step()), s,
-                      t_.predict(s, /*bn_batch_stats=*/true, /*dropout_on=*/false),
+    write_sample_pngs(files_.sample_prefix(t_.step()), s, t_.predict(s, /*bn_batch_stats=*/true, /*dropout_on=*/false),
                       gi::HdrMapping(o_.train.inputs.norm.hdr_scale));
   }
 
@@ -257,8 +264,10 @@ inline GanRunResult run_gan_training(const GanRunOptions& o, GiTrainData& train)
   r.first_d_wins_step = task.first_d_wins_step;
   r.seconds = lr.seconds;
   loop.finish(r.stop_message,
-              {{"seconds", r.seconds}, {"d_wins_windows", double(r.d_wins_windows)},
-               {"first_d_wins_step", double(r.first_d_wins_step)}, {"g_parameters", double(t.G.parameter_count())}},
+              {{"seconds", r.seconds},
+               {"d_wins_windows", double(r.d_wins_windows)},
+               {"first_d_wins_step", double(r.first_d_wins_step)},
+               {"g_parameters", double(t.G.parameter_count())}},
               [&](report::Report& report) {
                 if (std::filesystem::exists(run.path("loss.svg"))) report.chart("loss.svg", "D and G losses per step");
                 add_sample_comparisons(report, o.out, o.sample_every, t.step());

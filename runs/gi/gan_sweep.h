@@ -91,8 +91,8 @@ inline GanRunOptions sweep_point_options(const GanSweepOptions& so, const gi::Gi
 inline bool read_finished_point(const std::string& done, SweepPoint& p) {
   if (!std::filesystem::exists(done)) return false;
   std::string line = read_file(done);
-  return std::sscanf(line.c_str(), "%lld,%lf,%lf,%lf,%lf,%lf", (long long*)&p.params, &p.train_seconds,
-                     &p.ms_per_frame, &p.ssim, &p.psnr, &p.mse) == 6;
+  return std::sscanf(line.c_str(), "%lld,%lf,%lf,%lf,%lf,%lf", (long long*)&p.params, &p.train_seconds, &p.ms_per_frame,
+                     &p.ssim, &p.psnr, &p.mse) == 6;
 }
 
 // Trains one point and scores G.blob on the validation split; false when the point
@@ -152,8 +152,8 @@ inline std::vector<SweepPoint> sweep_points(const GanSweepOptions& so, const std
       if (train->empty()) throw std::runtime_error(so.data_dir + ": no training samples for --mode " + so.mode);
       const int64_t H = train->get(0).input.size(2);
       if (H % (int64_t(1) << lv)) {
-        std::fprintf(stderr, "sweep-gan: skipping size %d levels %d (height %lld not divisible by 2^%d)\n",
-                     size, lv, (long long)H, lv);
+        std::fprintf(stderr, "sweep-gan: skipping size %d levels %d (height %lld not divisible by 2^%d)\n", size, lv,
+                     (long long)H, lv);
         continue;
       }
       std::fprintf(stderr, "sweep-gan: size %d ngf %d levels %d\n", size, ngf, lv);
@@ -236,9 +236,9 @@ inline void run_gan_sweep(const GanSweepOptions& so) {
   write_file_atomic(so.out + "/sweep.csv", csv);
   write_sweep_charts(so, points, sweep_sizes(todo));
   std::printf("%s", csv.c_str());
-  std::printf("sweep-gan: best SSIM %.4f; smallest within %.3f: face %d, ngf %d, levels %d (%lld parameters, %.2f ms/frame)\n",
-              best, so.tolerance, chosen.size, chosen.ngf, chosen.levels, (long long)chosen.params,
-              chosen.ms_per_frame);
+  std::printf(
+      "sweep-gan: best SSIM %.4f; smallest within %.3f: face %d, ngf %d, levels %d (%lld parameters, %.2f ms/frame)\n",
+      best, so.tolerance, chosen.size, chosen.ngf, chosen.levels, (long long)chosen.params, chosen.ms_per_frame);
   std::printf("sweep-gan: %s/sweep.csv, %s/ssim_vs_ms.svg\n", so.out.c_str(), so.out.c_str());
 }
 

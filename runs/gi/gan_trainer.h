@@ -45,17 +45,15 @@ inline GiLoss parse_loss(const std::string& s) {
   if (s == "dssim") return GiLoss::dssim;
   throw std::invalid_argument("unknown loss '" + s + "' (gan|l1|dssim)");
 }
-inline const char* loss_name(GiLoss l) {
-  return l == GiLoss::gan ? "gan" : l == GiLoss::l1 ? "l1" : "dssim";
-}
+inline const char* loss_name(GiLoss l) { return l == GiLoss::gan ? "gan" : l == GiLoss::l1 ? "l1" : "dssim"; }
 
 struct GanTrainConfig {
   gi::GiInputConfig inputs;
-  int ngf = 32, levels = 6;          // generator
+  int ngf = 32, levels = 6;  // generator
   gi::GiArch arch = gi::GiArch::pix2pix;
   gi::GiResidual residual = gi::GiResidual::off;  // predict a correction to the input light (generator.h)
-  bool g_batchnorm = true;           // BatchNorm in the pix2pix U-Net (unet.h)
-  int ndf = 32, d_layers = 3;        // discriminator
+  bool g_batchnorm = true;                        // BatchNorm in the pix2pix U-Net (unet.h)
+  int ndf = 32, d_layers = 3;                     // discriminator
   GiLoss loss = GiLoss::gan;
   double lambda = 100, lr = 2e-4, beta1 = 0.5, beta2 = 0.999;
   double lr_d = 0;  // the discriminator's learning rate; <= 0: the same as lr (pix2pix)
@@ -79,8 +77,8 @@ struct GanTrainConfig {
   int total_epochs() const { return epochs + epochs_decay; }
 };
 
-using runs::NonFiniteError;
 using runs::check_finite;
+using runs::NonFiniteError;
 
 struct StepLosses {
   double d = 0, d_real = 0, d_fake = 0;  // discriminator (0 without one)
@@ -129,11 +127,13 @@ class DiscriminatorWatch {
 class GanTrainer {
  public:
   explicit GanTrainer(const GanTrainConfig& c)
-      : config(c), init_rng_(c.seed), G_(gi::make_generator<float>(c.generator(), init_rng_)), G(*G_),
+      : config(c),
+        init_rng_(c.seed),
+        G_(gi::make_generator<float>(c.generator(), init_rng_)),
+        G(*G_),
         schedule_(LrSchedule::linear(c.lr, c.epochs, c.epochs_decay)),
         schedule_d_(LrSchedule::linear(c.d_lr(), c.epochs, c.epochs_decay)) {
-    opt_g_ = std::make_unique<Adam<float>>(G.parameters(),
-                                           AdamOptions{.lr = c.lr, .beta1 = c.beta1, .beta2 = c.beta2});
+    opt_g_ = std::make_unique<Adam<float>>(G.parameters(), AdamOptions{.lr = c.lr, .beta1 = c.beta1, .beta2 = c.beta2});
     if (c.loss == GiLoss::gan) {
       D = std::make_unique<gi::PatchGan<float>>(c.patchgan(), init_rng_);
       opt_d_ = std::make_unique<Adam<float>>(D->parameters(),

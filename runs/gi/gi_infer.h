@@ -55,22 +55,22 @@ struct InferOptions {
   // model (data/frame_images.h), TARGET for a front-mode one (data/image_read.h).
   std::vector<data::ChannelMapping> channels;
   data::ImageViewOptions images;
-  std::string out;              // "": <name of the input>_gi.exr in the current folder
-  bool bn_batch_stats = true;   // test-time BatchNorm, as eval-gi (docs/gan.md)
+  std::string out;             // "": <name of the input>_gi.exr in the current folder
+  bool bn_batch_stats = true;  // test-time BatchNorm, as eval-gi (docs/gan.md)
   bool dropout_on = false;
 };
 
 struct InferResult {
   std::string exr, shaded_png, indirect_png;
-  std::string mode;                      // the model's: front | surround
-  std::string front_file;                // the view whose light was predicted
-  int in_width = 0, in_height = 0;       // the front view as stored
+  std::string mode;                 // the model's: front | surround
+  std::string front_file;           // the view whose light was predicted
+  int in_width = 0, in_height = 0;  // the front view as stored
   int width = 0, height = 0, reduction = 1;
-  std::vector<std::string> notes;        // e.g. the front.exr a front-mode model used
+  std::vector<std::string> notes;  // e.g. the front.exr a front-mode model used
   int64_t geometry_pixels = 0;
   int64_t negative_indirect_pixels = 0;  // geometry pixels with some indirect channel < 0
   float min_indirect = 0;
-  double ms = 0;                         // the network alone
+  double ms = 0;  // the network alone
 };
 
 namespace infer_detail {
@@ -78,8 +78,8 @@ namespace infer_detail {
 // What view_planes and fill_front_shading read from every view; emission and env are
 // optional (zero when absent), indirect is the ground truth gi-infer does without.
 inline const std::vector<std::string>& required_channels() {
-  static const std::vector<std::string> c = {"Z", "N.X", "N.Y", "N.Z", "albedo.R", "albedo.G",
-                                             "albedo.B", "direct.R", "direct.G", "direct.B"};
+  static const std::vector<std::string> c = {"Z",        "N.X",      "N.Y",      "N.Z",      "albedo.R",
+                                             "albedo.G", "albedo.B", "direct.R", "direct.G", "direct.B"};
   return c;
 }
 
@@ -117,10 +117,12 @@ inline int reduction_to_model(const data::View& v, int size, const std::string& 
   const std::string want = std::to_string(size);
   const bool fits = (v.width == v.height || v.width == size) && v.width >= size && v.width % size == 0;
   if (!fits)
-    throw std::runtime_error(v.source + ": view is " + got + " but the model " + model + " takes faces of " +
-                             want + "x" + want + "; gi-infer only box-filters square views down by an "
-                             "integer factor (sizes " + want + ", " + std::to_string(2 * size) + ", " +
-                             std::to_string(3 * size) + ", ...), it never enlarges or crops");
+    throw std::runtime_error(v.source + ": view is " + got + " but the model " + model + " takes faces of " + want +
+                             "x" + want +
+                             "; gi-infer only box-filters square views down by an "
+                             "integer factor (sizes " +
+                             want + ", " + std::to_string(2 * size) + ", " + std::to_string(3 * size) +
+                             ", ...), it never enlarges or crops");
   return reduction_for(v, size, v.source);
 }
 
@@ -154,7 +156,7 @@ inline gi::LoadedGenerator load_named_generator(const std::string& model) {
   } catch (const std::exception& e) {
     std::string what = e.what();
     throw std::runtime_error(what.find(model) == std::string::npos ? model + ": cannot load the generator: " + what
-                                                                    : what);
+                                                                   : what);
   }
 }
 
@@ -166,7 +168,8 @@ struct FrameInput {
   std::vector<std::string> inputs;
 };
 
-inline FrameInput read_surround_input(const InferOptions& o, const gi::GiInputConfig& cfg, bool folder, InferResult& r) {
+inline FrameInput read_surround_input(const InferOptions& o, const gi::GiInputConfig& cfg, bool folder,
+                                      InferResult& r) {
   FrameInput in;
   std::array<data::View, 6> faces;
   std::string frame_name = o.in;
@@ -180,7 +183,8 @@ inline FrameInput read_surround_input(const InferOptions& o, const gi::GiInputCo
     frame_name = r.front_file = faces[0].source;
   } else {
     if (!folder)
-      throw std::runtime_error(o.in + ": the model " + o.model + " is a surround model; it needs a folder "
+      throw std::runtime_error(o.in + ": the model " + o.model +
+                               " is a surround model; it needs a folder "
                                "of six faces (front.exr, back.exr, left.exr, right.exr, up.exr, down.exr), "
                                "not a single view, or the faces as images: --channel FACE.TARGET=FILE");
     data::FrameEntry e = data::frame_entry(o.in);
@@ -207,7 +211,8 @@ inline FrameInput read_front_input(const InferOptions& o, const gi::GiInputConfi
   const bool from_images = !o.channels.empty();
   for (auto& m : o.channels)
     if (data::face_prefixed(m))
-      throw std::runtime_error("--channel '" + m.text + "': the model " + o.model + " is a front-mode model "
+      throw std::runtime_error("--channel '" + m.text + "': the model " + o.model +
+                               " is a front-mode model "
                                "and reads one view; give its targets without a face (--channel depth=FILE, "
                                "normal=FILE, ...): FACE.TARGET is for surround models");
   std::string path = o.in;
@@ -215,7 +220,8 @@ inline FrameInput read_front_input(const InferOptions& o, const gi::GiInputConfi
     std::error_code ec;
     path = (fs::path(o.in) / "front.exr").string();
     if (!fs::is_regular_file(path, ec))
-      throw std::runtime_error(o.in + ": the model " + o.model + " is a front-mode model and reads one view; "
+      throw std::runtime_error(o.in + ": the model " + o.model +
+                               " is a front-mode model and reads one view; "
                                "the folder has no front.exr");
     r.notes.push_back("front-mode model: using " + path + " (the other faces are not inputs of this model)");
   }
@@ -230,8 +236,7 @@ inline FrameInput read_front_input(const InferOptions& o, const gi::GiInputConfi
   in.sample.name = path;
   if (from_images)
     for (auto& m : o.channels) in.inputs.push_back(m.file);
-  else
-    in.inputs.push_back(path);
+  else in.inputs.push_back(path);
   r.front_file = path;
   return in;
 }
@@ -349,7 +354,7 @@ inline InferResult infer_gi(const InferOptions& o) {
   if (!from_images && !fs::exists(o.in, ec)) throw std::runtime_error(o.in + ": no such file or folder");
   const bool folder = !from_images && fs::is_directory(o.in, ec);
   const FrameInput in = g.inputs.mode == gi::GiMode::surround ? read_surround_input(o, g.inputs, folder, r)
-                                                          : read_front_input(o, g.inputs, folder, r);
+                                                              : read_front_input(o, g.inputs, folder, r);
   refuse_overwriting_inputs(in.inputs, r);
   const Tensor<float> light = predict_light(o, g, in.sample, r);
   write_outputs_together(light_outputs(o, light, in, r), g.inputs.norm.hdr_scale, r);

@@ -38,7 +38,8 @@ inline void write_eval_pngs(const std::string& prefix, const Tensor<float>& pred
   std::vector<float> err(size_t(n), 0.0f);
   for (int c = 0; c < 3; ++c)
     for (int64_t i = 0; i < n; ++i)
-      if (geometry[size_t(i)]) err[size_t(i)] += std::abs(hdr.to_unit(pred[c * n + i]) - hdr.to_unit(truth[c * n + i])) / 3;
+      if (geometry[size_t(i)])
+        err[size_t(i)] += std::abs(hdr.to_unit(pred[c * n + i]) - hdr.to_unit(truth[c * n + i])) / 3;
   write_light_png(prefix + "_prediction.png", pred.data(), w, h, hdr);
   write_light_png(prefix + "_truth.png", truth.data(), w, h, hdr);
   report::write_png_heatmap(prefix + "_error.png", err.data(), w, h, 0.25f);
@@ -80,7 +81,8 @@ struct EvalPreview {
 inline void add_eval_previews(report::Report& report, const std::vector<EvalPreview>& previews) {
   std::vector<report::Comparison> frames;
   for (auto& p : previews) {
-    auto c = std::find_if(frames.begin(), frames.end(), [&](const report::Comparison& f) { return f.title == p.frame; });
+    auto c =
+        std::find_if(frames.begin(), frames.end(), [&](const report::Comparison& f) { return f.title == p.frame; });
     if (c == frames.end()) {
       frames.push_back({p.frame, {{"ray-traced light (truth)", p.prefix + "_truth.png", ""}}});
       c = frames.end() - 1;
@@ -94,9 +96,10 @@ inline void add_eval_previews(report::Report& report, const std::vector<EvalPrev
   }
   if (frames.empty()) return;
   report.heading("Previews")
-      .text("The ray-traced light (truth), each row's prediction and its error heat-map "
-            "(|difference| in mapped space, averaged over the channels), tone-mapped with exposure 1/k (k = the HDR "
-            "scale). PNGs in previews/.");
+      .text(
+          "The ray-traced light (truth), each row's prediction and its error heat-map "
+          "(|difference| in mapped space, averaged over the channels), tone-mapped with exposure 1/k (k = the HDR "
+          "scale). PNGs in previews/.");
   for (auto& f : frames) report.comparison(std::move(f));
 }
 
@@ -111,10 +114,11 @@ inline void add_sample_comparisons(report::Report& report, const std::string& ou
     const std::string prefix = "samples/step" + std::to_string(step);
     if (!std::filesystem::exists(out + "/" + prefix + "_error.png")) continue;
     if (!heading)
-      report.heading("Samples").text("A training frame at the first and the last step that drew one: the "
-                                     "ray-traced light, the generator's prediction and its error (|mapped "
-                                     "difference|, black 0, white 0.25), the input's direct light and the shaded "
-                                     "image (albedo x prediction + emission). More in samples/.");
+      report.heading("Samples").text(
+          "A training frame at the first and the last step that drew one: the "
+          "ray-traced light, the generator's prediction and its error (|mapped "
+          "difference|, black 0, white 0.25), the input's direct light and the shaded "
+          "image (albedo x prediction + emission). More in samples/.");
     heading = true;
     report.comparison({"step " + std::to_string(step),
                        {{"ray-traced light (truth)", prefix + "_truth.png", ""},
@@ -149,7 +153,8 @@ inline int write_contact_sheet(const std::string& path, const data::SplitListing
     if (drawn[scene] >= per_scene) continue;
     ++drawn[scene];
     data::View v = data::read_view(p);
-    if (!v.has("indirect.R") || (!views.empty() && (v.width != views[0].width || v.height != views[0].height))) continue;
+    if (!v.has("indirect.R") || (!views.empty() && (v.width != views[0].width || v.height != views[0].height)))
+      continue;
     views.push_back(std::move(v));
   }
   if (views.empty()) return 0;
@@ -175,7 +180,10 @@ inline int write_contact_sheet(const std::string& path, const data::SplitListing
   };
   const float k_light = median(false), k_ind = median(true);
   std::vector<uint8_t> img(size_t(W) * size_t(H) * 3, 40);
-  auto tone = [](float x) { x = std::max(x, 0.0f); return report::srgb_encode(x / (1 + x)); };
+  auto tone = [](float x) {
+    x = std::max(x, 0.0f);
+    return report::srgb_encode(x / (1 + x));
+  };
   for (int f = 0; f < n; ++f) {
     const data::View& v = views[size_t(f)];
     const int x0 = 2 * gap + (f % cols) * (3 * w + 4 * gap), y0 = gap + (f / cols) * (h + gap);
@@ -184,8 +192,10 @@ inline int write_contact_sheet(const std::string& path, const data::SplitListing
         const size_t i = size_t(y) * size_t(w) + size_t(x);
         for (int c = 0; c < 3; ++c) {
           const float a = v.channel(std::string("albedo.") + "RGB"[c])[i];
-          const float e = v.has(std::string("emission.") + "RGB"[c]) ? v.channel(std::string("emission.") + "RGB"[c])[i] : 0.0f;
-          const uint8_t tiles[3] = {report::srgb_encode(std::clamp(a, 0.0f, 1.0f)), tone((a * light(v, c, i, false) + e) / k_light),
+          const float e =
+              v.has(std::string("emission.") + "RGB"[c]) ? v.channel(std::string("emission.") + "RGB"[c])[i] : 0.0f;
+          const uint8_t tiles[3] = {report::srgb_encode(std::clamp(a, 0.0f, 1.0f)),
+                                    tone((a * light(v, c, i, false) + e) / k_light),
                                     tone(light(v, c, i, true) / k_ind)};
           for (int t = 0; t < 3; ++t)
             img[(size_t(y0 + y) * size_t(W) + size_t(x0 + t * (w + gap) + x)) * 3 + size_t(c)] = tiles[t];

@@ -31,9 +31,8 @@ inline data::View downsample_view(const data::View& v, int factor) {
   data::check_depth(v);  // NaN, 0 or negative depth would be averaged away as sky
   if (factor == 1) return v;
   if (v.width % factor || v.height % factor)
-    throw std::runtime_error(v.source + ": size " + std::to_string(v.width) + "x" +
-                             std::to_string(v.height) + " is not a multiple of the reduction " +
-                             std::to_string(factor));
+    throw std::runtime_error(v.source + ": size " + std::to_string(v.width) + "x" + std::to_string(v.height) +
+                             " is not a multiple of the reduction " + std::to_string(factor));
   data::View o = v;
   o.width = v.width / factor, o.height = v.height / factor;
   const float inv = 1.0f / float(factor * factor);
@@ -70,17 +69,17 @@ inline data::View downsample_view(const data::View& v, int factor) {
 inline int reduction_for(const data::View& v, int size, const std::string& what) {
   if (size <= 0) return 1;
   if (v.width != v.height && size != v.width)
-    throw std::runtime_error(what + ": --size needs square views, got " + std::to_string(v.width) +
-                             "x" + std::to_string(v.height));
+    throw std::runtime_error(what + ": --size needs square views, got " + std::to_string(v.width) + "x" +
+                             std::to_string(v.height));
   if (v.width % size)
-    throw std::runtime_error(what + ": --size " + std::to_string(size) +
-                             " must divide the view size " + std::to_string(v.width));
+    throw std::runtime_error(what + ": --size " + std::to_string(size) + " must divide the view size " +
+                             std::to_string(v.width));
   return v.width / size;
 }
 
 // Coordinate channels in [-1, 1]: (x, y) for one view, (phi, theta) for a global view.
-inline void append_coords(Tensor<float>& input, const std::vector<float>& c0,
-                          const std::vector<float>& c1, int64_t first_channel) {
+inline void append_coords(Tensor<float>& input, const std::vector<float>& c0, const std::vector<float>& c1,
+                          int64_t first_channel) {
   const int64_t n = input.size(2) * input.size(3);
   for (int64_t i = 0; i < n; ++i) {
     input[first_channel * n + i] = 2.0f * c0[size_t(i)] - 1.0f;
@@ -125,7 +124,7 @@ inline float front_direct_share(const std::array<data::View, 6>& faces) {
 
 // Six faces -> sample on the global view (front region = the front face).
 inline gi::GiSample assemble_surround(const std::array<data::View, 6>& faces, const gi::GiInputConfig& cfg,
-                                  const std::string& name, bool targets = true) {
+                                      const std::string& name, bool targets = true) {
   const int F = faces[0].width;
   std::array<Tensor<float>, 6> planes;
   for (int f = 0; f < 6; ++f) planes[size_t(f)] = gi::view_planes(faces[size_t(f)], cfg.norm);
@@ -196,32 +195,33 @@ void for_each_item(const data::SplitListing& s, const GiItemReader& rd, size_t m
 // rest); HDR scale: the median of the target light over geometry pixels of front views;
 // the light cap: their maximum.
 inline gi::GiNormalisation fit_normalisation(const data::SplitListing& train, const GiItemReader& rd,
-                                         size_t max_items) {
+                                             size_t max_items) {
   std::vector<float> depths, light;
   float light_max = 0;
-  for_each_item(train, rd, max_items, [&](size_t, const data::View& front,
-                                          std::array<data::View, 6>* faces, const std::string&) {
-    auto take_depth = [&](const data::View& v) {
-      const auto& z = v.channel("Z");
-      for (size_t i = 0; i < z.size(); i += 7)
-        if (!data::is_sky(z[i])) depths.push_back(z[i]);
-    };
-    if (faces) for (auto& f : *faces) take_depth(f);
-    else take_depth(front);
-    const auto& z = front.channel("Z");
-    for (char c : {'R', 'G', 'B'}) {
-      const auto& d = front.channel(std::string("direct.") + c);
-      const auto& ind = front.channel(std::string("indirect.") + c);
-      std::string env = std::string("env.") + c;
-      const std::vector<float>* e = front.has(env) ? &front.channel(env) : nullptr;
-      for (size_t i = 0; i < d.size(); ++i) {
-        if (data::is_sky(z[i])) continue;
-        float t = d[i] + ind[i] + (e ? (*e)[i] : 0.0f);
-        light_max = std::max(light_max, t);
-        if (i % 5 == 0) light.push_back(t);
-      }
-    }
-  });
+  for_each_item(train, rd, max_items,
+                [&](size_t, const data::View& front, std::array<data::View, 6>* faces, const std::string&) {
+                  auto take_depth = [&](const data::View& v) {
+                    const auto& z = v.channel("Z");
+                    for (size_t i = 0; i < z.size(); i += 7)
+                      if (!data::is_sky(z[i])) depths.push_back(z[i]);
+                  };
+                  if (faces)
+                    for (auto& f : *faces) take_depth(f);
+                  else take_depth(front);
+                  const auto& z = front.channel("Z");
+                  for (char c : {'R', 'G', 'B'}) {
+                    const auto& d = front.channel(std::string("direct.") + c);
+                    const auto& ind = front.channel(std::string("indirect.") + c);
+                    std::string env = std::string("env.") + c;
+                    const std::vector<float>* e = front.has(env) ? &front.channel(env) : nullptr;
+                    for (size_t i = 0; i < d.size(); ++i) {
+                      if (data::is_sky(z[i])) continue;
+                      float t = d[i] + ind[i] + (e ? (*e)[i] : 0.0f);
+                      light_max = std::max(light_max, t);
+                      if (i % 5 == 0) light.push_back(t);
+                    }
+                  }
+                });
   gi::GiNormalisation n;
   auto pct = [](std::vector<float>& v, double q) {
     size_t k = std::min(v.size() - 1, size_t(q * double(v.size())));
@@ -237,25 +237,27 @@ inline gi::GiNormalisation fit_normalisation(const data::SplitListing& train, co
 
 // Item i of a split as a sample, assembled as for training (and as eval-gi does).
 inline gi::GiSample load_sample(const data::SplitListing& split, const GiItemReader& rd, const gi::GiInputConfig& cfg,
-                            size_t i) {
+                                size_t i) {
   if (i >= split_items(split, rd.mode)) throw std::out_of_range(split.dir + ": no item " + std::to_string(i));
   gi::GiSample out;
-  for_each_item(split, rd, i + 1, [&](size_t, const data::View& front, std::array<data::View, 6>* faces,
-                                      const std::string& name) {
-    if (rd.mode == gi::GiMode::surround) {
-      out = assemble_surround(*faces, cfg, name);
-    } else {
-      out = assemble_front(front, cfg);
-      out.name = name;
-      if (faces) out.front_direct_share = front_direct_share(*faces);
-    }
-  }, i);
+  for_each_item(
+      split, rd, i + 1,
+      [&](size_t, const data::View& front, std::array<data::View, 6>* faces, const std::string& name) {
+        if (rd.mode == gi::GiMode::surround) {
+          out = assemble_surround(*faces, cfg, name);
+        } else {
+          out = assemble_front(front, cfg);
+          out.name = name;
+          if (faces) out.front_direct_share = front_direct_share(*faces);
+        }
+      },
+      i);
   return out;
 }
 
 inline std::vector<gi::GiSample> load_samples(const data::SplitListing& split, const GiItemReader& rd,
-                                          const gi::GiInputConfig& cfg, size_t max_items,
-                                          const std::string& label, bool quiet = false) {
+                                              const gi::GiInputConfig& cfg, size_t max_items, const std::string& label,
+                                              bool quiet = false) {
   std::vector<gi::GiSample> out(std::min(max_items, split_items(split, rd.mode)));
   Progress bar(label, int64_t(out.size()));
   for (size_t i = 0; i < out.size(); ++i) {

@@ -31,7 +31,7 @@
 namespace nns::runs {
 
 struct LightMetrics {
-  double mse = 0, psnr = 0, ssim = 0;                      // mapped space
+  double mse = 0, psnr = 0, ssim = 0;                       // mapped space
   double mse_linear = 0, psnr_linear = 0, ssim_linear = 0;  // linear HDR
   double flip = 0, grad_error = 0;                          // mapped space (frame_detail)
 };
@@ -105,7 +105,8 @@ inline std::vector<int64_t> reproject_front(const gi::GiSample& cur, const gi::G
   // The AO radius is unused by reprojection; 1 stands in for the attribute GI views lack.
   const screen_space::GBuffer c = screen_space::gbuffer_from_view(cur.front_geometry, 1.0f);
   const screen_space::GBuffer p = screen_space::gbuffer_from_view(prev.front_geometry, 1.0f);
-  return classical_ao::reproject_to_previous(c, cur.front_geometry.world_to_camera, p, prev.front_geometry.world_to_camera);
+  return classical_ao::reproject_to_previous(c, cur.front_geometry.world_to_camera, p,
+                                             prev.front_geometry.world_to_camera);
 }
 
 // A (3, h, w) linear-light frame in mapped space.
@@ -116,8 +117,8 @@ inline std::vector<float> mapped(const Tensor<float>& t, const gi::HdrMapping& h
 }
 
 // Adds one frame pair of a method (m) against the ground truth (g), every channel.
-inline void add_flicker_pair(classical_ao::TemporalStats& st, const std::vector<int64_t>& map, const std::vector<float>& m,
-                             const std::vector<float>& m_prev, const std::vector<float>& g,
+inline void add_flicker_pair(classical_ao::TemporalStats& st, const std::vector<int64_t>& map,
+                             const std::vector<float>& m, const std::vector<float>& m_prev, const std::vector<float>& g,
                              const std::vector<float>& g_prev) {
   const size_t n = map.size();
   for (size_t c = 0; c < 3; ++c)
@@ -182,8 +183,8 @@ struct DistanceBands {
 inline std::vector<int8_t> distance_bands_of(const gi::GiSample& s) {
   const screen_space::GBuffer g = screen_space::gbuffer_from_view(s.front_geometry, 1.0f);  // the radius is unused here
   const std::vector<int> d = screen_space::chebyshev_distance(
-      screen_space::discontinuity_pixels(g.width, g.height, screen_space::surface_break(g, DistanceBands::kDepthRatio,
-                                                                    DistanceBands::kCreaseCos)),
+      screen_space::discontinuity_pixels(
+          g.width, g.height, screen_space::surface_break(g, DistanceBands::kDepthRatio, DistanceBands::kCreaseCos)),
       g.width, g.height);
   std::vector<int8_t> band(d.size(), -1);
   for (size_t i = 0; i < d.size(); ++i)

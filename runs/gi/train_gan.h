@@ -38,7 +38,7 @@ namespace nns::runs {
 // 0.934, is 7x slower per frame), so the rule above keeps it. Training on v3: ~5 minutes
 // with one thread; on data v4 (twice the frames): 6 min 52 s with two threads.
 struct TrainGanOptions {
-  std::string data_dir;          // train/ + test/ (or flat: split by scene)
+  std::string data_dir;  // train/ + test/ (or flat: split by scene)
   std::string out = "gan-out";
   std::string mode = "surround";  // front | surround (the six-face global view)
   int size = 64;                  // face size the views are box-filtered to (0: as stored)
@@ -61,30 +61,30 @@ struct TrainGanOptions {
   // 0.037-0.042, at a quarter 0.032-0.033; on test four frames at 30-51). At the equal
   // rate D stays ahead (last 10% of steps: D loss 0.16-0.17, G's adversarial 5.8); at a
   // quarter, 0.20-0.21 and 4.7-4.9. lr_d is a rate, not a ratio: another lr leaves it.
-  double lr_d = 5e-5;             // 0: lr (pix2pix)
+  double lr_d = 5e-5;  // 0: lr (pix2pix)
   double beta1 = 0.5;
-  bool coordconv = true;          // coordinate channels appended to the input
-  std::string loss = "gan";       // gan | l1 | dssim
-  std::string g_norm = "batch";   // batch | none: normalisation in the pix2pix U-Net
-  std::string arch = "pix2pix";   // pix2pix | deepshading
+  bool coordconv = true;            // coordinate channels appended to the input
+  std::string loss = "gan";         // gan | l1 | dssim
+  std::string g_norm = "batch";     // batch | none: normalisation in the pix2pix U-Net
+  std::string arch = "pix2pix";     // pix2pix | deepshading
   std::string residual = "linear";  // off | mapped | linear (generator.h)
   Precision precision = Precision::fp32;
-  int accumulate = 1;             // samples per optimizer step
-  double bucket_mb = 25;          // MiB per gradient bucket of the MPI exchange (0: one)
+  int accumulate = 1;     // samples per optimizer step
+  double bucket_mb = 25;  // MiB per gradient bucket of the MPI exchange (0: one)
   int seed = 1;
-  GiAugment augment;              // off
+  GiAugment augment;  // off
   bool resume = false;
-  int max_frames = 0;             // at most N train and N test items (0: all)
-  int sample_every = 250;         // sample PNGs every N steps (0: never)
-  bool eval = true;               // evaluate G.blob on the test split (and holdout/) after training
-  double train_subset = 1;        // about this share of the training scenes (data-size curves)
-  std::string stream = "auto";    // auto | on | off: read training frames from disk as needed
-  double memory_budget_gib = 2;   // frames held in memory before stream auto streams
+  int max_frames = 0;                 // at most N train and N test items (0: all)
+  int sample_every = 250;             // sample PNGs every N steps (0: never)
+  bool eval = true;                   // evaluate G.blob on the test split (and holdout/) after training
+  double train_subset = 1;            // about this share of the training scenes (data-size curves)
+  std::string stream = "auto";        // auto | on | off: read training frames from disk as needed
+  double memory_budget_gib = 2;       // frames held in memory before stream auto streams
   double validation_fraction = 0.15;  // share of train/'s scenes held out for model selection
-  bool test_bn_batch = true;      // BatchNorm batch statistics at test time (else running)
+  bool test_bn_batch = true;          // BatchNorm batch statistics at test time (else running)
   bool test_dropout = false;
-  int poison_step = -1;           // testing: a NaN enters the input at this step
-  int stop_after_epochs = -1;     // testing: stop after N epochs as if interrupted
+  int poison_step = -1;        // testing: a NaN enters the input at this step
+  int stop_after_epochs = -1;  // testing: stop after N epochs as if interrupted
 };
 
 struct TrainGanResult {
@@ -155,13 +155,11 @@ inline void require_unet_divisible(const TrainGanOptions& o, int height, int wid
   int fits = 0;
   while (fits < 30 && height % (2 << fits) == 0 && width % (2 << fits) == 0) ++fits;
   const int levels_that_fit = o.arch == "deepshading" ? fits + 1 : fits;
-  std::string msg = o.data_dir + ": the generator's input is " + std::to_string(width) + "x" +
-                    std::to_string(height) + " (--size " + std::to_string(o.size) +
-                    (o.size == 0 ? ": as stored" : "") + "), whose sides are not both divisible by 2^" +
-                    std::to_string(halvings) + " = " + std::to_string(m) + " (--levels " + std::to_string(o.levels) +
-                    "): ";
-  msg += levels_that_fit >= 1 ? "--levels " + std::to_string(levels_that_fit) + " or fewer fits"
-                              : "no --levels fits";
+  std::string msg = o.data_dir + ": the generator's input is " + std::to_string(width) + "x" + std::to_string(height) +
+                    " (--size " + std::to_string(o.size) + (o.size == 0 ? ": as stored" : "") +
+                    "), whose sides are not both divisible by 2^" + std::to_string(halvings) + " = " +
+                    std::to_string(m) + " (--levels " + std::to_string(o.levels) + "): ";
+  msg += levels_that_fit >= 1 ? "--levels " + std::to_string(levels_that_fit) + " or fewer fits" : "no --levels fits";
   msg += width != height && o.mode == "front"
              ? " (--size N box-filters square views only; a non-square view trains at its stored size)"
              : ", or a --size N that divides the stored face size and is a multiple of " + std::to_string(m);
@@ -185,7 +183,8 @@ inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplit
   GiTrainData train = streamed ? GiTrainData(s.train, rd, inputs, n_train)
                                : GiTrainData(load_samples(s.train, rd, inputs, max_items(o), "loading train"));
   if (runs::writer())
-    std::fprintf(stderr, "train-gan: %zu training %s (%zu more in validation scenes) from %s, input %s, depth_max %.3g, "
+    std::fprintf(stderr,
+                 "train-gan: %zu training %s (%zu more in validation scenes) from %s, input %s, depth_max %.3g, "
                  "hdr_scale %.3g, light_max %.3g; %.2f GiB of samples, %s\n",
                  n_train, inputs.mode == gi::GiMode::surround ? "frames" : "views", s.splits.validation.size(),
                  o.data_dir.c_str(), first.input.shape().str().c_str(), inputs.norm.depth_max, inputs.norm.hdr_scale,
@@ -205,8 +204,10 @@ inline void evaluate_trained(const TrainGanOptions& o, const GanSplits& s) {
   e.dropout_on = o.test_dropout;
   e.max_frames = max_items(o);
   evaluate_gi(e);
-  std::printf("train-gan: training %s/report.html; evaluation %s/report.html, chart %s/speed_vs_ssim.png "
-              "(report.md, results.csv, previews/ beside them)\n", o.out.c_str(), e.out.c_str(), e.out.c_str());
+  std::printf(
+      "train-gan: training %s/report.html; evaluation %s/report.html, chart %s/speed_vs_ssim.png "
+      "(report.md, results.csv, previews/ beside them)\n",
+      o.out.c_str(), e.out.c_str(), e.out.c_str());
   if (!s.splits.listing.has_holdout) return;
   e.split = "holdout";
   e.out = files.eval_holdout();
@@ -216,7 +217,8 @@ inline void evaluate_trained(const TrainGanOptions& o, const GanSplits& s) {
 }
 
 inline TrainGanResult train_gan(const TrainGanOptions& o) {
-  if (o.precision == Precision::bf16) std::fprintf(stderr, "train-gan: bf16 GEMMs on %s\n", bf16_isa_description().c_str());
+  if (o.precision == Precision::bf16)
+    std::fprintf(stderr, "train-gan: bf16 GEMMs on %s\n", bf16_isa_description().c_str());
   const GanSplits splits = open_gan_splits(o);
   GanRunOptions run = run_options(o, splits);
   TrainGanResult res;
@@ -231,8 +233,8 @@ inline TrainGanResult train_gan(const TrainGanOptions& o) {
   if (!r.finished) return res.exit_code = 3, res;  // the run layer's non-finite stop
   if (!runs::writer()) return res;                 // rank 0 reports and evaluates
   std::printf("train-gan: %s, %s in %s; generator %s\n", runs::count_of(r.epochs_done, "epoch").c_str(),
-              runs::count_of(r.steps, "step").c_str(),
-              Progress::format_seconds(r.seconds).c_str(), GanRunFiles{o.out}.generator().c_str());
+              runs::count_of(r.steps, "step").c_str(), Progress::format_seconds(r.seconds).c_str(),
+              GanRunFiles{o.out}.generator().c_str());
   if (o.eval && splits.splits.listing.test.size() > 0) evaluate_trained(o, splits);
   return res;
 }

@@ -46,7 +46,9 @@ struct Dir {
   std::string operator/(const std::string& s) const { return (path / s).string(); }
 };
 
-CommandResult blender(const std::string& args) { return nns::testing::run_command("blender -b --factory-startup " + args); }
+CommandResult blender(const std::string& args) {
+  return nns::testing::run_command("blender -b --factory-startup " + args);
+}
 
 CommandResult capture(const std::string& blend, const std::string& args) {
   return blender(blend + " -P " + kSource + "/tools/blender_capture.py -- " + args);
@@ -121,8 +123,9 @@ TEST(BlenderCapture, SceneToDatasetWithTwoCommands) {
   ASSERT_EQ(made.code, 0) << made.output;
 
   // The two commands of docs/blender.md.
-  CommandResult shot = capture(d / "room.blend",
-                               (d / "capture") + " --samples 32 --resolution 48x32 --ao-distance 1 --surround Front --face-size 16");
+  CommandResult shot =
+      capture(d / "room.blend",
+              (d / "capture") + " --samples 32 --resolution 48x32 --ao-distance 1 --surround Front --face-size 16");
   ASSERT_EQ(shot.code, 0) << shot.output;
   CommandResult imported = nns::testing::run_app("import-blender", "--out " + (d / "ds/train") + " " + (d / "capture"));
   ASSERT_EQ(imported.code, 0) << imported.output;
@@ -194,7 +197,8 @@ TEST(BlenderCapture, RefusesWhatItCannotCapture) {
   Dir d;
   // A scene without cameras.
   ASSERT_EQ(blender("--python-expr \"import bpy; bpy.ops.wm.read_factory_settings(use_empty=True); "
-                    "bpy.ops.mesh.primitive_cube_add(); bpy.ops.wm.save_as_mainfile(filepath='" + (d / "empty.blend") + "')\"")
+                    "bpy.ops.mesh.primitive_cube_add(); bpy.ops.wm.save_as_mainfile(filepath='" +
+                    (d / "empty.blend") + "')\"")
                 .code,
             0);
   CommandResult none = capture(d / "empty.blend", d / "out");

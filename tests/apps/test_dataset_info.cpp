@@ -63,15 +63,11 @@ struct Dataset {
   }
 };
 
-bool has(const std::string& output, const std::string& needle) {
-  return output.find(needle) != std::string::npos;
-}
+bool has(const std::string& output, const std::string& needle) { return output.find(needle) != std::string::npos; }
 
 }  // namespace
 
-TEST(DatasetInfo, BinaryExists) {
-  ASSERT_TRUE(fs::exists(kBinary)) << kBinary << " not built (ninja dataset-info)";
-}
+TEST(DatasetInfo, BinaryExists) { ASSERT_TRUE(fs::exists(kBinary)) << kBinary << " not built (ninja dataset-info)"; }
 
 TEST(DatasetInfo, CleanDatasetExitsZeroWithASummary) {
   Dataset d("clean");
@@ -128,10 +124,8 @@ TEST(DatasetInfo, AttributesRangesAndSplitLeaks) {
   EXPECT_EQ(r.code, 1) << r.output;
   std::string a = d.file("train/a.exr");
   EXPECT_TRUE(has(r.output, a + ": channel 'AO': missing header attribute 'aoRadius'")) << r.output;
-  EXPECT_TRUE(has(r.output, a + ": channel 'AO': value 1.5 outside [0,1] at 1 pixel (first at x=3, y=0)"))
-      << r.output;
-  EXPECT_TRUE(has(r.output, a + ": channel 'N.X/N.Y/N.Z': non-unit normal at 1 pixel (first at x=5, y=0)"))
-      << r.output;
+  EXPECT_TRUE(has(r.output, a + ": channel 'AO': value 1.5 outside [0,1] at 1 pixel (first at x=3, y=0)")) << r.output;
+  EXPECT_TRUE(has(r.output, a + ": channel 'N.X/N.Y/N.Z': non-unit normal at 1 pixel (first at x=5, y=0)")) << r.output;
   EXPECT_TRUE(has(r.output, d.file("test/b.exr") + ": scene 'kitchen' is in both train/ and test/")) << r.output;
 }
 
@@ -222,7 +216,8 @@ TEST(DatasetInfo, HoldoutSplitAndMetadata) {
   r = run("--purpose nnao " + d.root.string());
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_TRUE(has(r.output, d.file("train/leak.exr") + ": scene 'cave-3' belongs to family 'cave', held out in "
-                            "metadata.txt, but is in train/")) << r.output;
+                                                       "metadata.txt, but is in train/"))
+      << r.output;
   EXPECT_TRUE(has(r.output, d.file("holdout/stray.exr") + ": scene 'room-200000' is in holdout/ but its family 'room'"))
       << r.output;
   EXPECT_TRUE(has(r.output, d.file("metadata.txt") + ": line 8: expected 'key: value'")) << r.output;
@@ -284,6 +279,7 @@ TEST(DatasetInfo, ContactSheetDrawsTheFamilysGroundTruth) {
   Outcome none = run(root.string() + " --contact-sheet " + png + " --sheet-family courtyard");
   EXPECT_EQ(none.code, 1) << none.output;
   EXPECT_NE(none.output.find(root.string() + ": no train view or frame with indirect.* of family 'courtyard'"),
-            std::string::npos) << none.output;
+            std::string::npos)
+      << none.output;
   fs::remove_all(root);
 }

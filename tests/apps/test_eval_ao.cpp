@@ -54,7 +54,7 @@ TEST(EvalAo, WritesResultsForClassicalMethods) {
     nns::data::write_view((d / "data" / ("path-p00-f00" + std::to_string(v) + ".exr")).string(), view);
   }
   CommandResult r = run("--data " + (d / "data").string() + " --out " + (d / "out").string() +
-              " --methods SSAO,HBAO --threads 2 --previews 1");
+                        " --methods SSAO,HBAO --threads 2 --previews 1");
   ASSERT_EQ(r.code, 0) << r.output;
   std::string csv = read(d / "out" / "results.csv");
   EXPECT_EQ(csv.rfind("method,samples,ms_per_frame,mse,ssim,psnr,setting\n", 0), 0u) << csv;
@@ -66,7 +66,11 @@ TEST(EvalAo, WritesResultsForClassicalMethods) {
   EXPECT_TRUE(fs::exists(d / "out" / "previews" / "data_path-p00-f000_ground_truth.png"));
   EXPECT_TRUE(fs::exists(d / "out" / "previews" / "data_path-p00-f000_HBAO_64_error.png"));
   std::string temporal = read(d / "out" / "temporal.csv");
-  EXPECT_EQ(temporal.rfind("method,samples,flicker,ground_truth_flicker,flicker_relative_to_ground_truth,temporal_error,pairs,coverage\n", 0), 0u) << temporal;
+  EXPECT_EQ(temporal.rfind("method,samples,flicker,ground_truth_flicker,flicker_relative_to_ground_truth,temporal_"
+                           "error,pairs,coverage\n",
+                           0),
+            0u)
+      << temporal;
   EXPECT_NE(temporal.find("\nHBAO,64,"), std::string::npos) << temporal;
   EXPECT_NE(temporal.find(",2,"), std::string::npos) << temporal;  // frames 0-1 and 1-2
   EXPECT_TRUE(fs::exists(d / "out" / "timing.csv"));
@@ -133,7 +137,8 @@ TEST(EvalAo, ScoresTheHeldOutFamiliesBesideTheTestSplit) {
     view.scene = std::string(split[0] == 'h' ? "cave" : "room") + "-" + std::to_string(split[1] == 'e' ? 100000 : 7);
     nns::data::write_view((d / "data" / split / "v.exr").string(), view);
   }
-  CommandResult r = run("--data " + (d / "data").string() + " --out " + (d / "out").string() + " --methods SSAO --previews 0");
+  CommandResult r =
+      run("--data " + (d / "data").string() + " --out " + (d / "out").string() + " --methods SSAO --previews 0");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(read(d / "out" / "results_by_family.csv").find("\nroom,SSAO,"), std::string::npos);
   EXPECT_NE(read(d / "out" / "holdout" / "results_by_family.csv").find("\ncave,SSAO,"), std::string::npos);
@@ -172,7 +177,8 @@ TEST(EvalAo, TemporalAccumulationIsOfferedToEveryMethod) {
     EXPECT_LT(acc, 0.8 * raw) << m << ": " << temporal;
   }
   EXPECT_NE(read(d / "out" / "results.csv").find("\nHBAO+TA,64,"), std::string::npos);
-  EXPECT_EQ(run("--data " + (d / "data").string() + " --out " + (d / "bad").string() + " --temporal-blend 1.5").code, 2);
+  EXPECT_EQ(run("--data " + (d / "data").string() + " --out " + (d / "bad").string() + " --temporal-blend 1.5").code,
+            2);
   fs::remove_all(d);
 }
 
@@ -190,8 +196,9 @@ TEST(EvalAo, VaryPatternChangesShaderStyleJitterPerFrame) {
   }
   nns::fixtures::random_nnao_blob(7, 4, 3).save((d / "m.blob").string());
   auto flicker = [&](const std::string& extra, const std::string& out) {
-    CommandResult r = run("--data " + (d / "data").string() + " --model " + (d / "m.blob").string() + " --out " +
-                          (d / out).string() + " --methods NNAO --nnao-samples 16 --previews 0 --temporal-blend 0.5 " + extra);
+    CommandResult r =
+        run("--data " + (d / "data").string() + " --model " + (d / "m.blob").string() + " --out " + (d / out).string() +
+            " --methods NNAO --nnao-samples 16 --previews 0 --temporal-blend 0.5 " + extra);
     EXPECT_EQ(r.code, 0) << r.output;
     const std::string t = read(d / out / "temporal.csv");
     auto at = [&](const std::string& name) {
@@ -220,7 +227,8 @@ TEST(EvalAo, LadderIsOneCurveAndTheFrontNamesItsWins) {
     auto view = nns::fixtures::synthetic_view(48, 32, 3, 16);
     nns::data::write_view((d / "data" / ("v" + std::to_string(v) + ".exr")).string(), view);
   }
-  std::string csv = "rung,directions,steps,bands,hidden,downsample,blur_passes,samples_per_pixel,test_mse,val_mse,seconds\n";
+  std::string csv =
+      "rung,directions,steps,bands,hidden,downsample,blur_passes,samples_per_pixel,test_mse,val_mse,seconds\n";
   for (int s : {4, 2, 1}) {
     nns::Blob b = nns::fixtures::random_nnao_blob(0, 4, 11 + s, false, {8, 4, 2});
     b.set_config("downsample", s);
@@ -240,7 +248,11 @@ TEST(EvalAo, LadderIsOneCurveAndTheFrontNamesItsWins) {
   std::string line;
   std::getline(pareto, line);
   ASSERT_EQ(line, "method,setting,wall_ms,cpu_ms,mse,ssim,flicker_x_truth,on_front,beaten_by_nnao_at_no_more_time");
-  struct Row { std::string method, setting; double ms, mse, ssim; std::string beaten_by; };
+  struct Row {
+    std::string method, setting;
+    double ms, mse, ssim;
+    std::string beaten_by;
+  };
   std::vector<Row> rows;
   while (std::getline(pareto, line)) {
     std::vector<std::string> f;
@@ -258,7 +270,8 @@ TEST(EvalAo, LadderIsOneCurveAndTheFrontNamesItsWins) {
     }
     ASSERT_FALSE(c.beaten_by.empty()) << c.method;
     if (c.beaten_by == "none") continue;
-    const auto w = std::find_if(rows.begin(), rows.end(), [&](const Row& q) { return "NNAO-exact@" + q.setting == c.beaten_by; });
+    const auto w =
+        std::find_if(rows.begin(), rows.end(), [&](const Row& q) { return "NNAO-exact@" + q.setting == c.beaten_by; });
     ASSERT_NE(w, rows.end()) << c.beaten_by;
     EXPECT_LE(w->ms, c.ms);
     EXPECT_LT(w->mse, c.mse);
@@ -267,8 +280,10 @@ TEST(EvalAo, LadderIsOneCurveAndTheFrontNamesItsWins) {
   EXPECT_NE(read(d / "out" / "report.md").find("The speed/accuracy front"), std::string::npos);
 
   // The budget: a generous one ships the top rung (listed last), an impossible one nothing.
-  const std::string base = "--ladder " + (d / "ladder").string() + " --view " + (d / "data" / "v0.exr").string() + " --size 64x40";
-  CommandResult e = nns::testing::run_app("export-nnao", base + " --budget-ms 100000 --out " + (d / "shaders").string());
+  const std::string base =
+      "--ladder " + (d / "ladder").string() + " --view " + (d / "data" / "v0.exr").string() + " --size 64x40";
+  CommandResult e =
+      nns::testing::run_app("export-nnao", base + " --budget-ms 100000 --out " + (d / "shaders").string());
   ASSERT_EQ(e.code, 0) << e.output;
   EXPECT_NE(e.output.find("r1 "), std::string::npos) << e.output;
   EXPECT_NE(e.output.find("<- picked"), std::string::npos) << e.output;

@@ -65,21 +65,21 @@ INSTANTIATE_TEST_SUITE_P(
 // render-dataset --size 65536x65536 died in std::bad_alloc naming no flag.
 INSTANTIATE_TEST_SUITE_P(
     RealFlagsNarrowedToFloat, FlagRanges,
-    ::testing::Values(
-        Case{"train-nnao", "--radius 1e39", "--radius: 1e39 is out of range"},
-        Case{"nnao-infer", "--depth-scale 1e39", "--depth-scale: 1e39 is out of range"},
-        Case{"gi-infer", "--depth-scale 1e39", "--depth-scale: 1e39 is out of range"},
-        Case{"import-blender", "--ao-radius 1e39 x.exr", "--ao-radius: 1e39 is out of range"},
-        Case{"tune-classical-ao", "--threads 100000", "--threads: 100000 is out of range"},
-        Case{"tune-classical-ao", "--threads 0", "--threads: 0 is out of range"},
-        Case{"tune-classical-ao", "--rounds 0", "--rounds: 0 is out of range"},
-        Case{"tune-classical-ao", "--rounds 4294967297", "--rounds: 4294967297 is out of range"},
-        Case{"tune-classical-ao", "--max-views -5", "--max-views: -5 is out of range"},
-        Case{"tune-classical-ao", "--methods ''", "--methods: no name in ''"},
-        Case{"eval-ao", "--methods ''", "--methods: no name in ''"},
-        Case{"eval-ao", "--methods ,", "--methods: no name in ','"},
-        Case{"render-dataset", "--size 65536x65536", "--size: 65536x65536 is out of range: each side at most 16384"},
-        Case{"render-dataset", "--size 320x16385", "--size: 320x16385 is out of range"}));
+    ::testing::Values(Case{"train-nnao", "--radius 1e39", "--radius: 1e39 is out of range"},
+                      Case{"nnao-infer", "--depth-scale 1e39", "--depth-scale: 1e39 is out of range"},
+                      Case{"gi-infer", "--depth-scale 1e39", "--depth-scale: 1e39 is out of range"},
+                      Case{"import-blender", "--ao-radius 1e39 x.exr", "--ao-radius: 1e39 is out of range"},
+                      Case{"tune-classical-ao", "--threads 100000", "--threads: 100000 is out of range"},
+                      Case{"tune-classical-ao", "--threads 0", "--threads: 0 is out of range"},
+                      Case{"tune-classical-ao", "--rounds 0", "--rounds: 0 is out of range"},
+                      Case{"tune-classical-ao", "--rounds 4294967297", "--rounds: 4294967297 is out of range"},
+                      Case{"tune-classical-ao", "--max-views -5", "--max-views: -5 is out of range"},
+                      Case{"tune-classical-ao", "--methods ''", "--methods: no name in ''"},
+                      Case{"eval-ao", "--methods ''", "--methods: no name in ''"},
+                      Case{"eval-ao", "--methods ,", "--methods: no name in ','"},
+                      Case{"render-dataset", "--size 65536x65536",
+                           "--size: 65536x65536 is out of range: each side at most 16384"},
+                      Case{"render-dataset", "--size 320x16385", "--size: 320x16385 is out of range"}));
 
 // "--out ''" wrote eval-ao's eleven outputs into the current folder.
 TEST(FlagRanges, AnEmptyOutputPathIsRefusedNamingTheFlag) {

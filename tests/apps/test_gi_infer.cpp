@@ -53,7 +53,8 @@ void copy_without_truth(const std::string& from, const std::string& to) {
   if (fs::is_directory(from)) {
     fs::create_directories(to);
     for (auto& e : fs::directory_iterator(from))
-      nns::data::write_view((fs::path(to) / e.path().filename()).string(), strip(nns::data::read_view(e.path().string())));
+      nns::data::write_view((fs::path(to) / e.path().filename()).string(),
+                            strip(nns::data::read_view(e.path().string())));
   } else {
     nns::data::write_view(to, strip(nns::data::read_view(from)));
   }
@@ -67,8 +68,10 @@ class GiInfer : public ::testing::Test {
     nns::testing::write_dataset(data(), 3, 2, false, /*face_size=*/32);
     // A path-traced dataset too (Embree, procedural rooms with an emission channel,
     // which the synthetic one lacks): 2 train frames and 1 held-out frame, cheap settings.
-    auto rd = run_app("render-dataset", "--out " + rendered() + " --preset surround --views 3 --views-per-scene 1"
-                                        " --test-fraction 0.34 --size 32x32 --spp 2 --gi-spp 4 --bounces 2 --seed 5");
+    auto rd =
+        run_app("render-dataset", "--out " + rendered() +
+                                      " --preset surround --views 3 --views-per-scene 1"
+                                      " --test-fraction 0.34 --size 32x32 --spp 2 --gi-spp 4 --bounces 2 --seed 5");
     ASSERT_EQ(rd.code, 0) << rd.output;
     const std::pair<std::string, std::string> runs[] = {
         {"surround", data()}, {"front", data()}, {"rendered", rendered()}};
@@ -226,11 +229,13 @@ TEST_F(GiInfer, FrontModelOnTheFrameAsImagesGivesTheSameLight) {
   char fov[32];
   std::snprintf(fov, sizeof fov, " --fov-y %.9g", double(v.fov_y_deg));
   fs::create_directories(path("out_img"));
-  auto ref = run_app("gi-infer", "--model " + model("front") + " --in " + view + " --out " + path("out_img") + "/ref.exr");
+  auto ref =
+      run_app("gi-infer", "--model " + model("front") + " --in " + view + " --out " + path("out_img") + "/ref.exr");
   ASSERT_EQ(ref.code, 0) << ref.output;
   auto r = run_app("gi-infer", "--model " + model("front") + flags + fov + " --out " + path("out_img") + "/img.exr");
   ASSERT_EQ(r.code, 0) << r.output;
-  const View a = nns::data::read_view(path("out_img") + "/ref.exr"), b = nns::data::read_view(path("out_img") + "/img.exr");
+  const View a = nns::data::read_view(path("out_img") + "/ref.exr"),
+             b = nns::data::read_view(path("out_img") + "/img.exr");
   for (const char* c : {"light.R", "light.G", "light.B", "shaded.R", "shaded.G", "shaded.B", "Z"})
     EXPECT_EQ(a.channel(c), b.channel(c)) << c;
   EXPECT_TRUE(fs::exists(path("out_img") + "/img_shaded.png"));
@@ -313,7 +318,8 @@ TEST_F(GiInfer, RefusesBadInputNamingTheFileAndLeavesNoOutput) {
   EXPECT_EQ(files_in(out_dir).size(), 1u);
 
   // Flags: an output that is not .exr; --help.
-  auto bad_out = run_app("gi-infer", "--model " + model("front") + " --in " + nan_view + " --out " + out_dir + "/x.png");
+  auto bad_out =
+      run_app("gi-infer", "--model " + model("front") + " --in " + nan_view + " --out " + out_dir + "/x.png");
   EXPECT_NE(bad_out.code, 0);
   EXPECT_NE(bad_out.output.find(".exr"), std::string::npos) << bad_out.output;
   auto help = run_app("gi-infer", "--help");
@@ -346,12 +352,13 @@ std::string face_flags(const View& v, const std::string& face, const std::string
       for (auto& x : enc.channels[c]) x = (x + 1) / 2;
     for (const char* c : {"albedo.R", "albedo.G", "albedo.B"})
       for (auto& x : enc.channels[c]) x = srgb_encode_float(x);
-    f += " --channel " + face + ".normal=" + write(enc, p + "_n.png", {"R", "G", "B"}, {"N.X", "N.Y", "N.Z"}, PixelType::u16);
-    f += " --channel " + face + ".albedo=" +
-         write(enc, p + "_a.png", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"}, PixelType::u16);
+    f += " --channel " + face +
+         ".normal=" + write(enc, p + "_n.png", {"R", "G", "B"}, {"N.X", "N.Y", "N.Z"}, PixelType::u16);
+    f += " --channel " + face +
+         ".albedo=" + write(enc, p + "_a.png", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"}, PixelType::u16);
   } else {
-    const std::string g = write(v, p + "_gbuf.exr", {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, {"Z", "N.X", "N.Y", "N.Z"},
-                                PixelType::f32);
+    const std::string g =
+        write(v, p + "_gbuf.exr", {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, {"Z", "N.X", "N.Y", "N.Z"}, PixelType::f32);
     f += " --channel " + face + ".depth=" + g + ":depth.V --channel " + face + ".normal=" + g + ":nrm.x,nrm.y,nrm.z";
     f += " --channel " + face + ".albedo=" +
          write(v, p + "_albedo.tif", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"}, PixelType::f32);
@@ -418,8 +425,10 @@ TEST_F(GiInfer, SurroundModelOnTheFrameAsImages) {
       shaded_diff = std::max(shaded_diff, double(std::abs(a.channel(std::string("shaded.") + ch)[i] -
                                                           c.channel(std::string("shaded.") + ch)[i])));
     }
-  std::printf("gi-infer, surround frame with 16-bit PNG normals and albedo: max |light diff| %.3g, "
-              "max |shaded diff| %.3g\n", light_diff, shaded_diff);
+  std::printf(
+      "gi-infer, surround frame with 16-bit PNG normals and albedo: max |light diff| %.3g, "
+      "max |shaded diff| %.3g\n",
+      light_diff, shaded_diff);
   EXPECT_LT(light_diff, 3.6e-5);
   EXPECT_LT(shaded_diff, 2.5e-4);
   EXPECT_EQ(a.channel("Z"), c.channel("Z"));
@@ -453,8 +462,8 @@ TEST_F(GiInfer, SurroundImagesRefusalsNameTheProblemAndWriteNothing) {
     return flags.erase(at, flags.find(" --channel", at + 1) - at);
   };
   // Missing faces and targets, all in one message.
-  expect_refused("surround", face[0] + without(face[1], "back.depth") + face[2] + face[3] +
-                                 without(face[4], "up.normal"),
+  expect_refused("surround",
+                 face[0] + without(face[1], "back.depth") + face[2] + face[3] + without(face[4], "up.normal"),
                  {"missing: back.depth, up.normal, down (all of depth, normal, albedo, direct)"});
   expect_refused("surround", all + " --channel sideways.depth=" + dir + "/front_gbuf.exr:depth.V",
                  {"sideways.depth", "unknown face 'sideways'", "front, back, left, right, up, down"});
@@ -468,8 +477,8 @@ TEST_F(GiInfer, SurroundImagesRefusalsNameTheProblemAndWriteNothing) {
   {
     View small = nns::testing::make_face(16, 0, 2, false, 9);
     fs::create_directories(dir + "/small");
-    std::string flags = face[0] + face[1] + face_flags(small, "left", dir + "/small", false, write) + face[3] +
-                        face[4] + face[5];
+    std::string flags =
+        face[0] + face[1] + face_flags(small, "left", dir + "/small", false, write) + face[3] + face[4] + face[5];
     expect_refused("surround", flags, {"left face (", dir + "/small/left_", "16x16 but front is 32x32"});
   }
   // A hint names the face-prefixed target to copy.

@@ -38,8 +38,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> kHostile = {"-1",  "0",          "nan", "inf", "-inf", "1e39", "1e309", "4294967297",
-                                           "9223372036854775808", "",    "abc", ","};
+const std::vector<std::string> kHostile = {
+    "-1", "0", "nan", "inf", "-inf", "1e39", "1e309", "4294967297", "9223372036854775808", "", "abc", ","};
 
 struct Flag {
   std::string name, meta;  // meta: N, X, N,N,..., a|b|c, or S (comma-separated names)
@@ -313,7 +313,8 @@ TEST(HostileFlags, EveryFlagOfEveryCommandRefusesWhatItsHelpDoesNotAllow) {
     EXPECT_EQ(r.code, 2) << what << "\n" << r.output;
     for (const Flag* f : k.flags)
       EXPECT_NE(r.output.find("error: " + f->name), std::string::npos)
-          << k.command->name << " " << f->name << " '" << k.value << "': the flag is not named\n" << r.output;
+          << k.command->name << " " << f->name << " '" << k.value << "': the flag is not named\n"
+          << r.output;
     EXPECT_TRUE(k.written.empty()) << what << ": wrote " << k.written.front();
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -24,9 +24,7 @@ namespace {
 
 using Outcome = nns::testing::CommandResult;
 
-Outcome run(const std::string& binary, const std::string& args) {
-  return nns::testing::run_app(binary, args);
-}
+Outcome run(const std::string& binary, const std::string& args) { return nns::testing::run_app(binary, args); }
 
 // The camera looks along world +Y with world +Z up (Blender's usual set-up): camera
 // space (x, y, z) = (x_w, z_w, -y_w), plus a translation that normals must ignore.
@@ -41,7 +39,8 @@ View blender_view(const std::string& layer) {
   v.scene = "";  // Blender writes no such attribute
   auto name = [&](const std::string& s) { return layer + "." + s; };
   auto& z = v.add_channel(name("Depth.Z"));
-  auto &nx = v.add_channel(name("Normal.X")), &ny = v.add_channel(name("Normal.Y")), &nz = v.add_channel(name("Normal.Z"));
+  auto &nx = v.add_channel(name("Normal.X")), &ny = v.add_channel(name("Normal.Y")),
+       &nz = v.add_channel(name("Normal.Z"));
   for (const char* p : {"DiffCol", "DiffDir", "DiffInd", "Emit", "Env", "AO"})
     for (const char* c : {"R", "G", "B"}) v.add_channel(name(std::string(p) + "." + c));
   v.add_channel(name("Combined.R"));
@@ -99,8 +98,9 @@ struct Dir {
 TEST(ImportBlender, ConvertsPassesAndRotatesNormalsIntoCameraSpace) {
   Dir d;
   write_view(d / "render.exr", blender_view("ViewLayer"));
-  Outcome r = run("import-blender", "--fov-y 40 --ao-radius 0.5 --scene barn --world-to-camera \"" +
-                                        std::string(kWorldToCamera) + "\" --out " + (d / "out.exr") + " " + (d / "render.exr"));
+  Outcome r =
+      run("import-blender", "--fov-y 40 --ao-radius 0.5 --scene barn --world-to-camera \"" +
+                                std::string(kWorldToCamera) + "\" --out " + (d / "out.exr") + " " + (d / "render.exr"));
   ASSERT_EQ(r.code, 0) << r.output;
   View v = read_view(d / "out.exr");
   EXPECT_EQ(v.scene, "barn");
@@ -150,7 +150,8 @@ TEST(ImportBlender, ExplainsWhatIsMissing) {
 
   Outcome no_cam = run("import-blender", "--fov-y 40 --ao-radius 1 --out " + (d / "o.exr") + " " + (d / "r.exr"));
   EXPECT_EQ(no_cam.code, 1);
-  EXPECT_NE(no_cam.output.find(d / "r.exr" + ": world-space normals need the camera"), std::string::npos) << no_cam.output;
+  EXPECT_NE(no_cam.output.find(d / "r.exr" + ": world-space normals need the camera"), std::string::npos)
+      << no_cam.output;
 
   Outcome no_radius = run("import-blender", "--fov-y 40 --world-to-camera \"" + std::string(kWorldToCamera) +
                                                 "\" --out " + (d / "o.exr") + " " + (d / "r.exr"));
@@ -190,7 +191,8 @@ TEST(ImportBlender, TakesTheCameraFromTheCaptureNote) {
   // A flag given by hand wins, and says so.
   Outcome over = run("import-blender", "--fov-y 50 --out " + (d / "o.exr") + " " + (d / "capture/Cam.exr"));
   ASSERT_EQ(over.code, 0) << over.output;
-  EXPECT_NE(over.output.find("--fov-y given by hand overrides the file's capture note"), std::string::npos) << over.output;
+  EXPECT_NE(over.output.find("--fov-y given by hand overrides the file's capture note"), std::string::npos)
+      << over.output;
   EXPECT_FLOAT_EQ(read_view(d / "o.exr").fov_y_deg, 50.0f);
 }
 
@@ -212,7 +214,8 @@ TEST(ImportBlender, RefusesAMalformedCaptureNoteNamingTheFile) {
     write_with_note(d / "r.exr", blender_view("ViewLayer"), note);
     Outcome r = run("import-blender", "--out " + (d / "out") + " " + (d / "r.exr"));
     EXPECT_EQ(r.code, 1) << note;
-    EXPECT_NE(r.output.find(d / "r.exr" + ": Note (written by tools/blender_capture.py): "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(d / "r.exr" + ": Note (written by tools/blender_capture.py): "), std::string::npos)
+        << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << note << "\n" << r.output;
     EXPECT_FALSE(fs::exists(d / "out/r.exr"));
   }
@@ -254,8 +257,9 @@ TEST(ImportBlender, RefusesBrokenDepthAndNormalsNamingFilePassAndPixel) {
     EXPECT_FALSE(fs::exists(out)) << b.pass << " " << b.value;
   }
   write_view(d / "render.exr", blender_view("ViewLayer"));
-  Outcome r = run("import-blender", "--fov-y 40 --ao-radius 0.5 --world-to-camera \"0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\" --out " +
-                                        (d / "out.exr") + " " + (d / "render.exr"));
+  Outcome r =
+      run("import-blender", "--fov-y 40 --ao-radius 0.5 --world-to-camera \"0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\" --out " +
+                                (d / "out.exr") + " " + (d / "render.exr"));
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find(d / "render.exr"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("world-to-camera"), std::string::npos) << r.output;

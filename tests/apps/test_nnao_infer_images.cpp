@@ -134,8 +134,8 @@ TEST_F(NnaoInferImages, TheRenderedViewHasSkyAndGeometry) {
 }
 
 TEST_F(NnaoInferImages, FloatExrWithItsOwnNamesAndFloatTiffGiveTheSameAo) {
-  const std::string g = write("gbuf.exr", {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, PixelType::f32,
-                              {"Z", "N.X", "N.Y", "N.Z"}, as_is);
+  const std::string g =
+      write("gbuf.exr", {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, PixelType::f32, {"Z", "N.X", "N.Y", "N.Z"}, as_is);
   Planes exr = infer("--channel depth=" + g + ":depth.V --channel normal=" + g + ":nrm.x,nrm.y,nrm.z", "exr.exr");
   EXPECT_EQ(max_diff(exr.ao, reference_.ao), 0.0);
   EXPECT_EQ(max_diff(exr.z, view().channel("Z")), 0.0);
@@ -153,10 +153,11 @@ TEST_F(NnaoInferImages, SixteenBitPngWithinItsQuantisation) {
   static float scale;
   scale = std::ceil(far);
   // Depth: code 0 is sky; normals: code/65535 = (n + 1) / 2.
-  const std::string d = write("depth16.png", {"Y"}, PixelType::u16, {"Z"},
-                              [](float z, size_t) { return data::is_sky(z) ? 0.0f : std::max(z / scale, 1.0f / 65535); });
-  const std::string n = write("normals16.png", {"R", "G", "B"}, PixelType::u16, kNormals,
-                              [](float x, size_t) { return 0.5f * (x + 1); });
+  const std::string d = write("depth16.png", {"Y"}, PixelType::u16, {"Z"}, [](float z, size_t) {
+    return data::is_sky(z) ? 0.0f : std::max(z / scale, 1.0f / 65535);
+  });
+  const std::string n =
+      write("normals16.png", {"R", "G", "B"}, PixelType::u16, kNormals, [](float x, size_t) { return 0.5f * (x + 1); });
   char s[32];
   std::snprintf(s, sizeof s, "%.9g", double(scale));
   Planes png = infer("--channel depth=" + d + " --channel normal=" + n + " --depth-scale " + s, "png.exr");
@@ -184,8 +185,8 @@ TEST_F(NnaoInferImages, SixteenBitPngWithinItsQuantisation) {
   EXPECT_LE(max_diff(png.ao, expect.ao), 1e-5) << "the reader's decoding is not the documented one";
 
   const double mean = mean_diff(png.ao, reference_.ao), max = max_diff(png.ao, reference_.ao);
-  std::printf("16-bit PNG vs the dataset EXR: AO mean |diff| %.3g, max %.3g; depth max |diff| %.3g (scale %g)\n",
-              mean, max, worst, double(scale));
+  std::printf("16-bit PNG vs the dataset EXR: AO mean |diff| %.3g, max %.3g; depth max |diff| %.3g (scale %g)\n", mean,
+              max, worst, double(scale));
   EXPECT_LT(mean, 1e-3);
   EXPECT_GT(max, 0.0) << "16-bit codes cannot hold the rendered floats exactly; is the PNG really 16-bit?";
 }
@@ -207,8 +208,8 @@ TEST_F(NnaoInferImages, RadianceHdrDepthWithinRgbePrecision) {
 TEST_F(NnaoInferImages, RefusalsNameTheFileAndWriteNothing) {
   const std::string n = write("rn.exr", {"R", "G", "B"}, PixelType::f32, kNormals, as_is);
   const std::string d = write("rd.exr", {"Z"}, PixelType::f32, {"Z"}, as_is);
-  const std::string cut = write("cut.png", {"R", "G", "B"}, PixelType::u16, kNormals,
-                                [](float x, size_t) { return 0.5f * (x + 1); });
+  const std::string cut =
+      write("cut.png", {"R", "G", "B"}, PixelType::u16, kNormals, [](float x, size_t) { return 0.5f * (x + 1); });
   fs::resize_file(cut, fs::file_size(cut) / 2);
   const std::string small = path("small.exr");
   const float one[4] = {1, 1, 1, 1};

@@ -111,8 +111,8 @@ class ReportHtml : public ::testing::Test {
   static std::string headless(const std::string& flags, const fs::path& page) {
     const fs::path profile = root_ / "chromium-profile";
     const CommandResult r = run_command("timeout 120 " + chromium() + " --headless --no-sandbox --disable-gpu " +
-                                        "--hide-scrollbars --user-data-dir=" + shell_arg(profile) + " " + flags +
-                                        " " + shell_arg("file://" + page.string()));
+                                        "--hide-scrollbars --user-data-dir=" + shell_arg(profile) + " " + flags + " " +
+                                        shell_arg("file://" + page.string()));
     EXPECT_EQ(r.code, 0) << r.output;
     return r.output;
   }
@@ -172,7 +172,8 @@ class ReportHtml : public ::testing::Test {
     const std::string dom = headless("--dump-dom --window-size=1280,1600", page);
     fs::remove(page);
     const size_t at = dom.find("<pre id=\"nns-charts\">");
-    if (at == std::string::npos) return (void)(ADD_FAILURE() << "the chart script did not run:\n" << dom.substr(0, 2000));
+    if (at == std::string::npos)
+      return (void)(ADD_FAILURE() << "the chart script did not run:\n" << dom.substr(0, 2000));
     const std::string result = dom.substr(at + 21, dom.find("</pre>", at) - at - 21);
     EXPECT_NE(result.find("charts=" + std::to_string(charts) + " "), std::string::npos) << dir << ": " << result;
     EXPECT_NE(result.find("cut=[]"), std::string::npos) << dir << ": chart text cut off: " << result;
@@ -207,8 +208,9 @@ TEST_F(ReportHtml, TrainNnaoPageShowsTheLossChart) {
     fs::create_directories(data / (v % 2 ? "test" : "train"));
     nns::data::write_view((data / (v % 2 ? "test" : "train") / ("v" + std::to_string(v) + ".exr")).string(), view);
   }
-  const CommandResult r = run_app("train-nnao", "--data " + shell_arg(data) + " --out " + shell_arg(out) +
-                                                    " --preset grid --window 7 --points-per-view 96 --epochs 2 --seed 5 --dropout 0.3");
+  const CommandResult r =
+      run_app("train-nnao", "--data " + shell_arg(data) + " --out " + shell_arg(out) +
+                                " --preset grid --window 7 --points-per-view 96 --epochs 2 --seed 5 --dropout 0.3");
   ASSERT_EQ(r.code, 0) << r.output;
   // The train loss and the held-out MSE, each on a chart of its own.
   EXPECT_EQ(check_page(out, 2), 0);
@@ -235,8 +237,8 @@ TEST_F(ReportHtml, TrainGanAndEvalGiPagesShowEveryImage) {
   EXPECT_NE(log.find("\"epoch\":1,"), std::string::npos) << log;
   EXPECT_EQ(log.find("\"epoch\":0,"), std::string::npos) << log;
   EXPECT_EQ(nns::read_file((run / "loss.svg").string()).find("(log scale) (log scale)"), std::string::npos);
-  r = run_app("eval-gi", "--data " + shell_arg(data) + " --model " + shell_arg(run / "G.blob") + " --out " + shell_arg(out) +
-                             " --previews 2");
+  r = run_app("eval-gi", "--data " + shell_arg(data) + " --model " + shell_arg(run / "G.blob") + " --out " +
+                             shell_arg(out) + " --previews 2");
   ASSERT_EQ(r.code, 0) << r.output;
   // 3 charts (SSIM, linear MSE, FLIP against time); 2 frames x (truth + 3 rows x 2
   // images), on the stage and as thumbnails.

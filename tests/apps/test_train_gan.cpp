@@ -64,8 +64,7 @@ TEST_F(TrainGan, ResumeIsBitwiseEqualToAnUninterruptedRun) {
   ASSERT_EQ(run(train_cmd(a, "--threads 2"), a + ".log"), 0) << read_all(a + ".log");
   // b: interrupted after the first epoch, then resumed (with the other thread count:
   // results must not depend on it either).
-  ASSERT_EQ(run(train_cmd(b, "--threads 1 --debug-stop-after-epochs 1"), b + ".log1"), 0)
-      << read_all(b + ".log1");
+  ASSERT_EQ(run(train_cmd(b, "--threads 1 --debug-stop-after-epochs 1"), b + ".log1"), 0) << read_all(b + ".log1");
   ASSERT_TRUE(fs::exists(b + "/checkpoint.blob"));
   ASSERT_NE(read_all(a + "/G.blob"), read_all(b + "/G.blob"));  // b really stopped early
   ASSERT_EQ(run(train_cmd(b, "--threads 2 --resume"), b + ".log2"), 0) << read_all(b + ".log2");
@@ -98,8 +97,7 @@ TEST_F(TrainGan, EvalGiWritesResultsAndRefusesAFrameWithAMissingFace) {
   const std::string run_dir = (root_ / "ev").string();
   ASSERT_EQ(run(train_cmd(run_dir, "--epochs 1"), run_dir + ".log"), 0) << read_all(run_dir + ".log");
   const std::string out = (root_ / "ev_out").string();
-  ASSERT_EQ(run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + run_dir +
-                    "/G.blob --out " + out,
+  ASSERT_EQ(run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + run_dir + "/G.blob --out " + out,
                 out + ".log"),
             0)
       << read_all(out + ".log");
@@ -133,9 +131,9 @@ TEST_F(TrainGan, EvalGiWritesResultsAndRefusesAFrameWithAMissingFace) {
 
   const std::string broken = (root_ / "broken").string();
   write_dataset(broken, 1, 1, /*drop_left=*/true);
-  int rc = run(kBin + "eval-gi --data " + broken + " --model " + run_dir + "/G.blob --out " +
-                   (root_ / "broken_out").string(),
-               broken + ".log");
+  int rc = run(
+      kBin + "eval-gi --data " + broken + " --model " + run_dir + "/G.blob --out " + (root_ / "broken_out").string(),
+      broken + ".log");
   std::string log = read_all(broken + ".log");
   EXPECT_NE(rc, 0);
   EXPECT_NE(log.find("frame0"), std::string::npos) << log;
@@ -147,8 +145,7 @@ TEST_F(TrainGan, EvalGiWritesResultsAndRefusesAFrameWithAMissingFace) {
 // the light cap are in its config) and scores it.
 TEST_F(TrainGan, DeepShadingDssimBaselineRoundTripsThroughEvalGi) {
   const std::string run_dir = (root_ / "ds").string();
-  ASSERT_EQ(run(train_cmd(run_dir, "--epochs 1 --arch deepshading --residual linear --loss dssim"),
-                run_dir + ".log"),
+  ASSERT_EQ(run(train_cmd(run_dir, "--epochs 1 --arch deepshading --residual linear --loss dssim"), run_dir + ".log"),
             0)
       << read_all(run_dir + ".log");
   std::string blob = read_all(run_dir + "/G.blob");
@@ -156,8 +153,7 @@ TEST_F(TrainGan, DeepShadingDssimBaselineRoundTripsThroughEvalGi) {
   EXPECT_NE(blob.find("deepshading"), std::string::npos);
   EXPECT_NE(blob.find("light_max"), std::string::npos);
   const std::string out = (root_ / "ds_out").string();
-  ASSERT_EQ(run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + run_dir +
-                    "/G.blob --out " + out,
+  ASSERT_EQ(run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + run_dir + "/G.blob --out " + out,
                 out + ".log"),
             0)
       << read_all(out + ".log");
@@ -214,10 +210,9 @@ TEST_F(TrainGan, EvalGiRefusesABlobWithABadConfig) {
     const std::string bad = (root_ / (std::string("bad_") + kv.first + ".blob")).string();
     b.save(bad);
     const std::string out = (root_ / "cfg_out").string();
-    EXPECT_NE(run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + bad +
-                      " --out " + out,
-                  out + ".log"),
-              0);
+    EXPECT_NE(
+        run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + bad + " --out " + out, out + ".log"),
+        0);
     const std::string log = read_all(out + ".log");
     EXPECT_NE(log.find(bad), std::string::npos) << log;
     EXPECT_NE(log.find(message), std::string::npos) << log;
@@ -273,7 +268,8 @@ TEST_F(TrainGan, ABadFileInTheTestSplitIsFoundBeforeTheFirstStep) {
   std::ofstream(data / "test" / "frame0" / "back.exr", std::ios::trunc) << "not an EXR";
   const std::string out = (root_ / "badtest_out").string();
   int rc = std::system((kBin + "train-gan --data " + data.string() + " --out " + out +
-                        " --size 16 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 2 > " + out + ".log 2>&1").c_str());
+                        " --size 16 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 2 > " + out + ".log 2>&1")
+                           .c_str());
   EXPECT_NE(rc, 0);
   EXPECT_NE(read_all(out + ".log").find("back.exr"), std::string::npos) << read_all(out + ".log");
   EXPECT_FALSE(fs::exists(out + "/checkpoint.blob"));
@@ -336,7 +332,9 @@ TEST_F(TrainGan, ValidationScenesAreCarvedRecordedAndScored) {
 
   const std::string out = (root_ / "val_out").string();
   ASSERT_EQ(run(kBin + "eval-gi --split validation --data " + data + " --model " + run_dir + "/G.blob --out " + out,
-                out + ".log"), 0) << read_all(out + ".log");
+                out + ".log"),
+            0)
+      << read_all(out + ".log");
   EXPECT_NE(read_all(out + "/report.md").find("split validation (4 frames,"), std::string::npos)
       << read_all(out + "/report.md");
   EXPECT_TRUE(fs::exists(out + "/results_by_family.csv"));
@@ -405,7 +403,8 @@ TEST_F(TrainGan, DiscriminatorWatchFiresWhenDWinsOutright) {
 // other way) is refused naming it (checkpoints from before the flag: test_training_run).
 TEST_F(TrainGan, ResumeWithAnotherPrecisionIsRefusedNamingIt) {
   const std::string out = (root_ / "prec").string();
-  ASSERT_EQ(run(train_cmd(out, "--precision bf16 --debug-stop-after-epochs 1"), out + ".log"), 0) << read_all(out + ".log");
+  ASSERT_EQ(run(train_cmd(out, "--precision bf16 --debug-stop-after-epochs 1"), out + ".log"), 0)
+      << read_all(out + ".log");
   EXPECT_EQ(nns::Blob::load(out + "/checkpoint.blob").config_string("precision"), "bf16");
   EXPECT_EQ(run(train_cmd(out, "--resume"), out + ".log1"), 1) << read_all(out + ".log1");
   EXPECT_NE(read_all(out + ".log1").find("precision"), std::string::npos) << read_all(out + ".log1");
@@ -444,11 +443,13 @@ TEST_F(TrainGan, AugmentationIsDeterministicResumableAndRecorded) {
 
   int rc = run(train_cmd(broken, "--aug-mirror --aug-exposure 1.2 --aug-tint 1.2 --resume"), broken + ".log3");
   EXPECT_EQ(rc, 1) << read_all(broken + ".log3");
-  EXPECT_NE(read_all(broken + ".log3").find("aug_exposure: was 1.4, now 1.2"), std::string::npos) << read_all(broken + ".log3");
+  EXPECT_NE(read_all(broken + ".log3").find("aug_exposure: was 1.4, now 1.2"), std::string::npos)
+      << read_all(broken + ".log3");
   // A checkpoint made without augmentation (or before it existed) resumes only without it.
   rc = run(train_cmd(plain, "--aug-mirror --resume"), plain + ".log2");
   EXPECT_EQ(rc, 1) << read_all(plain + ".log2");
-  EXPECT_NE(read_all(plain + ".log2").find("aug_mirror: was off, now on"), std::string::npos) << read_all(plain + ".log2");
+  EXPECT_NE(read_all(plain + ".log2").find("aug_mirror: was off, now on"), std::string::npos)
+      << read_all(plain + ".log2");
 }
 
 // --size 0 trains on the views as stored, as --help says; a non-square view whose sides
@@ -509,11 +510,12 @@ TEST_F(TrainGan, EvalGiScoresAModelAtAnotherSizeAndThroughTheGuidedUpsample) {
   EXPECT_EQ(a[2], b[2]);  // direct+env+ambient
   EXPECT_NE(a[3], b[3]);
   EXPECT_NE(b[3].find("small/G @16 guided"), std::string::npos) << b[3];
-    EXPECT_NE(read_all(guided + "/report.md").find("scored at face 32"), std::string::npos);
+  EXPECT_NE(read_all(guided + "/report.md").find("scored at face 32"), std::string::npos);
   // Flags that cannot work are refused, naming the flag.
   const std::string bad = (root_ / "bad16").string();
-  EXPECT_EQ(run(kBin + "eval-gi --data " + data + " --model " + run_dir +
-                    "/G.blob --upsample-from 16 --out " + bad, bad + ".log"), 2);
+  EXPECT_EQ(run(kBin + "eval-gi --data " + data + " --model " + run_dir + "/G.blob --upsample-from 16 --out " + bad,
+                bad + ".log"),
+            2);
   EXPECT_NE(read_all(bad + ".log").find("--upsample-from needs --size"), std::string::npos) << read_all(bad + ".log");
   EXPECT_EQ(run(base + " --upsample-from 6 --out " + bad, bad + ".log"), 2);
   EXPECT_NE(read_all(bad + ".log").find("proper divisor of --size"), std::string::npos) << read_all(bad + ".log");

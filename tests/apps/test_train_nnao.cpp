@@ -284,8 +284,10 @@ TEST_F(TrainNnao, ZeroEpochsReportNoTestMse) {
 // order given; a low-resolution rung's blob says so (downsample), and its points are
 // taken from the downsampled frames. A rung that is not D:S:B:H:s:P is refused (exit 2).
 TEST_F(TrainNnao, LadderTrainsEveryRungAndListsThem) {
-  auto a = run("--data " + (root / "data").string() + " --points-per-view 32 --seed 5 --epochs 1 --ladder "
-               "--ladder-rungs 4:4:2:4:2:1:0,8:4:2:4:1:2 --out " + (root / "ladder").string());
+  auto a = run("--data " + (root / "data").string() +
+               " --points-per-view 32 --seed 5 --epochs 1 --ladder "
+               "--ladder-rungs 4:4:2:4:2:1:0,8:4:2:4:1:2 --out " +
+               (root / "ladder").string());
   ASSERT_EQ(a.code, 0) << a.output;
   std::ifstream csv(root / "ladder" / "ladder.csv");
   std::vector<std::string> lines;
@@ -303,8 +305,10 @@ TEST_F(TrainNnao, LadderTrainsEveryRungAndListsThem) {
   EXPECT_EQ(full.config_int("blur_passes"), 2);
   // Half the resolution, a quarter of the pixels: a view of 40 x 28 has 280 low pixels,
   // fewer non-sky ones than at full resolution, so fewer points per view are there to take.
-  auto b = run("--data " + (root / "data").string() + " --points-per-view 100000 --seed 5 --epochs 0 --ladder "
-               "--ladder-rungs 4:4:2:4:2:1,4:4:2:4:1:1 --out " + (root / "ladder2").string());
+  auto b = run("--data " + (root / "data").string() +
+               " --points-per-view 100000 --seed 5 --epochs 0 --ladder "
+               "--ladder-rungs 4:4:2:4:2:1,4:4:2:4:1:1 --out " +
+               (root / "ladder2").string());
   ASSERT_EQ(b.code, 0) << b.output;
   auto summary = [&](const char* rung) { return bytes(root / "ladder2" / rung / "summary.json"); };
   auto points = [&](const std::string& s) {
@@ -317,7 +321,8 @@ TEST_F(TrainNnao, LadderTrainsEveryRungAndListsThem) {
   EXPECT_GE(low * 4.5, high);
   for (const char* bad : {"4:4:2:4:3:1", "4:4:2", "a:b:c:d:e:f", "4:4:2:4:2:1x", "4:4:2:4:2:1:65", "4:4:3:4:2:1",
                           "4:4:2:0:2:1", "4:4:2:4:2:17", ","}) {
-    auto c = run("--data " + (root / "data").string() + " --ladder --ladder-rungs " + bad + " --out " + (root / "bad").string());
+    auto c = run("--data " + (root / "data").string() + " --ladder --ladder-rungs " + bad + " --out " +
+                 (root / "bad").string());
     EXPECT_EQ(c.code, 2) << bad << ": " << c.output;
     EXPECT_NE(c.output.find("--ladder-rungs"), std::string::npos) << c.output;
   }

@@ -12,7 +12,6 @@ using namespace nns;
 
 namespace {
 
-
 // An open floor filling the lower half of the screen (sky above): nothing occludes it.
 data::View open_plane(int w, int h) {
   data::View v;
@@ -67,8 +66,7 @@ TEST(ClassicalAo, CorrelatesWithRayTracedAo) {
     }
     double cov = sab / n - sa / n * sb / n;
     double corr = cov / std::sqrt((saa / n - sa * sa / n / n) * (sbb / n - sb * sb / n / n));
-    std::printf("[classical] %s@%d correlation with ground truth %.3f\n", m.name.c_str(),
-                m.sample_counts.back(), corr);
+    std::printf("[classical] %s@%d correlation with ground truth %.3f\n", m.name.c_str(), m.sample_counts.back(), corr);
     // Crytek's SSAO has no normal: at this scene's grazing view of the floor the samples
     // under the floor fail the range check, so it misses the crease (a known artifact).
     if (m.name != "SSAO") EXPECT_GT(corr, 0.3) << m.name;
@@ -121,8 +119,7 @@ namespace {
 // where the reference divides, and the compiler fuses multiply-adds differently; a
 // sample on an exact half-pixel boundary may then round to the neighbouring pixel. So:
 // almost every pixel equal to float precision, and the few others still close.
-void expect_matches_reference(const std::vector<float>& fast, const std::vector<float>& ref,
-                              const std::string& what) {
+void expect_matches_reference(const std::vector<float>& fast, const std::vector<float>& ref, const std::string& what) {
   ASSERT_EQ(fast.size(), ref.size());
   size_t off = 0;
   double max_diff = 0, sum_diff = 0;
@@ -133,8 +130,8 @@ void expect_matches_reference(const std::vector<float>& fast, const std::vector<
     max_diff = std::max(max_diff, d);
     sum_diff += d;
   }
-  std::printf("[vector vs scalar] %s: %zu of %zu pixels differ by > 1e-5, max %.3g, mean %.3g\n",
-              what.c_str(), off, ref.size(), max_diff, sum_diff / double(ref.size()));
+  std::printf("[vector vs scalar] %s: %zu of %zu pixels differ by > 1e-5, max %.3g, mean %.3g\n", what.c_str(), off,
+              ref.size(), max_diff, sum_diff / double(ref.size()));
   EXPECT_LE(double(off), 0.005 * double(ref.size())) << what;
   EXPECT_LT(sum_diff / double(ref.size()), 1e-4) << what;
   EXPECT_LT(max_diff, 0.1) << what;

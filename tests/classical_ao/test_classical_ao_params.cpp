@@ -120,13 +120,14 @@ TEST(ClassicalAoParams, TuningLowersTheErrorItMinimises) {
   // Two small views; HBAO started far from its best (a huge angle bias hides all
   // occlusion) must come back down, and the reported error must be the error of the
   // parameters it leaves behind.
-  std::vector<data::View> views = {nns::fixtures::synthetic_view(48, 32, 1, 32), nns::fixtures::synthetic_view(48, 32, 3, 32)};
+  std::vector<data::View> views = {nns::fixtures::synthetic_view(48, 32, 1, 32),
+                                   nns::fixtures::synthetic_view(48, 32, 3, 32)};
   classical_ao::ClassicalParams p;
   p.hbao.angle_bias = 0.6f;
   const std::vector<int> counts = {16};
   auto r = classical_ao::tune_classical("HBAO", counts, views, p, 2);
-  std::printf("[tune] HBAO: MSE %.5f -> %.5f, angle_bias %.3f, radius_scale %.3f, %d sets\n", r.mse_before,
-              r.mse_after, p.hbao.angle_bias, p.hbao.radius_scale, r.evaluations);
+  std::printf("[tune] HBAO: MSE %.5f -> %.5f, angle_bias %.3f, radius_scale %.3f, %d sets\n", r.mse_before, r.mse_after,
+              p.hbao.angle_bias, p.hbao.radius_scale, r.evaluations);
   EXPECT_LT(r.mse_after, 0.8 * r.mse_before);
   EXPECT_LT(p.hbao.angle_bias, 0.6f);
   EXPECT_DOUBLE_EQ(classical_ao::classical_mse("HBAO", counts, p, views), r.mse_after);

@@ -45,11 +45,11 @@ TEST(Discontinuities, SurfaceBreakIsSkyEdgeDepthJumpOrCrease) {
                      nz = {1, 0.70710678f, 1, 1};
   const GBuffer g = make_gbuffer(4, 1, 60, 1, z.data(), nx.data(), ny.data(), nz.data());
   auto loose = surface_break(g, 0.1f, std::cos(60 * 3.14159265f / 180));  // 45 degrees is no crease at 60
-  EXPECT_FALSE(loose(0, 1));  // 5% deeper, 45 degrees apart
-  EXPECT_TRUE(loose(1, 2));   // 2 / 1.05: a jump
-  EXPECT_TRUE(loose(2, 3));   // geometry against sky
+  EXPECT_FALSE(loose(0, 1));                                              // 5% deeper, 45 degrees apart
+  EXPECT_TRUE(loose(1, 2));                                               // 2 / 1.05: a jump
+  EXPECT_TRUE(loose(2, 3));                                               // geometry against sky
   auto strict = surface_break(g, 0.1f, std::cos(30 * 3.14159265f / 180));
-  EXPECT_TRUE(strict(0, 1));  // 45 degrees > 30: a crease
+  EXPECT_TRUE(strict(0, 1));                // 45 degrees > 30: a crease
   auto deep = surface_break(g, 0.01f, -2);  // normals never break, 1% depth does
   EXPECT_TRUE(deep(0, 1));
 }
@@ -63,9 +63,9 @@ TEST(Discontinuities, HaloBandEqualsTheWindowSearch) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       float d = 5 + 0.01f * float(x);
-      if (x > 12 && x < 20 && y > 5 && y < 22) d = 3;      // a box in front
-      if (rng.uniform() < 0.02) d = 8;                    // scattered far pixels
-      if (y < 3 && x > 30) d = INFINITY;                  // sky in a corner
+      if (x > 12 && x < 20 && y > 5 && y < 22) d = 3;  // a box in front
+      if (rng.uniform() < 0.02) d = 8;                 // scattered far pixels
+      if (y < 3 && x > 30) d = INFINITY;               // sky in a corner
       z[size_t(y * w + x)] = d;
     }
   const GBuffer g = make_gbuffer(w, h, 60, 0.5f, z.data(), nx.data(), ny.data(), nz.data());

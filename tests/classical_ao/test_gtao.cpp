@@ -123,9 +123,10 @@ TEST(Gtao, CreaseMatchesClosedForm) {
       se += e * e, bias += e, worst = std::max(worst, std::abs(e));
     }
     err_at[c] = std::sqrt(se / double(count));
-    std::printf("[gtao] crease @%d over %lld pixels: RMS error %.4f, mean error %+.4f, max |error| %.4f "
-                "(the truth's own RMS spread %.4f)\n",
-                counts[c], (long long)count, err_at[c], bias / double(count), worst, truth_rms_spread);
+    std::printf(
+        "[gtao] crease @%d over %lld pixels: RMS error %.4f, mean error %+.4f, max |error| %.4f "
+        "(the truth's own RMS spread %.4f)\n",
+        counts[c], (long long)count, err_at[c], bias / double(count), worst, truth_rms_spread);
     // Left over is the horizon search: `steps` samples per side find a horizon at or below
     // the true one (the highest wall point within r lies between two samples), so GTAO
     // sees slightly too much sky. 0.03 RMS is a quarter of the truth's own spread over

@@ -70,7 +70,10 @@ TEST(Autograd, GradFinalRunsOnceWhenTheLastContributionIsIn) {
   int w_calls = 0, v_calls = 0;
   double w_seen = 0;
   w.node()->grad_final = [&] { ++w_calls, w_seen = w.grad()[0]; };
-  v.node()->grad_final = [&] { ++v_calls; EXPECT_EQ(w_calls, 0) << "v (used last) is final before w"; };
+  v.node()->grad_final = [&] {
+    ++v_calls;
+    EXPECT_EQ(w_calls, 0) << "v (used last) is final before w";
+  };
   h.backward();
   EXPECT_EQ(w_calls, 1);
   EXPECT_EQ(v_calls, 1);

@@ -42,10 +42,10 @@ std::vector<double> run(const Shape3& s, const std::vector<double>& x, const std
   std::vector<T> xt = as<T>(x), gt = as<T>(g), gm = as<T>(gamma), bt = as<T>(beta);
   std::vector<T> y(static_cast<size_t>(E)), mean(static_cast<size_t>(s.C)), var(mean), rstd(mean);
   std::vector<T> dx(size_t(E), T(0.25)), dgm(size_t(s.C), T(1)), dbt(size_t(s.C), T(-1));
-  batch_norm_forward_train(y.data(), mean.data(), var.data(), rstd.data(), xt.data(), gm.data(), bt.data(),
-                           s.N, s.C, s.S, 1e-5);
-  batch_norm_backward(dx.data(), dgm.data(), dbt.data(), gt.data(), xt.data(), gm.data(), mean.data(),
-                      rstd.data(), s.N, s.C, s.S, true);
+  batch_norm_forward_train(y.data(), mean.data(), var.data(), rstd.data(), xt.data(), gm.data(), bt.data(), s.N, s.C,
+                           s.S, 1e-5);
+  batch_norm_backward(dx.data(), dgm.data(), dbt.data(), gt.data(), xt.data(), gm.data(), mean.data(), rstd.data(), s.N,
+                      s.C, s.S, true);
   std::vector<double> all;
   for (const auto* v : {&y, &mean, &var, &rstd, &dx, &dgm, &dbt}) all.insert(all.end(), v->begin(), v->end());
   return all;
@@ -108,7 +108,8 @@ TEST(BatchNormKernel, FloatBackwardWithoutInputGradientAndInEval) {
     using T = decltype(zero);
     std::vector<T> x = as<T>(in.x), g = as<T>(in.g), gm = as<T>(in.gamma);
     std::vector<T> mean(static_cast<size_t>(s.C)), rstd(mean);
-    for (int64_t c = 0; c < s.C; ++c) mean[size_t(c)] = T(3 + 0.1 * double(c)), rstd[size_t(c)] = T(2 - 0.1 * double(c));
+    for (int64_t c = 0; c < s.C; ++c)
+      mean[size_t(c)] = T(3 + 0.1 * double(c)), rstd[size_t(c)] = T(2 - 0.1 * double(c));
     std::vector<T> dx(static_cast<size_t>(E), T(0)), dgm(mean.size(), T(0)), dbt(mean.size(), T(0));
     batch_norm_backward(with_dinp ? dx.data() : nullptr, dgm.data(), dbt.data(), g.data(), x.data(), gm.data(),
                         mean.data(), rstd.data(), s.N, s.C, s.S, training);
@@ -118,7 +119,8 @@ TEST(BatchNormKernel, FloatBackwardWithoutInputGradientAndInEval) {
     return all;
   };
   const auto with = backward(0.0f, true, true), without = backward(0.0f, false, true);
-  for (size_t i = size_t(E); i < with.size(); ++i) EXPECT_EQ(with[i], without[i]) << "parameter gradient " << i - size_t(E);
+  for (size_t i = size_t(E); i < with.size(); ++i)
+    EXPECT_EQ(with[i], without[i]) << "parameter gradient " << i - size_t(E);
   for (int64_t i = 0; i < E; ++i) ASSERT_EQ(without[size_t(i)], 0.0);
   const auto f = backward(0.0f, true, false), d = backward(0.0, true, false);
   for (size_t i = 0; i < f.size(); ++i) ASSERT_NEAR(f[i], d[i], 2e-5 * (1 + std::abs(d[i]))) << "at " << i;

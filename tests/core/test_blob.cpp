@@ -19,9 +19,8 @@ namespace {
 class BlobTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("nns_blob_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("nns_blob_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -220,7 +219,8 @@ TEST_F(BlobTest, FloatTensorsConvertBetweenPrecisions) {
     b.tensor<float>("fc.bias", {3});
     ADD_FAILURE() << "1e300 read as a float";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("tensor 'fc.bias' holds a non-finite value (Inf) at index 2"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("tensor 'fc.bias' holds a non-finite value (Inf) at index 2"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -246,7 +246,8 @@ TEST_F(BlobTest, ANonFiniteValueIsRefusedNamingTheFileTheTensorAndTheIndex) {
           EXPECT_NE(m.find(path("nnao.blob")), std::string::npos) << m;
           EXPECT_NE(m.find(std::string("tensor '") + name + "' holds a non-finite value (" +
                            (std::isnan(bad) ? "NaN" : "Inf") + ") at index " + std::to_string(index)),
-                    std::string::npos) << m;
+                    std::string::npos)
+              << m;
         }
       }
     }

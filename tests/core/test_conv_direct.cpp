@@ -33,13 +33,12 @@ const Case kCases[] = {
 };
 
 ConvGeometry geometry_of(const Case& c) {
-  return conv2d_geometry(c.N, c.C_in, c.H, c.W, c.C_out, c.kh, c.kw, c.sh, c.sw, c.ph, c.pw,
-                         c.dh, c.dw, c.groups);
+  return conv2d_geometry(c.N, c.C_in, c.H, c.W, c.C_out, c.kh, c.kw, c.sh, c.sw, c.ph, c.pw, c.dh, c.dw, c.groups);
 }
 
 LayerBuffers random_buffers(const ConvGeometry& g, Rng& rng) {
-  return random_layer_buffers({g.N, g.C_in, g.H, g.W}, {g.C_out, g.cin_g(), g.kh, g.kw},
-                              {g.C_out}, {g.N, g.C_out, g.H_out, g.W_out}, rng);
+  return random_layer_buffers({g.N, g.C_in, g.H, g.W}, {g.C_out, g.cin_g(), g.kh, g.kw}, {g.C_out},
+                              {g.N, g.C_out, g.H_out, g.W_out}, rng);
 }
 
 std::array<Tensor<float>, 4> run_direct(const LayerBuffers& in, const ConvGeometry& g) {
@@ -86,8 +85,7 @@ TEST(ConvDirect, AccumulateAndAssignModes) {
     Tensor<float> dx = Tensor<float>::full(in.x.shape(), NAN);
     Tensor<float> dx_ref = Tensor<float>::zeros(in.x.shape());
     conv2d_direct_backward_input(dx.data(), in.dy.data(), in.w.data(), g, false);
-    conv2d_backward_reference<float>(dx_ref.data(), nullptr, nullptr, in.dy.data(), in.x.data(),
-                                     in.w.data(), g);
+    conv2d_backward_reference<float>(dx_ref.data(), nullptr, nullptr, in.dy.data(), in.x.data(), in.w.data(), g);
     expect_close(dx, dx_ref, "dinp (assign)");
   }
 }

@@ -66,13 +66,9 @@ void expect_bitwise_equal(const std::vector<float>& a, const std::vector<float>&
 
 }  // namespace
 
-TEST(Determinism, SameSeedSameWeights) {
-  expect_bitwise_equal(train(1, 2), train(1, 2));
-}
+TEST(Determinism, SameSeedSameWeights) { expect_bitwise_equal(train(1, 2), train(1, 2)); }
 
-TEST(Determinism, OneThreadAndTwoThreadsAgreeBitwise) {
-  expect_bitwise_equal(train(1, 1), train(1, 2));
-}
+TEST(Determinism, OneThreadAndTwoThreadsAgreeBitwise) { expect_bitwise_equal(train(1, 1), train(1, 2)); }
 
 TEST(Determinism, AnotherSeedGivesOtherWeights) {
   // The control: the comparison above would pass trivially if training did nothing.

@@ -23,8 +23,8 @@ struct Case {
   int64_t pad = 0;  // extra columns in every leading dimension
   std::string str() const {
     return "ta=" + std::to_string(ta) + " tb=" + std::to_string(tb) + " M=" + std::to_string(M) +
-           " N=" + std::to_string(N) + " K=" + std::to_string(K) + " alpha=" +
-           std::to_string(alpha) + " beta=" + std::to_string(beta) + " pad=" + std::to_string(pad);
+           " N=" + std::to_string(N) + " K=" + std::to_string(K) + " alpha=" + std::to_string(alpha) +
+           " beta=" + std::to_string(beta) + " pad=" + std::to_string(pad);
   }
 };
 
@@ -59,30 +59,26 @@ void check_against_reference(const Case& c, uint64_t seed) {
   Rng rng(seed);
   Problem p = make_problem(c, rng);
   std::vector<float> C = p.C0;
-  if (c.beta == 0.0f)
-    std::fill(C.begin(), C.end(), std::numeric_limits<float>::quiet_NaN());
-  gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, p.A.data(), p.lda, p.B.data(), p.ldb, c.beta,
-              C.data(), p.ldc);
+  if (c.beta == 0.0f) std::fill(C.begin(), C.end(), std::numeric_limits<float>::quiet_NaN());
+  gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, p.A.data(), p.lda, p.B.data(), p.ldb, c.beta, C.data(), p.ldc);
 
   std::vector<double> Ad(p.A.begin(), p.A.end()), Bd(p.B.begin(), p.B.end());
   std::vector<double> absA(Ad.size()), absB(Bd.size());
   for (size_t i = 0; i < Ad.size(); ++i) absA[i] = std::fabs(Ad[i]);
   for (size_t i = 0; i < Bd.size(); ++i) absB[i] = std::fabs(Bd[i]);
   std::vector<double> ref(p.C0.begin(), p.C0.end()), mag(size_t(c.M * p.ldc), 0.0);
-  gemm_reference<double>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, Ad.data(), p.lda, Bd.data(), p.ldb,
-                         c.beta, ref.data(), p.ldc);
-  gemm_reference<double>(c.ta, c.tb, c.M, c.N, c.K, 1.0, absA.data(), p.lda, absB.data(), p.ldb,
-                         0.0, mag.data(), p.ldc);
+  gemm_reference<double>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, Ad.data(), p.lda, Bd.data(), p.ldb, c.beta, ref.data(),
+                         p.ldc);
+  gemm_reference<double>(c.ta, c.tb, c.M, c.N, c.K, 1.0, absA.data(), p.lda, absB.data(), p.ldb, 0.0, mag.data(),
+                         p.ldc);
   const double gamma = double(c.K + 4) * FLT_EPSILON;
   int bad = 0;
   for (int64_t i = 0; i < c.M; ++i)
     for (int64_t j = 0; j < c.N; ++j) {
       const size_t at = size_t(i * p.ldc + j);
-      const double bound =
-          gamma * (std::fabs(c.alpha) * mag[at] + std::fabs(c.beta * p.C0[at])) + 1e-30;
+      const double bound = gamma * (std::fabs(c.alpha) * mag[at] + std::fabs(c.beta * p.C0[at])) + 1e-30;
       if (!(std::fabs(C[at] - ref[at]) <= bound) && bad++ < 5)
-        ADD_FAILURE() << "C[" << i << "," << j << "] = " << C[at] << ", reference " << ref[at]
-                      << ", bound " << bound;
+        ADD_FAILURE() << "C[" << i << "," << j << "] = " << C[at] << ", reference " << ref[at] << ", bound " << bound;
     }
   // Padding columns of C must be left alone.
   for (int64_t i = 0; i < c.M; ++i)
@@ -109,8 +105,7 @@ class ThreadsGuard {
 std::vector<float> run_with_threads(int threads, const Case& c, const Problem& p) {
   settle_threads(threads);
   std::vector<float> C = p.C0;
-  gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, p.A.data(), p.lda, p.B.data(), p.ldb, c.beta,
-              C.data(), p.ldc);
+  gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, p.A.data(), p.lda, p.B.data(), p.ldb, c.beta, C.data(), p.ldc);
   return C;
 }
 
@@ -211,8 +206,7 @@ TEST(Gemm, PackedAGivesTheBitsOfGemm) {
         GemmPackedA packed(ta, c.M, c.K, p.A.data(), p.lda, c.N);
         for (int64_t n : {c.N, int64_t(61)}) {  // the typical N and a narrower block
           std::vector<float> want = p.C0, got = p.C0;
-          gemm<float>(ta, tb, c.M, n, c.K, 1.0f, p.A.data(), p.lda, p.B.data(), p.ldb, 0.5f,
-                      want.data(), p.ldc);
+          gemm<float>(ta, tb, c.M, n, c.K, 1.0f, p.A.data(), p.lda, p.B.data(), p.ldb, 0.5f, want.data(), p.ldc);
           packed.multiply(tb, n, 1.0f, p.B.data(), p.ldb, 0.5f, got.data(), p.ldc);
           EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0);
         }
@@ -232,7 +226,7 @@ TEST(Gemm, OneAndTwoThreadsBitwiseEqual) {
                         {false, false, 8, 70001, 8, 1.0f, 0.5f},  // the short-K direct path
                         {true, false, 8192, 4, 512, 1.0f, 0.0f},  // skinny paths
                         {false, false, 512, 1, 8192, 1.0f, 1.0f},
-                        {false, false, 512, 64, 3000, 1.0f, 0.0f},  // few columns: rows split
+                        {false, false, 512, 64, 3000, 1.0f, 0.0f},   // few columns: rows split
                         {false, false, 100, 333, 600, 1.0f, 1.0f}};  // B packed a panel at a time
   for (const Case& c : cases) {
     SCOPED_TRACE(c.str());
@@ -252,8 +246,7 @@ TEST(Gemm, LargeProductAgainstVectorProbe) {
       SCOPED_TRACE(c.str());
       Problem p = make_problem(c, rng);
       std::vector<float> C = p.C0;
-      gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, p.A.data(), p.lda, p.B.data(), p.ldb,
-                  c.beta, C.data(), p.ldc);
+      gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, p.A.data(), p.lda, p.B.data(), p.ldb, c.beta, C.data(), p.ldc);
       std::vector<double> t(size_t(c.N)), bt(size_t(c.K), 0.0), bt_abs(size_t(c.K), 0.0);
       for (auto& x : t) x = rng.normal();
       for (int64_t k = 0; k < c.K; ++k)
@@ -298,7 +291,6 @@ TEST(Gemm, DoubleGenericPathMatchesReference) {
         gemm<double>(ta, tb, M, N, K, 1.5, A.data(), ld, B.data(), ld, beta, C.data(), ld);
         gemm_reference<double>(ta, tb, M, N, K, 1.5, A.data(), ld, B.data(), ld, beta, ref.data(), ld);
         for (int64_t i = 0; i < M; ++i)
-          for (int64_t j = 0; j < N; ++j)
-            EXPECT_NEAR(C[size_t(i * ld + j)], ref[size_t(i * ld + j)], 1e-12);
+          for (int64_t j = 0; j < N; ++j) EXPECT_NEAR(C[size_t(i * ld + j)], ref[size_t(i * ld + j)], 1e-12);
       }
 }

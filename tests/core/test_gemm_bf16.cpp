@@ -121,31 +121,31 @@ TEST(Bf16Packing, DirectPackersGiveThePairedWords) {
   const std::vector<float> src = random_bits(size_t(ld * rows), rng);
   constexpr uint32_t kSentinel = 0xdeadbeefu;
   for (Bf16Isa isa : available_isas())  // the generic kernel's packers: pack, then pair
-  for (bool trans : {false, true})
-    for (int64_t extent : {1, 5, 14, 15, 16, 17, 29, 32, 33, 70})
-      for (int64_t kc : {1, 2, 3, 16, 31, 32, 33, 64, 67}) {
-        IsaGuard guard(isa);
-        SCOPED_TRACE(std::string(isa_name(isa)) + " trans=" + std::to_string(trans) +
-                     " extent=" + std::to_string(extent) + " kc=" + std::to_string(kc));
-        // op(X) of extent x kc (A) or kc x extent (B) starting at row 3, column 5 of op(X).
-        const MatView view{src.data(), ld, trans};
-        const int64_t kp = (kc + 1) / 2;
-        auto check = [&](int W, auto pack_fp32, auto pack_bf16) {
-          const int64_t panels = (extent + W - 1) / W;
-          std::vector<float> fp32(size_t(panels * kc * W));
-          pack_fp32(fp32.data());
-          std::vector<uint32_t> want(size_t(panels * kp * W) + 16, kSentinel), got = want;
-          pair_panels_bf16_to(want.data(), fp32.data(), W, extent, kc);
-          pack_bf16(got.data());
-          EXPECT_EQ(want, got) << "W=" << W;
-        };
-        check(
-            kMR, [&](float* d) { pack_a<kMR>(d, view, 3, extent, 5, kc); },
-            [&](uint32_t* d) { pack_a_bf16<kMR>(d, view, 3, extent, 5, kc); });
-        check(
-            kNR, [&](float* d) { pack_b<kNR>(d, view, 3, kc, 5, extent); },
-            [&](uint32_t* d) { pack_b_bf16<kNR>(d, view, 3, kc, 5, extent); });
-      }
+    for (bool trans : {false, true})
+      for (int64_t extent : {1, 5, 14, 15, 16, 17, 29, 32, 33, 70})
+        for (int64_t kc : {1, 2, 3, 16, 31, 32, 33, 64, 67}) {
+          IsaGuard guard(isa);
+          SCOPED_TRACE(std::string(isa_name(isa)) + " trans=" + std::to_string(trans) +
+                       " extent=" + std::to_string(extent) + " kc=" + std::to_string(kc));
+          // op(X) of extent x kc (A) or kc x extent (B) starting at row 3, column 5 of op(X).
+          const MatView view{src.data(), ld, trans};
+          const int64_t kp = (kc + 1) / 2;
+          auto check = [&](int W, auto pack_fp32, auto pack_bf16) {
+            const int64_t panels = (extent + W - 1) / W;
+            std::vector<float> fp32(size_t(panels * kc * W));
+            pack_fp32(fp32.data());
+            std::vector<uint32_t> want(size_t(panels * kp * W) + 16, kSentinel), got = want;
+            pair_panels_bf16_to(want.data(), fp32.data(), W, extent, kc);
+            pack_bf16(got.data());
+            EXPECT_EQ(want, got) << "W=" << W;
+          };
+          check(
+              kMR, [&](float* d) { pack_a<kMR>(d, view, 3, extent, 5, kc); },
+              [&](uint32_t* d) { pack_a_bf16<kMR>(d, view, 3, extent, 5, kc); });
+          check(
+              kNR, [&](float* d) { pack_b<kNR>(d, view, 3, kc, 5, extent); },
+              [&](uint32_t* d) { pack_b_bf16<kNR>(d, view, 3, kc, 5, extent); });
+        }
 }
 
 // An implicit convolution's column panels (conv2d_implicit.h) packed straight into bf16
@@ -156,38 +156,37 @@ TEST(Bf16Packing, ImplicitColumnsGiveThePairedWords) {
   using namespace gemm_detail;
   Rng rng(12);
   for (Bf16Isa isa : available_isas())
-  for (int64_t W : {kNR * 2, kNR + 7}) {
-    IsaGuard guard(isa);
-    const ConvGeometry g = conv2d_geometry(1, 3, 6, W, 4, 3, 3, 1, 1, 1, 1, 1, 1, 1);
-    const std::vector<float> image = random_bits(size_t(g.C_in * g.H * g.W), rng);
-    const PaddedRows layout = PaddedRows::layout(g, implicit_input_rows(g, g.H_out));
-    std::vector<float> rows(size_t(layout.chan * g.C_in));
-    layout.fill(rows.data(), image.data(), g, -g.pad_h);
-    const std::vector<int64_t> k_off = ImplicitColumns::k_offsets(g, layout);
-    const ImplicitColumns cols(g, layout, rows.data(), k_off);
-    const int64_t N = g.H_out * g.W_out;
-    for (auto [pc, kc] : {std::pair<int64_t, int64_t>{0, g.col_rows()}, {1, 20}, {4, 1}})
-      for (auto [jc, nc] : {std::pair<int64_t, int64_t>{0, N}, {5, N - 5 - 3}}) {
-        SCOPED_TRACE(std::string(isa_name(isa)) + " W=" + std::to_string(W) + " pc=" +
-                     std::to_string(pc) + " kc=" + std::to_string(kc) + " jc=" + std::to_string(jc));
-        const int64_t panels = (nc + kNR - 1) / kNR, kp = (kc + 1) / 2;
-        // The packers store whole aligned panels (as into gemm_packed.h's buffers).
-        auto aligned = [](size_t words) { return std::aligned_alloc(64, (words * 4 + 63) / 64 * 64 + 64); };
-        float* f = static_cast<float*>(aligned(size_t(panels * kc * kNR)));
-        cols(f, pc, kc, jc, nc);
-        std::vector<uint32_t> want(size_t(panels * kp * kNR));
-        pair_panels_bf16_to(want.data(), f, kNR, nc, kc);
-        std::free(f);
-        uint32_t* got = static_cast<uint32_t*>(aligned(want.size()));
-        std::fill(got, got + want.size() + 16, 0xdeadbeefu);
-        cols(got, pc, kc, jc, nc);
-        EXPECT_EQ(std::vector<uint32_t>(got, got + want.size()), want);
-        EXPECT_EQ(got[want.size()], 0xdeadbeefu);  // nothing written past the panels
-        std::free(got);
-      }
-  }
+    for (int64_t W : {kNR * 2, kNR + 7}) {
+      IsaGuard guard(isa);
+      const ConvGeometry g = conv2d_geometry(1, 3, 6, W, 4, 3, 3, 1, 1, 1, 1, 1, 1, 1);
+      const std::vector<float> image = random_bits(size_t(g.C_in * g.H * g.W), rng);
+      const PaddedRows layout = PaddedRows::layout(g, implicit_input_rows(g, g.H_out));
+      std::vector<float> rows(size_t(layout.chan * g.C_in));
+      layout.fill(rows.data(), image.data(), g, -g.pad_h);
+      const std::vector<int64_t> k_off = ImplicitColumns::k_offsets(g, layout);
+      const ImplicitColumns cols(g, layout, rows.data(), k_off);
+      const int64_t N = g.H_out * g.W_out;
+      for (auto [pc, kc] : {std::pair<int64_t, int64_t>{0, g.col_rows()}, {1, 20}, {4, 1}})
+        for (auto [jc, nc] : {std::pair<int64_t, int64_t>{0, N}, {5, N - 5 - 3}}) {
+          SCOPED_TRACE(std::string(isa_name(isa)) + " W=" + std::to_string(W) + " pc=" + std::to_string(pc) +
+                       " kc=" + std::to_string(kc) + " jc=" + std::to_string(jc));
+          const int64_t panels = (nc + kNR - 1) / kNR, kp = (kc + 1) / 2;
+          // The packers store whole aligned panels (as into gemm_packed.h's buffers).
+          auto aligned = [](size_t words) { return std::aligned_alloc(64, (words * 4 + 63) / 64 * 64 + 64); };
+          float* f = static_cast<float*>(aligned(size_t(panels * kc * kNR)));
+          cols(f, pc, kc, jc, nc);
+          std::vector<uint32_t> want(size_t(panels * kp * kNR));
+          pair_panels_bf16_to(want.data(), f, kNR, nc, kc);
+          std::free(f);
+          uint32_t* got = static_cast<uint32_t*>(aligned(want.size()));
+          std::fill(got, got + want.size() + 16, 0xdeadbeefu);
+          cols(got, pc, kc, jc, nc);
+          EXPECT_EQ(std::vector<uint32_t>(got, got + want.size()), want);
+          EXPECT_EQ(got[want.size()], 0xdeadbeefu);  // nothing written past the panels
+          std::free(got);
+        }
+    }
 }
-
 
 struct Case {
   bool ta, tb;
@@ -195,8 +194,8 @@ struct Case {
   float alpha, beta;
   std::string str() const {
     return "ta=" + std::to_string(ta) + " tb=" + std::to_string(tb) + " M=" + std::to_string(M) +
-           " N=" + std::to_string(N) + " K=" + std::to_string(K) +
-           " alpha=" + std::to_string(alpha) + " beta=" + std::to_string(beta);
+           " N=" + std::to_string(N) + " K=" + std::to_string(K) + " alpha=" + std::to_string(alpha) +
+           " beta=" + std::to_string(beta);
   }
 };
 
@@ -225,8 +224,7 @@ std::vector<float> run(const Case& c, const Problem& p) {
   ScopedGemmPrecision bf16(Precision::bf16);
   std::vector<float> C = p.C0;
   if (c.beta == 0.0f) std::fill(C.begin(), C.end(), std::numeric_limits<float>::quiet_NaN());
-  gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, p.A.data(), p.lda, p.B.data(), p.ldb, c.beta,
-              C.data(), p.ldc);
+  gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, p.A.data(), p.lda, p.B.data(), p.ldb, c.beta, C.data(), p.ldc);
   return C;
 }
 
@@ -270,8 +268,7 @@ void check(const Case& c, uint64_t seed) {
       const double bound = gamma * (std::fabs(c.alpha) * mag + std::fabs(c.beta * c0)) +
                            double(c.K) * std::ldexp(1.0, -126) * std::fabs(c.alpha);
       if (!(std::fabs(C[at] - ref) <= bound) && bad++ < 5)
-        ADD_FAILURE() << "C[" << i << "," << j << "] = " << C[at] << ", reference " << ref
-                      << ", bound " << bound;
+        ADD_FAILURE() << "C[" << i << "," << j << "] = " << C[at] << ", reference " << ref << ", bound " << bound;
     }
   // The padding columns of C: the fp32 kernels' store, tested in test_gemm.cpp.
   EXPECT_EQ(bad, 0);
@@ -281,11 +278,11 @@ void check(const Case& c, uint64_t seed) {
 // than one MC block (B packed a block at a time); unpacked shapes: the NNAO MLP's tiny
 // products and a few columns of C (skinny paths).
 const std::vector<Case> kCases = {
-    {false, false, 64, 64, 64, 1.0f, 0.0f},   {false, false, 15, 33, 17, 1.0f, 1.0f},
-    {true, false, 29, 47, 300, 0.5f, 0.25f},  {false, true, 100, 70, 513, 1.0f, 1.0f},
-    {true, true, 37, 65, 129, -2.0f, 0.0f},   {false, false, 400, 40, 50, 1.0f, 0.5f},
-    {false, true, 16, 4, 3844, 1.0f, 0.0f},   {true, false, 4, 3844, 16, 1.0f, 1.0f},
-    {false, false, 200, 3, 500, 1.0f, 0.0f},  {true, false, 300, 8, 200, 1.0f, 1.0f},
+    {false, false, 64, 64, 64, 1.0f, 0.0f},  {false, false, 15, 33, 17, 1.0f, 1.0f},
+    {true, false, 29, 47, 300, 0.5f, 0.25f}, {false, true, 100, 70, 513, 1.0f, 1.0f},
+    {true, true, 37, 65, 129, -2.0f, 0.0f},  {false, false, 400, 40, 50, 1.0f, 0.5f},
+    {false, true, 16, 4, 3844, 1.0f, 0.0f},  {true, false, 4, 3844, 16, 1.0f, 1.0f},
+    {false, false, 200, 3, 500, 1.0f, 0.0f}, {true, false, 300, 8, 200, 1.0f, 1.0f},
 };
 
 TEST(GemmBf16, EachKernelMatchesEmulatedReference) {
@@ -330,8 +327,7 @@ TEST(GemmBf16, DispatchSaysWhatRunsAndFallsBackWhenForced) {
   {
     IsaGuard guard(Bf16Isa::generic);
     EXPECT_EQ(bf16_isa(), Bf16Isa::generic);
-    EXPECT_NE(bf16_isa_description().find("fell back"), std::string::npos)
-        << bf16_isa_description();
+    EXPECT_NE(bf16_isa_description().find("fell back"), std::string::npos) << bf16_isa_description();
   }
   std::printf("bf16 GEMM on this machine: %s\n", bf16_isa_description().c_str());
 }
@@ -371,32 +367,26 @@ TEST(GemmBf16, PackedAGivesTheBitsOfGemm) {
       for (bool ta : {false, true})
         for (bool tb : {false, true}) {
           const Case c{ta, tb, 701, 203, 601, 1.0f, 0.5f};
-          SCOPED_TRACE(std::string(isa_name(isa)) + " " + c.str() + " threads=" +
-                       std::to_string(threads));
+          SCOPED_TRACE(std::string(isa_name(isa)) + " " + c.str() + " threads=" + std::to_string(threads));
           Rng rng(41);
           const Problem p = make_problem(c, rng);
           const ScopedGemmPrecision bf16(Precision::bf16);
           const GemmPackedA packed(ta, c.M, c.K, p.A.data(), p.lda, c.N);
           ASSERT_TRUE(packed.packs_for(c.N));
           for (int64_t n : {c.N, int64_t(61)}) {
-            std::vector<float> want = p.C0, got = p.C0, through_packer = p.C0,
-                               through_fp32_packer = p.C0;
-            gemm<float>(ta, tb, c.M, n, c.K, 1.0f, p.A.data(), p.lda, p.B.data(), p.ldb, 0.5f,
-                        want.data(), p.ldc);
+            std::vector<float> want = p.C0, got = p.C0, through_packer = p.C0, through_fp32_packer = p.C0;
+            gemm<float>(ta, tb, c.M, n, c.K, 1.0f, p.A.data(), p.lda, p.B.data(), p.ldb, 0.5f, want.data(), p.ldc);
             packed.multiply(tb, n, 1.0f, p.B.data(), p.ldb, 0.5f, got.data(), p.ldc);
             const auto packer = gemm_detail::packer_b(gemm_detail::MatView{p.B.data(), p.ldb, tb});
             packed.multiply_packing_b(n, 1.0f, packer, 0.5f, through_packer.data(), p.ldc);
             // A packer of fp32 panels only: gemm_packed_loops pairs them itself.
             packed.multiply_packing_b(
                 n, 1.0f,
-                [&](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) {
-                  packer(dst, pc, kc, jc, nc);
-                },
-                0.5f, through_fp32_packer.data(), p.ldc);
+                [&](float* dst, int64_t pc, int64_t kc, int64_t jc, int64_t nc) { packer(dst, pc, kc, jc, nc); }, 0.5f,
+                through_fp32_packer.data(), p.ldc);
             EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0);
             EXPECT_EQ(std::memcmp(want.data(), through_packer.data(), want.size() * sizeof(float)), 0);
-            EXPECT_EQ(std::memcmp(want.data(), through_fp32_packer.data(), want.size() * sizeof(float)),
-                      0);
+            EXPECT_EQ(std::memcmp(want.data(), through_fp32_packer.data(), want.size() * sizeof(float)), 0);
           }
         }
     }
@@ -428,8 +418,8 @@ TEST(GemmBf16, SkinnyPathsGiveTheBitsOfRoundedOperands) {
       SCOPED_TRACE(c.str() + " threads=" + std::to_string(threads));
       std::vector<float> want = p.C0;  // as run() starts it: C's padding columns compare too
       if (c.beta == 0.0f) std::fill(want.begin(), want.end(), std::numeric_limits<float>::quiet_NaN());
-      gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, rounded.A.data(), p.lda, rounded.B.data(),
-                  p.ldb, c.beta, want.data(), p.ldc);
+      gemm<float>(c.ta, c.tb, c.M, c.N, c.K, c.alpha, rounded.A.data(), p.lda, rounded.B.data(), p.ldb, c.beta,
+                  want.data(), p.ldc);
       const std::vector<float> got = run(c, p);
       EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0);
     }

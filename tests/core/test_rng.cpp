@@ -11,8 +11,7 @@ TEST(Rng, SeedingFollowsSplitmix64AndOutputFollowsXoshiro256StarStar) {
   // splitmix64's published outputs for seed 0, and xoshiro256**'s first output
   // rotl(s[1] * 5, 7) * 9 computed from them by hand.
   Rng r(0);
-  Rng::State expected = {0xe220a8397b1dcdafull, 0x6e789e6aa1b965f4ull, 0x06c45d188009454full,
-                         0xf88bb8a8724c81ecull};
+  Rng::State expected = {0xe220a8397b1dcdafull, 0x6e789e6aa1b965f4ull, 0x06c45d188009454full, 0xf88bb8a8724c81ecull};
   EXPECT_EQ(r.state(), expected);
   EXPECT_EQ(r.next_u64(), 0x99ec5f36cb75f2b4ull);
 }

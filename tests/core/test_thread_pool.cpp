@@ -21,8 +21,7 @@ template <class F>
 void within_seconds(int seconds, const char* what, F&& body) {
   std::atomic<bool> done{false};
   std::thread watchdog([&] {
-    for (int i = 0; i < seconds * 100 && !done; ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (int i = 0; i < seconds * 100 && !done; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (!done) {
       std::fprintf(stderr, "FAILED: %s did not finish within %d s (deadlock)\n", what, seconds);
       std::_Exit(1);
@@ -37,10 +36,13 @@ void within_seconds(int seconds, const char* what, F&& body) {
 void check_cover(int64_t n, int64_t min_work, int64_t align) {
   std::vector<std::atomic<int>> hits(size_t(std::max<int64_t>(n, 1)));
   std::atomic<bool> misaligned{false};
-  parallel_for(n, [&](int64_t b, int64_t e) {
-    if (b % align != 0) misaligned = true;
-    for (int64_t i = b; i < e; ++i) hits[size_t(i)]++;
-  }, min_work, align);
+  parallel_for(
+      n,
+      [&](int64_t b, int64_t e) {
+        if (b % align != 0) misaligned = true;
+        for (int64_t i = b; i < e; ++i) hits[size_t(i)]++;
+      },
+      min_work, align);
   for (int64_t i = 0; i < n; ++i) ASSERT_EQ(hits[size_t(i)].load(), 1) << "n " << n << " index " << i;
   EXPECT_FALSE(misaligned) << "n " << n << " align " << align;
 }
@@ -149,7 +151,8 @@ TEST(ThreadPool, DynamicForCoversEveryIndexOnceAndSharesUnevenWork) {
         callers.insert(std::this_thread::get_id());
         ++callers_seen;
       });
-      for (int64_t i = 0; i < n; ++i) ASSERT_EQ(hits[size_t(i)].load(), 1) << threads << " threads, n " << n << ", index " << i;
+      for (int64_t i = 0; i < n; ++i)
+        ASSERT_EQ(hits[size_t(i)].load(), 1) << threads << " threads, n " << n << ", index " << i;
       EXPECT_EQ(callers_seen.load(), threads == 1 || n <= 2 ? 1 : int((n + 1) / 2)) << n;
     }
   // The point of it: when the first half of the items is costly (rows of geometry) and

@@ -128,10 +128,8 @@ TEST(ExrIo, ReadsTiledHalfPizWithOffsetDataWindowAndWarnsOnHalfDepth) {
   }
   Imf::FrameBuffer fb;
   const ptrdiff_t shift = (3 + 2 * w) * ptrdiff_t(sizeof(half));
-  fb.insert("Z", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(z.data()) - shift, sizeof(half),
-                            sizeof(half) * w));
-  fb.insert("N.X", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(nx.data()) - shift,
-                              sizeof(half), sizeof(half) * w));
+  fb.insert("Z", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(z.data()) - shift, sizeof(half), sizeof(half) * w));
+  fb.insert("N.X", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(nx.data()) - shift, sizeof(half), sizeof(half) * w));
   {
     Imf::TiledOutputFile out(dir.file("t.exr").c_str(), hd);
     out.setFrameBuffer(fb);
@@ -206,8 +204,7 @@ TEST(ExrIo, ErrorsNameTheFileAndTheProblem) {
     out.setFrameBuffer(fb);
     out.writePixels(2);
   }
-  EXPECT_NE(read_error(dir.file("nofov.exr")).find("nofov.exr: missing header attribute 'fovY'"),
-            std::string::npos);
+  EXPECT_NE(read_error(dir.file("nofov.exr")).find("nofov.exr: missing header attribute 'fovY'"), std::string::npos);
   ReadOptions lenient;
   lenient.require_attributes = false;
   EXPECT_EQ(read_error(dir.file("nofov.exr"), lenient), "");
@@ -243,8 +240,7 @@ TEST(ExrIo, WriteRejectsPlanesOfTheWrongSize) {
     write_view(dir.file("bad.exr"), v);
     FAIL() << "expected an error";
   } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.exr: channel 'AO' has 15 values, expected 16"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("bad.exr: channel 'AO' has 15 values, expected 16"), std::string::npos)
         << e.what();
   }
   EXPECT_FALSE(fs::exists(dir.file("bad.exr")));
@@ -345,7 +341,8 @@ TEST(ExrIo, AttributeSizesMustMatchTheirType) {
   patch_attribute_size(dir.file("extra.exr"), std::string("moreChannels\0chlist\0", 20), 40);
   std::string chl = read_error(dir.file("extra.exr"));
   EXPECT_NE(chl.find(dir.file("extra.exr") + ": malformed EXR header (the channel list ends before its attribute does"),
-            std::string::npos) << chl;
+            std::string::npos)
+      << chl;
 
   // Every input the fuzzer found is refused with the file's name.
   const fs::path regressions = fs::path(NNSHADE_SOURCE_DIR) / "fuzz" / "regressions" / "exr";

@@ -55,26 +55,28 @@ class FrameImages : public ::testing::Test {
     for (size_t f = 0; f < 6; ++f) {
       const View v = read_view(entry_.faces[f]);
       const std::string face = kFaceNames[f];
-      const std::string g = image(v, face + "_g.exr", {"d", "nx", "ny", "nz"}, {"Z", "N.X", "N.Y", "N.Z"},
-                                  PixelType::f32, same);
+      const std::string g =
+          image(v, face + "_g.exr", {"d", "nx", "ny", "nz"}, {"Z", "N.X", "N.Y", "N.Z"}, PixelType::f32, same);
       flags.push_back(face + ".depth=" + g + ":d");
       if (png16) {
-        flags.push_back(face + ".normal=" + image(v, face + "_n.png", {"R", "G", "B"}, {"N.X", "N.Y", "N.Z"},
-                                                  PixelType::u16, [](float x) { return (x + 1) / 2; }));
-        flags.push_back(face + ".albedo=" + image(v, face + "_a.png", {"R", "G", "B"},
-                                                  {"albedo.R", "albedo.G", "albedo.B"}, PixelType::u16, [](float x) {
-                                                    return x <= 0.0031308f ? 12.92f * x
-                                                                           : 1.055f * std::pow(x, 1 / 2.4f) - 0.055f;
-                                                  }));
+        flags.push_back(face + ".normal=" +
+                        image(v, face + "_n.png", {"R", "G", "B"}, {"N.X", "N.Y", "N.Z"}, PixelType::u16,
+                              [](float x) { return (x + 1) / 2; }));
+        flags.push_back(
+            face + ".albedo=" +
+            image(v, face + "_a.png", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"}, PixelType::u16,
+                  [](float x) { return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1 / 2.4f) - 0.055f; }));
       } else {
         flags.push_back(face + ".normal=" + g + ":nx,ny,nz");
-        flags.push_back(face + ".albedo=" + image(v, face + "_a.tif", {"R", "G", "B"},
-                                                  {"albedo.R", "albedo.G", "albedo.B"}, PixelType::f32, same));
+        flags.push_back(
+            face + ".albedo=" +
+            image(v, face + "_a.tif", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"}, PixelType::f32, same));
       }
       for (const char* t : {"direct", "env"}) {
         const std::string T(t);
-        flags.push_back(face + "." + T + "=" + image(v, face + "_" + T + ".tif", {"R", "G", "B"},
-                                                     {T + ".R", T + ".G", T + ".B"}, PixelType::f32, same));
+        flags.push_back(
+            face + "." + T + "=" +
+            image(v, face + "_" + T + ".tif", {"R", "G", "B"}, {T + ".R", T + ".G", T + ".B"}, PixelType::f32, same));
       }
     }
     std::vector<ChannelMapping> m;
@@ -141,8 +143,9 @@ TEST_F(FrameImages, RefusesNamingTheFaceAndWhatIsMissing) {
   std::vector<ChannelMapping> some;
   for (auto& m : all)
     if (m.target != "back.depth" && m.target != "up.normal" && m.target.rfind("down.", 0) != 0) some.push_back(m);
-  EXPECT_NE(error_of(some, options()).find("missing: back.depth, up.normal, down (all of depth, normal, albedo, "
-                                           "direct)"),
+  EXPECT_NE(error_of(some, options())
+                .find("missing: back.depth, up.normal, down (all of depth, normal, albedo, "
+                      "direct)"),
             std::string::npos)
       << error_of(some, options());
   ImageViewOptions o = options();

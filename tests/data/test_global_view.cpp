@@ -192,7 +192,7 @@ TEST(CoordMaps, XyAreNormalisedPixelCentres) {
 // The picture in docs/global-view.md. Set NNSHADE_DOC_IMAGES=<folder> to regenerate it.
 TEST(GlobalView, LayoutPicture) {
   const int F = 64;
-  static const float colour[6][3] = {{0.9f, 0.9f, 0.9f}, {0.8f, 0.2f, 0.2f}, {0.2f, 0.6f, 0.9f},
+  static const float colour[6][3] = {{0.9f, 0.9f, 0.9f}, {0.8f, 0.2f, 0.2f},  {0.2f, 0.6f, 0.9f},
                                      {0.3f, 0.8f, 0.3f}, {0.95f, 0.8f, 0.2f}, {0.6f, 0.3f, 0.8f}};
   std::array<std::array<std::vector<float>, 6>, 3> rgb;  // [channel][face]
   for (int c = 0; c < 3; ++c)
@@ -212,9 +212,10 @@ TEST(GlobalView, LayoutPicture) {
   std::vector<std::vector<float>> g(3);
   for (int c = 0; c < 3; ++c) g[size_t(c)] = merged(rgb[size_t(c)], F);
   const char* dir = std::getenv("NNSHADE_DOC_IMAGES");
-  std::string path = dir ? std::string(dir) + "/global_view_layout.png"
-                         : (std::filesystem::temp_directory_path() /
-                            ("nns_global_view_" + std::to_string(getpid()) + ".png")).string();
+  std::string path =
+      dir ? std::string(dir) + "/global_view_layout.png"
+          : (std::filesystem::temp_directory_path() / ("nns_global_view_" + std::to_string(getpid()) + ".png"))
+                .string();
   write_png_rgb(path, g[0].data(), g[1].data(), g[2].data(), 4 * F, 2 * F, {.exposure = 1, .reinhard = false});
   int w = 0, h = 0;
   auto bytes = nns::testing::read_rgb8(path, &w, &h);

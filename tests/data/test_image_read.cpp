@@ -93,12 +93,11 @@ TEST(ChannelMapping, ParsesTargetFileAndChannels) {
 TEST_F(ImageRead, EachFormatDecodesAsDocumented) {
   const int w = 4, h = 3;
   auto code16 = [](size_t i) { return i == 5 ? 0.0f : float(1000 * i + 7); };
-  const std::string depth = image("d.png", w, h, {"Y"}, PixelType::u16, [&](size_t i, size_t) {
-    return code16(i) / 65535.0f;
-  });
+  const std::string depth =
+      image("d.png", w, h, {"Y"}, PixelType::u16, [&](size_t i, size_t) { return code16(i) / 65535.0f; });
   const uint8_t n8[3] = {200, 30, 128};
-  const std::string normal = image("n.png", w, h, {"R", "G", "B"}, PixelType::u8,
-                                   [&](size_t, size_t c) { return n8[c] / 255.0f; });
+  const std::string normal =
+      image("n.png", w, h, {"R", "G", "B"}, PixelType::u8, [&](size_t, size_t c) { return n8[c] / 255.0f; });
   const std::string albedo = image("a.png", w, h, {"R", "G", "B", "A"}, PixelType::u8,
                                    [&](size_t i, size_t c) { return c == 3 ? 0.5f : float(i * 20 + c) / 255.0f; });
   const std::string direct = image("l.hdr", w, h, {"R", "G", "B"}, PixelType::f32,
@@ -143,9 +142,9 @@ TEST_F(ImageRead, EachFormatDecodesAsDocumented) {
 TEST_F(ImageRead, OneExrWithItsOwnNamesFillsDepthAndNormals) {
   const std::string g = image("g.exr", 3, 2, {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, PixelType::f32,
                               [](size_t i, size_t c) { return c == 0 ? 1.5f + float(i) : (c == 3 ? 1.0f : 0.0f); });
-  View v = view_from_images({parse_channel_mapping("depth=" + g + ":depth.V"),
-                             parse_channel_mapping("normal=" + g + ":nrm.x,nrm.y,nrm.z")},
-                            options({"depth", "normal"}));
+  View v = view_from_images(
+      {parse_channel_mapping("depth=" + g + ":depth.V"), parse_channel_mapping("normal=" + g + ":nrm.x,nrm.y,nrm.z")},
+      options({"depth", "normal"}));
   EXPECT_EQ(v.channel("Z")[4], 5.5f);
   EXPECT_EQ(v.channel("N.Z")[4], 1.0f);
   EXPECT_EQ(v.source, g);
@@ -164,17 +163,17 @@ TEST_F(ImageRead, RefusalsNameTheFileAndTheProblem) {
   // Too few channels named for the target.
   expect_contains(error_of({"depth=" + d, "normal=" + n + ":N.X,N.Y"}, o), {"normal takes 3 channels, 2 given"});
   // A file with more channels than the target, and none named: which ones is ambiguous.
-  expect_contains(error_of({"depth=" + n, "normal=" + n}, o), {n, "has 3 channels (N.X, N.Y, N.Z) but depth takes 1",
-                                                                 "--channel depth=" + n + ":N.X"});
+  expect_contains(error_of({"depth=" + n, "normal=" + n}, o),
+                  {n, "has 3 channels (N.X, N.Y, N.Z) but depth takes 1", "--channel depth=" + n + ":N.X"});
   // Sizes that differ.
   const std::string small = image("small.exr", 2, 3, {"Z"}, PixelType::f32, [](size_t, size_t) { return 2.0f; });
   expect_contains(error_of({"depth=" + small, "normal=" + n}, o), {n, "is 4x3", small, "2x3"});
   // NaN, zero or negative depth: the pixel and the file.
-  const std::string nan = image("nan.exr", 4, 3, {"Z"}, PixelType::f32,
-                                [](size_t i, size_t) { return i == 6 ? NAN : 2.0f; });
+  const std::string nan =
+      image("nan.exr", 4, 3, {"Z"}, PixelType::f32, [](size_t i, size_t) { return i == 6 ? NAN : 2.0f; });
   expect_contains(error_of({"depth=" + nan, "normal=" + n}, o), {nan, "depth", "NaN", "x=2, y=1"});
-  const std::string neg = image("neg.exr", 4, 3, {"Z"}, PixelType::f32,
-                                [](size_t i, size_t) { return i == 1 ? -1.0f : 2.0f; });
+  const std::string neg =
+      image("neg.exr", 4, 3, {"Z"}, PixelType::f32, [](size_t i, size_t) { return i == 1 ? -1.0f : 2.0f; });
   expect_contains(error_of({"depth=" + neg, "normal=" + n}, o), {neg, "x=1, y=0", "depth must be > 0"});
   // A NaN normal.
   const std::string nann = image("nann.exr", 4, 3, {"R", "G", "B"}, PixelType::f32,
@@ -195,7 +194,8 @@ TEST_F(ImageRead, RefusalsNameTheFileAndTheProblem) {
   expect_contains(error_of({"depth=" + path("none.png"), "normal=" + n}, o), {path("none.png"), "no such file"});
   expect_contains(error_of({"depth=" + dir_.string(), "normal=" + n}, o), {dir_.string(), "not a regular file"});
   std::ofstream(path("text.png")) << "not an image at all";
-  expect_contains(error_of({"depth=" + path("text.png"), "normal=" + n}, o), {path("text.png"), "cannot read it as png", "Not a PNG file"});
+  expect_contains(error_of({"depth=" + path("text.png"), "normal=" + n}, o),
+                  {path("text.png"), "cannot read it as png", "Not a PNG file"});
   // Only the four formats, by the name: a JPEG (which OpenImageIO reads) is refused.
   image("j.jpg", 4, 3, {"R", "G", "B"}, PixelType::u8, [](size_t, size_t) { return 0.5f; });
   expect_contains(error_of({"depth=" + d, "normal=" + path("j.jpg")}, o), {path("j.jpg"), "not a PNG, TIFF"});
@@ -207,9 +207,11 @@ TEST_F(ImageRead, RefusalsNameTheFileAndTheProblem) {
 TEST_F(ImageRead, TruncatedFilesAreRefused) {
   const int w = 64, h = 48;
   auto noise = [](size_t i, size_t c) { return float((i * 7919 + c * 104729) % 1000) / 1000.0f + 0.01f; };
-  const std::vector<std::pair<std::string, PixelType>> files = {
-      {"t8.png", PixelType::u8}, {"t16.png", PixelType::u16}, {"t.tif", PixelType::f32},
-      {"t.hdr", PixelType::f32}, {"t.exr", PixelType::f32}};
+  const std::vector<std::pair<std::string, PixelType>> files = {{"t8.png", PixelType::u8},
+                                                                {"t16.png", PixelType::u16},
+                                                                {"t.tif", PixelType::f32},
+                                                                {"t.hdr", PixelType::f32},
+                                                                {"t.exr", PixelType::f32}};
   for (auto& [name, type] : files) {
     const std::string p = image(name, w, h, {"R", "G", "B"}, type, noise);
     const auto size = fs::file_size(p);

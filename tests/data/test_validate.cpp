@@ -55,7 +55,9 @@ TEST(CheckView, SkyMayHaveInfDepthAndZeroNormal) {
   v.channels["Z"][1] = 5;  // geometry now: its zero normal is a problem
   auto p = problems(v);
   ASSERT_EQ(p.size(), 1u);
-  EXPECT_EQ(p[0], "mem.exr: channel 'N.X/N.Y/N.Z': non-unit normal at 1 pixel (first at x=1, y=0), worst length 0 (tolerance 0.01)");
+  EXPECT_EQ(p[0],
+            "mem.exr: channel 'N.X/N.Y/N.Z': non-unit normal at 1 pixel (first at x=1, y=0), worst length 0 (tolerance "
+            "0.01)");
 }
 
 TEST(CheckView, DepthMustBePositiveAndNotNaN) {
@@ -70,7 +72,7 @@ TEST(CheckView, DepthMustBePositiveAndNotNaN) {
 TEST(CheckView, RequiredChannelsFollowThePurpose) {
   View v = plane_view("s");
   EXPECT_EQ(problems(v, Purpose::nnao), std::vector<std::string>{"mem.exr: channel 'AO': missing (required for NNAO)"});
-  EXPECT_EQ(problems(v, Purpose::gi).size(), 9u);  // albedo, direct, indirect
+  EXPECT_EQ(problems(v, Purpose::gi).size(), 9u);                      // albedo, direct, indirect
   EXPECT_EQ(problems(v, Purpose::gi, /*is_front=*/false).size(), 6u);  // no GI target on side faces
 }
 
@@ -213,5 +215,6 @@ TEST(Dataset, NonFiniteAoAndNormalsAreRefusedNamingFileChannelAndSplit) {
     return false;
   };
   EXPECT_TRUE(has(d.file("test/ao.exr"), "channel 'AO': NaN or Inf at 1 pixel (first at x=3, y=1) in split 'test'"));
-  EXPECT_TRUE(has(d.file("train/n.exr"), "channel 'N.X/N.Y/N.Z': NaN or Inf normal at 1 pixel (first at x=0, y=1) in split 'train'"));
+  EXPECT_TRUE(has(d.file("train/n.exr"),
+                  "channel 'N.X/N.Y/N.Z': NaN or Inf normal at 1 pixel (first at x=0, y=1) in split 'train'"));
 }

@@ -70,12 +70,14 @@ class MpiTraining : public ::testing::Test {
   static std::string nnao(const std::string& out, const std::string& extra = "") {
     return kBin + "train-nnao --data " + (root / "ao").string() + " --out " + (root / out).string() +
            " --preset grid --window 7 --points-per-view 96 --test-points-per-view 32 --seed 5 --epochs 2"
-           " --batch 12 --accumulate 3 --dropout 0.2 --threads 1 --bucket-mb 0.0001 " + extra;
+           " --batch 12 --accumulate 3 --dropout 0.2 --threads 1 --bucket-mb 0.0001 " +
+           extra;
   }
   static std::string gan(const std::string& out, const std::string& extra = "") {
     return kBin + "train-gan --data " + (root / "gi").string() + " --out " + (root / out).string() +
            " --size 16 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 2 --sample-every 0 --no-eval --seed 3"
-           " --validation-fraction 0 --accumulate 3 --threads 1 --bucket-mb 0.001 " + extra;
+           " --validation-fraction 0 --accumulate 3 --threads 1 --bucket-mb 0.001 " +
+           extra;
   }
   static void expect_same(const std::string& a, const std::string& b, const std::vector<std::string>& files) {
     for (auto& f : files) {
@@ -160,7 +162,8 @@ TEST_F(MpiTraining, FewerMicroBatchesThanRanksIsRefused) {
   for (const std::string& cmd : {nnao("few", "--accumulate 2 --batch 12"), gan("few-gan", "--accumulate 2")}) {
     auto r = nns::testing::run_command(mpirun(3) + cmd);
     EXPECT_NE(r.code, 0) << r.output;
-    EXPECT_NE(r.output.find("--accumulate must be at least the number of MPI ranks (3)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--accumulate must be at least the number of MPI ranks (3)"), std::string::npos)
+        << r.output;
   }
 }
 

@@ -80,7 +80,8 @@ inline std::vector<bool> horizon_edge_pixels(const screen_space::GBuffer& g, con
           if (data::is_sky(zq)) continue;
           double Q[3];
           position(ix, iy, zq, Q);
-          const double d2 = (Q[0] - P[0]) * (Q[0] - P[0]) + (Q[1] - P[1]) * (Q[1] - P[1]) + (Q[2] - P[2]) * (Q[2] - P[2]);
+          const double d2 =
+              (Q[0] - P[0]) * (Q[0] - P[0]) + (Q[1] - P[1]) * (Q[1] - P[1]) + (Q[2] - P[2]) * (Q[2] - P[2]);
           near = near || std::abs(d2 - r2) < 1e-5 * r2;
         }
       }

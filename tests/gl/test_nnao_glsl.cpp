@@ -89,10 +89,11 @@ Diff compare(const std::vector<float>& gpu, const std::vector<float>& cpu, const
   return d;
 }
 void report(const char* what, const Diff& d, size_t pixels) {
-  std::printf("%-52s max |GPU - CPU| %.1e off the marked pixels; %lld of %zu differ by > %.0e (%lld unmarked); "
-              "%lld marked; %lld unclamped\n",
-              what, d.max_elsewhere, (long long)d.off, pixels, double(kTolerance), (long long)d.off_not_edge,
-              (long long)d.edge, (long long)d.unclamped);
+  std::printf(
+      "%-52s max |GPU - CPU| %.1e off the marked pixels; %lld of %zu differ by > %.0e (%lld unmarked); "
+      "%lld marked; %lld unclamped\n",
+      what, d.max_elsewhere, (long long)d.off, pixels, double(kTolerance), (long long)d.off_not_edge, (long long)d.edge,
+      (long long)d.unclamped);
 }
 
 // The NNAO pass, the blur alone on the CPU's pass, then both passes as an engine runs
@@ -122,7 +123,8 @@ Diff check_passes(const nnao::NnaoWeights& m, const fs::path& dir, const data::V
   const Diff pass = compare(passes.ao_pass(f), raw, edge);
   report((std::string(name) + ", NNAO pass (marked: a sample near an edge)").c_str(), pass, raw.size());
   EXPECT_EQ(pass.off_not_edge, 0) << name << ": pixels differ away from pixel edges";
-  EXPECT_GT(pass.unclamped, int64_t(raw.size() * 4 / 10)) << name << ": the outputs are mostly clamped, hiding differences";
+  EXPECT_GT(pass.unclamped, int64_t(raw.size() * 4 / 10))
+      << name << ": the outputs are mostly clamped, hiding differences";
 
   const Diff blur = compare(passes.blur(raw), cpu, std::vector<bool>(raw.size(), false));
   report((std::string(name) + ", blur pass on the CPU's NNAO").c_str(), blur, raw.size());
@@ -174,12 +176,14 @@ TEST_F(NnaoGlsl, HorizonModelMatchesTheCpuExactPath) {
   four.set_config("blur_normal_power", 2);
   const auto loose = export_model(four, dir_ / "loose", 64);
   ASSERT_EQ(loose.blur_edges.normal_power, 2);
-  check_passes(loose, dir_ / "loose", nns::testing::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, 4 passes, depth 0.3, power 2");
+  check_passes(loose, dir_ / "loose", nns::testing::rendered_view(), 0, 0,
+               "horizon d16 s8 b4 h16, 4 passes, depth 0.3, power 2");
   // And the radius term's ceiling (RADIUS_TERM_MAX), low enough to hold most pixels.
   four.set_config("radius_term_max", 0.2);
   const auto capped = export_model(four, dir_ / "capped", 64);
   ASSERT_EQ(capped.input.horizon.radius_term_max, 0.2f);
-  check_passes(capped, dir_ / "capped", nns::testing::rendered_view(), 0, 0, "horizon d16 s8 b4 h16, radius term at most 0.2");
+  check_passes(capped, dir_ / "capped", nns::testing::rendered_view(), 0, 0,
+               "horizon d16 s8 b4 h16, radius term at most 0.2");
 }
 
 // A model at 1/s resolution: the downsample, the NNAO pass and the blur on the low
@@ -284,9 +288,11 @@ TEST_F(NnaoGlsl, AWronglyBoundInputIsCaught) {
   std::vector<float> planes[4];
   const float* src[4] = {g.z, g.nx, g.ny, g.nz};
   for (int c = 0; c < 4; ++c)
-    for (int y = g.height - 1; y >= 0; --y) planes[c].insert(planes[c].end(), src[c] + int64_t(y) * g.width, src[c] + int64_t(y + 1) * g.width);
+    for (int y = g.height - 1; y >= 0; --y)
+      planes[c].insert(planes[c].end(), src[c] + int64_t(y) * g.width, src[c] + int64_t(y + 1) * g.width);
   screen_space::GBuffer flipped = g;
-  flipped.z = planes[0].data(), flipped.nx = planes[1].data(), flipped.ny = planes[2].data(), flipped.nz = planes[3].data();
+  flipped.z = planes[0].data(), flipped.nx = planes[1].data(), flipped.ny = planes[2].data(),
+  flipped.nz = planes[3].data();
   EXPECT_GT(off(flipped, 0), many) << "an upside-down G-buffer goes unnoticed";
   screen_space::GBuffer swapped = g;
   swapped.nx = g.ny, swapped.ny = g.nx;
@@ -299,7 +305,8 @@ TEST_F(NnaoGlsl, AWronglyBoundInputIsCaught) {
   for (auto& [name, plane] : t.channels)
     for (int k = 0; k < m.hidden; ++k)
       for (int j = 0; j < w; ++j)
-        for (int i = 0; i < w; ++i) plane[size_t(j) * f.width + k * w + i] = f.channel(name)[size_t(i) * f.width + k * w + j];
+        for (int i = 0; i < w; ++i)
+          plane[size_t(j) * f.width + k * w + i] = f.channel(name)[size_t(i) * f.width + k * w + j];
   data::write_view(atlas, t);
   EXPECT_GT(off(g, 0), many) << "a transposed filter atlas goes unnoticed";
 }

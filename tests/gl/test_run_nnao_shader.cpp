@@ -42,8 +42,8 @@ class RunNnaoShader : public ::testing::Test {
                                        path("gl.exr") + " " + samples_flag);
     EXPECT_EQ(r.code, 0) << r.output;
     std::printf("%s", r.output.c_str());
-    r = run_app("nnao-infer", "--model " + path("nnao.blob") + " --in " + path("view.exr") + " --out " + path("cpu.exr") +
-                                  " " + samples_flag);
+    r = run_app("nnao-infer", "--model " + path("nnao.blob") + " --in " + path("view.exr") + " --out " +
+                                  path("cpu.exr") + " " + samples_flag);
     EXPECT_EQ(r.code, 0) << r.output;
     const auto gl = data::read_view(path("gl.exr")).channel("AO"), cpu = data::read_view(path("cpu.exr")).channel("AO");
     EXPECT_EQ(gl.size(), cpu.size());
@@ -67,13 +67,15 @@ TEST_F(RunNnaoShader, DrawsNnaoInfersImageForEitherKind) {
 }
 
 TEST_F(RunNnaoShader, MissingFilesAreNamed) {
-  auto r = run_app("run-nnao-shader", "--shaders " + path("none") + " --in " + path("view.exr") + " --out " + path("o.exr"));
+  auto r =
+      run_app("run-nnao-shader", "--shaders " + path("none") + " --in " + path("view.exr") + " --out " + path("o.exr"));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.output.find(path("none") + "/nnao.frag"), std::string::npos) << r.output;
   fixtures::random_nnao_blob(9, 4, 1).save(path("nnao.blob"));
   ASSERT_EQ(run_app("export-nnao", "--model " + path("nnao.blob") + " --out " + path("shaders")).code, 0);
   fs::remove(path("shaders/nnao_filters.exr"));
-  r = run_app("run-nnao-shader", "--shaders " + path("shaders") + " --in " + path("view.exr") + " --out " + path("o.exr"));
+  r = run_app("run-nnao-shader",
+              "--shaders " + path("shaders") + " --in " + path("view.exr") + " --out " + path("o.exr"));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.output.find("nnao_filters.exr is missing"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(path("o.exr")));

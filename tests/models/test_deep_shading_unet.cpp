@@ -123,22 +123,22 @@ TEST(GiGenerator, ResidualAddsTheInputLight) {
 // Both residual paths' gradients reach G's parameters (the data is a constant).
 TEST(GiGenerator, ResidualGradCheck) {
   for (GiResidual mode : {GiResidual::mapped, GiResidual::linear}) {
-  GeneratorConfig c;
-  c.arch = GiArch::deepshading;
-  c.unet.in_channels = 10;
-  c.unet.ngf = 2;
-  c.unet.levels = 1;
-  c.residual = mode;
-  c.hdr_scale = 0.7f;
-  Rng rng(9);
-  auto g = make_generator<double>(c, rng);
-  std::vector<VarD> inputs = {VarD(random_tensor({1, 10, 4, 4}, rng), false)};
-  for (auto& p : g->parameters()) {
-    VarD q = p;
-    q.value() = random_tensor(q.shape(), rng, 0.4);
-    inputs.push_back(q);
-  }
-  gradcheck([&](std::vector<VarD>& in) { return generate(*g, c, in[0]); }, inputs);
+    GeneratorConfig c;
+    c.arch = GiArch::deepshading;
+    c.unet.in_channels = 10;
+    c.unet.ngf = 2;
+    c.unet.levels = 1;
+    c.residual = mode;
+    c.hdr_scale = 0.7f;
+    Rng rng(9);
+    auto g = make_generator<double>(c, rng);
+    std::vector<VarD> inputs = {VarD(random_tensor({1, 10, 4, 4}, rng), false)};
+    for (auto& p : g->parameters()) {
+      VarD q = p;
+      q.value() = random_tensor(q.shape(), rng, 0.4);
+      inputs.push_back(q);
+    }
+    gradcheck([&](std::vector<VarD>& in) { return generate(*g, c, in[0]); }, inputs);
   }
 }
 

@@ -135,8 +135,7 @@ TEST(GiInputs, SurroundPutsTheFrontFaceInTheFrontRect) {
 
 TEST(GiInputs, DownsampleAveragesAndKeepsSkyOnlyWhereAllSky) {
   View v = make_view(4, 4, 1.0f);
-  v.channels["Z"] = {INFINITY, INFINITY, 1, 2, INFINITY, INFINITY, 3, 4,
-                     1, 1, 1, 1, 1, 1, 1, 3};
+  v.channels["Z"] = {INFINITY, INFINITY, 1, 2, INFINITY, INFINITY, 3, 4, 1, 1, 1, 1, 1, 1, 1, 3};
   View d = downsample_view(v, 2);
   ASSERT_EQ(d.width, 2);
   EXPECT_TRUE(data::is_sky(d.channel("Z")[0]));

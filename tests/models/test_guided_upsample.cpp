@@ -75,7 +75,8 @@ TEST(GuidedUpsample, ALinearRampOnOneSurfaceIsReproduced) {
   });
   const Tensor<float> up = nns::gi::guided_upsample(ramp, low, full);
   for (int y = k; y < 16 - k; ++y)
-    for (int x = k; x < 32 - k; ++x) EXPECT_NEAR(up[y * 32 + x], 0.01f * float(x) + 0.02f * float(y), 1e-5f) << x << " " << y;
+    for (int x = k; x < 32 - k; ++x)
+      EXPECT_NEAR(up[y * 32 + x], 0.01f * float(x) + 0.02f * float(y), 1e-5f) << x << " " << y;
 }
 
 TEST(GuidedUpsample, SizesThatDoNotGoIntoEachOtherAreRefused) {

@@ -79,8 +79,8 @@ TEST(HorizonFeatures, CreaseVisibilityFollowsTheClosedForm) {
   truth_mean /= double(pairs.size());
   for (auto [t, v] : pairs) se += (v - t) * (v - t), se_const += (truth_mean - t) * (truth_mean - t);
   const double rms = std::sqrt(se / double(pairs.size())), rms_const = std::sqrt(se_const / double(pairs.size()));
-  std::printf("[horizon] crease: visibility RMS error %.4f over %zu pixels (a constant: %.4f)\n", rms,
-              pairs.size(), rms_const);
+  std::printf("[horizon] crease: visibility RMS error %.4f over %zu pixels (a constant: %.4f)\n", rms, pairs.size(),
+              rms_const);
   // 1 - mean sin^2 e is exact for a cosine-weighted hemisphere when the directions are
   // uniform around the normal; here they are uniform on the screen (the floor and the
   // wall are foreshortened 45 degrees) and 8 steps find a horizon at or below the true

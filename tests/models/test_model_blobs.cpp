@@ -24,9 +24,8 @@ namespace {
 class ModelBlobTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("nns_model_blobs_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("nns_model_blobs_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -79,7 +78,8 @@ TEST_F(ModelBlobTest, NnaoRefusesANonFiniteWeightOrStatisticNamingTheTensor) {
   const Blob good = fixtures::random_nnao_blob(3, 4, 1);
   good.save(path("good.blob"));
   ASSERT_NO_THROW(nnao::NnaoWeights::load(path("good.blob")));
-  for (const char* tensor : {"fc0.weight", "fc2.weight", "fc3.bias", "act1.alpha", "feature_mean", "feature_std", "target_stats"})
+  for (const char* tensor :
+       {"fc0.weight", "fc2.weight", "fc3.bias", "act1.alpha", "feature_mean", "feature_std", "target_stats"})
     for (float bad : {std::nanf(""), HUGE_VALF, -HUGE_VALF}) {
       const std::string p = path("bad.blob");
       with_value(good, tensor, 1 % (std::string(tensor) == "fc3.bias" ? 1 : 2), bad).save(p);
@@ -103,9 +103,12 @@ TEST_F(ModelBlobTest, NnaoRefusesAStandardDeviationThatIsNotPositive) {
 
 // A window of 4294967303 read as 7; a radius of 1e39 as inf.
 TEST_F(ModelBlobTest, NnaoChecksKeysAsStoredBeforeNarrowing) {
-  for (auto [key, value] : std::initializer_list<std::pair<const char*, const char*>>{
-           {"window", "4294967303"}, {"hidden", "4294967300"}, {"radius", "1e39"}, {"radius", "nan"},
-           {"radius", "-inf"}, {"radius", "-1"}}) {
+  for (auto [key, value] : std::initializer_list<std::pair<const char*, const char*>>{{"window", "4294967303"},
+                                                                                      {"hidden", "4294967300"},
+                                                                                      {"radius", "1e39"},
+                                                                                      {"radius", "nan"},
+                                                                                      {"radius", "-inf"},
+                                                                                      {"radius", "-1"}}) {
     Blob b = fixtures::random_nnao_blob(7, 4, 3);
     b.set_config(key, std::string(value));
     const std::string p = path("bad.blob");
@@ -162,16 +165,22 @@ TEST_F(ModelBlobTest, GiGeneratorAndDiscriminatorRefuseANonFiniteTensorNamingIt)
   const Blob d = Blob::load(path("D.blob"));
   const std::string first = d.tensors().front().first;
   with_value(d, first, 0, -HUGE_VALF).save(path("bad_D.blob"));
-  expect_refused(error_of([&] { gi::load_discriminator(path("bad_D.blob")); }), path("bad_D.blob"), "tensor '" + first + "'");
+  expect_refused(error_of([&] { gi::load_discriminator(path("bad_D.blob")); }), path("bad_D.blob"),
+                 "tensor '" + first + "'");
 }
 
 TEST_F(ModelBlobTest, GiGeneratorChecksKeysAsStoredBeforeNarrowing) {
   const std::string p = path("G.blob");
   tiny_generator_blob(p);
   const Blob good = Blob::load(p);
-  for (auto [key, value] : std::initializer_list<std::pair<const char*, const char*>>{
-           {"size", "4294967312"}, {"ngf", "4294967298"}, {"levels", "4294967298"}, {"depth_max", "1e39"},
-           {"hdr_scale", "0"}, {"hdr_scale", "nan"}, {"dropout", "inf"}, {"light_max", "1e39"}}) {
+  for (auto [key, value] : std::initializer_list<std::pair<const char*, const char*>>{{"size", "4294967312"},
+                                                                                      {"ngf", "4294967298"},
+                                                                                      {"levels", "4294967298"},
+                                                                                      {"depth_max", "1e39"},
+                                                                                      {"hdr_scale", "0"},
+                                                                                      {"hdr_scale", "nan"},
+                                                                                      {"dropout", "inf"},
+                                                                                      {"light_max", "1e39"}}) {
     Blob b = good;
     b.set_config(key, std::string(value));
     const std::string q = path("bad_G.blob");

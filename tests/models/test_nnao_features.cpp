@@ -15,8 +15,7 @@ namespace {
 // project it with the general projection, round, clamp, read, fall off.
 // `tie` marks grid points whose projection lies within 1e-3 pixel of a rounding
 // boundary, where float rounding of the two routes may pick either neighbour.
-std::vector<float> reference_features(const screen_space::GBuffer& g, int px, int py, int w,
-                                      std::vector<bool>& tie) {
+std::vector<float> reference_features(const screen_space::GBuffer& g, int px, int py, int w, std::vector<bool>& tie) {
   std::vector<float> out(size_t(w) * w * 4);
   tie.assign(size_t(w) * w, false);
   const int64_t c = int64_t(py) * g.width + px;

@@ -16,7 +16,6 @@ using namespace nns;
 
 namespace {
 
-
 // The network in double straight from the blob's raw tensors: standardise, 4 layers.
 double reference_ao(const Blob& b, const std::vector<float>& f, int H, double base = 0) {
   const int64_t F = int64_t(f.size());
@@ -142,8 +141,7 @@ namespace {
 // equal to float precision; a sample on an exact half-pixel boundary may still round
 // to the neighbouring pixel when the compiler fuses a multiply-add differently, and
 // the blur's exp is a polynomial (relative error < 2e-7).
-void expect_close_to_reference(const std::vector<float>& fast, const std::vector<float>& ref,
-                               const std::string& what) {
+void expect_close_to_reference(const std::vector<float>& fast, const std::vector<float>& ref, const std::string& what) {
   size_t off = 0;
   double worst = 0, sum = 0;
   for (size_t i = 0; i < ref.size(); ++i) {
@@ -153,8 +151,8 @@ void expect_close_to_reference(const std::vector<float>& fast, const std::vector
     worst = std::max(worst, d);
     sum += d;
   }
-  std::printf("[vector vs scalar] %s: %zu of %zu pixels differ by > 1e-5, max %.3g\n", what.c_str(), off,
-              ref.size(), worst);
+  std::printf("[vector vs scalar] %s: %zu of %zu pixels differ by > 1e-5, max %.3g\n", what.c_str(), off, ref.size(),
+              worst);
   EXPECT_LE(double(off), 0.002 * double(ref.size())) << what;
   EXPECT_LT(sum / double(ref.size()), 1e-5) << what;
 }
@@ -197,7 +195,8 @@ TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
     for (int H : {4, 6, 8, 16}) {
       // Spread: the raw random weights clamp a horizon model's output to 1 on every
       // pixel, where a wrong march could not show.
-      Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, H, 21 + H, false, sh), 80.0f / float(H), -0.3f);
+      Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, H, 21 + H, false, sh),
+                                                     80.0f / float(H), -0.3f);
       auto m = nnao::NnaoWeights::from_blob(blob);
       ASSERT_TRUE(m.input.is_horizon());
       for (int variant : {0, 3}) {
@@ -237,7 +236,8 @@ TEST(NnaoInference, HorizonModelMatchesPerPixelAndDoubleReferences) {
 // blur_passes N: the exact inference is the march, then the blur N times (vector and
 // scalar alike); absent means 1; outside 1..16 the blob is refused.
 TEST(NnaoInference, HorizonModelBlursBlurPassesTimes) {
-  Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 31, false, {8, 8, 4}), 10, -0.3f);
+  Blob blob =
+      nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 31, false, {8, 8, 4}), 10, -0.3f);
   ASSERT_EQ(nnao::NnaoWeights::from_blob(blob).blur_passes, 1);
   blob.set_config("blur_passes", 3);
   const auto m = nnao::NnaoWeights::from_blob(blob);
@@ -265,7 +265,8 @@ TEST(NnaoInference, HorizonModelBlursBlurPassesTimes) {
 // radius_term_max: absent or 0 mean no ceiling; present, the vector march and the
 // per-pixel loop both hold the radius term at it; out of range the blob is refused.
 TEST(NnaoInference, HorizonModelHoldsTheRadiusTermAtTheBlobsCeiling) {
-  Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 29, false, {8, 8, 4}), 10, -0.3f);
+  Blob blob =
+      nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 29, false, {8, 8, 4}), 10, -0.3f);
   ASSERT_FALSE(std::isfinite(nnao::NnaoWeights::from_blob(blob).input.horizon.radius_term_max));
   blob.set_config("radius_term_max", 0.0);
   ASSERT_FALSE(std::isfinite(nnao::NnaoWeights::from_blob(blob).input.horizon.radius_term_max));
@@ -326,7 +327,8 @@ TEST(NnaoInference, PowerBySquaringKeepsTheFirstModelsBits) {
 // blur_depth and blur_normal_power: absent mean the first models' 0.1 and 8; present,
 // both the vector and the reference blur use them; out of range the blob is refused.
 TEST(NnaoInference, HorizonModelBlursWithTheBlobsEdgeTerms) {
-  Blob blob = nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 31, false, {8, 8, 4}), 10, -0.3f);
+  Blob blob =
+      nns::fixtures::spread_nnao_outputs(nns::fixtures::random_nnao_blob(0, 8, 31, false, {8, 8, 4}), 10, -0.3f);
   const auto first = nnao::NnaoWeights::from_blob(blob);
   ASSERT_EQ(first.blur_edges.depth, 0.1f);
   ASSERT_EQ(first.blur_edges.normal_power, 8);

@@ -23,7 +23,8 @@ struct TwoPlanes {
   int w, h;
   std::vector<float> z, nx, ny, nz;
   screen_space::GBuffer g;
-  TwoPlanes(int w_, int h_, int edge) : w(w_), h(h_), z(size_t(w_ * h_)), nx(z.size(), 0), ny(z.size(), 0), nz(z.size(), 1) {
+  TwoPlanes(int w_, int h_, int edge)
+      : w(w_), h(h_), z(size_t(w_ * h_)), nx(z.size(), 0), ny(z.size(), 0), nz(z.size(), 1) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) z[size_t(y * w + x)] = x < edge ? 2.0f : 6.0f;
     g = screen_space::make_gbuffer(w, h, 60, 0.5f, z.data(), nx.data(), ny.data(), nz.data());
@@ -80,7 +81,8 @@ TEST(LowResolution, UpsampleDoesNotCarryLightAcrossADepthStep) {
     for (size_t i = 0; i < low.size(); ++i) low[i] = lr.z[i] < 3 ? 0.0f : 1.0f;
     screen_space::upsample(f.g, lr, low.data(), out.data());
     for (int y = 0; y < f.h; ++y)
-      for (int x = 0; x < f.w; ++x) EXPECT_NEAR(out[size_t(y * f.w + x)], x < edge ? 0.0f : 1.0f, 1e-6f) << edge << " " << x;
+      for (int x = 0; x < f.w; ++x)
+        EXPECT_NEAR(out[size_t(y * f.w + x)], x < edge ? 0.0f : 1.0f, 1e-6f) << edge << " " << x;
   }
 }
 

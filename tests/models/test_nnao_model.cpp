@@ -33,9 +33,7 @@ TEST(NnaoModel, GradCheckWholeNetworkAndLoss) {
   std::vector<VarD> in = {VarD(random_tensor({5, 36}, rng), true)};
   for (auto& p : params) in.push_back(p);
   TensorD y = random_tensor({5, 1}, rng);
-  gradcheck(
-      [&](std::vector<VarD>& v) { return nnao::nnao_loss(net.forward(v[0]), VarD(y), params, 0.01); },
-      in);
+  gradcheck([&](std::vector<VarD>& v) { return nnao::nnao_loss(net.forward(v[0]), VarD(y), params, 0.01); }, in);
 }
 
 namespace {

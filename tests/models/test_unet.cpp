@@ -78,14 +78,11 @@ TEST(Unet, BiasOnlyWhereNoBatchNormFollowsAndDropoutInThreeInnermost) {
   UnetGenerator<float> g(c, rng);
   std::set<std::string> biases;
   for (auto& [name, p] : g.named_parameters())
-    if (name.size() > 5 && name.ends_with(".bias") && name.find("norm") == std::string::npos)
-      biases.insert(name);
-  EXPECT_EQ(biases, (std::set<std::string>{"model.down.bias", "model.up.bias",
-                                           "model.sub.sub.sub.sub.down.bias"}));
+    if (name.size() > 5 && name.ends_with(".bias") && name.find("norm") == std::string::npos) biases.insert(name);
+  EXPECT_EQ(biases, (std::set<std::string>{"model.down.bias", "model.up.bias", "model.sub.sub.sub.sub.down.bias"}));
   std::set<std::string> dropouts;
   for (auto& [name, r] : g.named_rngs()) dropouts.insert(name);
-  EXPECT_EQ(dropouts, (std::set<std::string>{"model.sub.sub.dropout.rng",
-                                             "model.sub.sub.sub.dropout.rng",
+  EXPECT_EQ(dropouts, (std::set<std::string>{"model.sub.sub.dropout.rng", "model.sub.sub.sub.dropout.rng",
                                              "model.sub.sub.sub.sub.dropout.rng"}));
   // BN on every level but the outermost and innermost down convs; on every up but the last.
   auto ps = g.named_parameters();

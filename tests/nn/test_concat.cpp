@@ -18,8 +18,7 @@ TEST(Concat, ForwardLayout) {
 
 TEST(Concat, GradCheckImagesAndVectors) {
   Rng rng(51);
-  std::vector<VarD> in = {VarD(random_tensor({2, 3, 4, 5}, rng), true),
-                          VarD(random_tensor({2, 1, 4, 5}, rng), true),
+  std::vector<VarD> in = {VarD(random_tensor({2, 3, 4, 5}, rng), true), VarD(random_tensor({2, 1, 4, 5}, rng), true),
                           VarD(random_tensor({2, 2, 4, 5}, rng), true)};
   gradcheck([](std::vector<VarD>& v) { return concat_channels(v); }, in);
   std::vector<VarD> flat = {VarD(random_tensor({3, 2}, rng), true), VarD(random_tensor({3, 5}, rng), true)};

@@ -25,11 +25,11 @@ struct Case {
 const Case kCases[] = {
     {2, 3, 7, 6, 4, 3, 3, Conv2dParams::square(1, 1)},
     {1, 4, 9, 8, 6, 4, 4, Conv2dParams::square(2, 1)},
-    {2, 4, 8, 11, 6, 3, 2, {2, 1, 1, 0, 1, 2, 2}},   // stride (2,1), pad (1,0), dil (1,2), groups 2
+    {2, 4, 8, 11, 6, 3, 2, {2, 1, 1, 0, 1, 2, 2}},         // stride (2,1), pad (1,0), dil (1,2), groups 2
     {1, 2, 9, 9, 3, 3, 3, Conv2dParams::square(1, 2, 2)},  // dilation 2
-    {3, 5, 4, 3, 2, 1, 1, {}},                       // 1x1: skips im2col
-    {2, 4, 5, 6, 4, 1, 1, {2, 2, 0, 0, 1, 1, 2}},    // 1x1 with stride 2 and groups 2: im2col path
-    {2, 3, 7, 6, 1, 4, 4, Conv2dParams::square(2, 1)},  // one output channel: direct path
+    {3, 5, 4, 3, 2, 1, 1, {}},                             // 1x1: skips im2col
+    {2, 4, 5, 6, 4, 1, 1, {2, 2, 0, 0, 1, 1, 2}},          // 1x1 with stride 2 and groups 2: im2col path
+    {2, 3, 7, 6, 1, 4, 4, Conv2dParams::square(2, 1)},     // one output channel: direct path
     {2, 16, 64, 64, 8, 3, 3, Conv2dParams::square(1, 1)},  // several row blocks per image
     {1, 64, 3, 512, 4, 3, 3, Conv2dParams::square(1, 1)},  // one-row blocks that overlap
     // Implicit GEMM (stride_w 1, K > 32): micro-panels that straddle output rows (W_out 37),
@@ -46,8 +46,8 @@ const Case kCases[] = {
 constexpr size_t kFirstLargeCase = 7;
 
 ConvGeometry geometry_of(const Case& c) {
-  return conv2d_geometry(c.N, c.C_in, c.H, c.W, c.C_out, c.kh, c.kw, c.p.stride_h, c.p.stride_w,
-                         c.p.pad_h, c.p.pad_w, c.p.dil_h, c.p.dil_w, c.p.groups);
+  return conv2d_geometry(c.N, c.C_in, c.H, c.W, c.C_out, c.kh, c.kw, c.p.stride_h, c.p.stride_w, c.p.pad_h, c.p.pad_w,
+                         c.p.dil_h, c.p.dil_w, c.p.groups);
 }
 
 }  // namespace
@@ -74,8 +74,8 @@ TEST(Conv2d, ForwardHandComputed) {
   Var<float> b(Tensor<float>::from({1}, {0.5f}));
   Var<float> y = conv2d(x, w, b, Conv2dParams::square(1, 1));
   ASSERT_EQ(y.shape(), (Shape{1, 1, 4, 4}));
-  const float expect[16] = {-0.5f, -1.5f, -2.5f, 0.5f,  -3.5f, -3.5f, -3.5f, 3.5f,
-                            -6.5f, -3.5f, -3.5f, 6.5f, 0.5f, 7.5f, 8.5f, 9.5f};
+  const float expect[16] = {-0.5f, -1.5f, -2.5f, 0.5f, -3.5f, -3.5f, -3.5f, 3.5f,
+                            -6.5f, -3.5f, -3.5f, 6.5f, 0.5f,  7.5f,  8.5f,  9.5f};
   for (int i = 0; i < 16; ++i) EXPECT_FLOAT_EQ(y.value()[i], expect[i]) << "at " << i;
 
   // Stride 2 with groups 2: each output channel sees only its own input channel.
@@ -89,8 +89,8 @@ TEST(Conv2d, ForwardHandComputed) {
 
 // Buffers for one case of kCases; the fast pair or the reference pair on them.
 LayerBuffers random_buffers(const ConvGeometry& g, Rng& rng) {
-  return random_layer_buffers({g.N, g.C_in, g.H, g.W}, {g.C_out, g.cin_g(), g.kh, g.kw},
-                              {g.C_out}, {g.N, g.C_out, g.H_out, g.W_out}, rng);
+  return random_layer_buffers({g.N, g.C_in, g.H, g.W}, {g.C_out, g.cin_g(), g.kh, g.kw}, {g.C_out},
+                              {g.N, g.C_out, g.H_out, g.W_out}, rng);
 }
 
 std::array<Tensor<float>, 4> run_fast(const LayerBuffers& in, const ConvGeometry& g) {
@@ -103,10 +103,9 @@ TEST(Conv2d, FastKernelsMatchReference) {
   for (const Case& c : kCases) {
     ConvGeometry g = geometry_of(c);
     LayerBuffers in = random_buffers(g, rng);
-    expect_close(run_fast(in, g),
-                 forward_backward<double>(
-                     in, [&](auto... a) { conv2d_forward_reference(a..., g); },
-                     [&](auto... a) { conv2d_backward_reference(a..., g); }));
+    expect_close(run_fast(in, g), forward_backward<double>(
+                                      in, [&](auto... a) { conv2d_forward_reference(a..., g); },
+                                      [&](auto... a) { conv2d_backward_reference(a..., g); }));
   }
 }
 
@@ -141,10 +140,8 @@ TEST(Conv2d, GradCheck) {
 
 TEST(Conv2d, GradCheckWithoutBias) {
   Rng rng(20);
-  std::vector<VarD> in = {VarD(random_tensor({2, 2, 5, 4}, rng), true),
-                          VarD(random_tensor({3, 2, 2, 3}, rng), true)};
-  gradcheck([](std::vector<VarD>& v) { return conv2d(v[0], v[1], VarD(), Conv2dParams::square(2, 1)); },
-            in);
+  std::vector<VarD> in = {VarD(random_tensor({2, 2, 5, 4}, rng), true), VarD(random_tensor({3, 2, 2, 3}, rng), true)};
+  gradcheck([](std::vector<VarD>& v) { return conv2d(v[0], v[1], VarD(), Conv2dParams::square(2, 1)); }, in);
 }
 
 TEST(Conv2d, ModuleParametersAndInit) {
@@ -199,8 +196,9 @@ TEST(Conv2d, Bf16MatchesReferenceOnRoundedOperands) {
     ConvGeometry g = geometry_of(c);
     LayerBuffers in = random_buffers(g, rng);
     if (g.cout_g() == 1) continue;  // conv2d_direct.h: no GEMM, stays fp32
-    expect_bf16_matches_reference(run_fast(in, g), in, [&](auto... a) { conv2d_forward_reference(a..., g); },
-                                  [&](auto... a) { conv2d_backward_reference(a..., g); });
+    expect_bf16_matches_reference(
+        run_fast(in, g), in, [&](auto... a) { conv2d_forward_reference(a..., g); },
+        [&](auto... a) { conv2d_backward_reference(a..., g); });
   }
 }
 

@@ -26,20 +26,19 @@ struct Case {
 // Odd shapes: non-square, batch > 1, stride 2, padding, output_padding 1, dilation 2,
 // groups 2, 1x1 kernels.
 const Case kCases[] = {
-    {2, 3, 4, 5, 2, 4, 4, ConvTranspose2dParams::square(2, 1)},        // the U-Net's up step
-    {1, 4, 3, 4, 6, 3, 3, ConvTranspose2dParams::square(2, 1, 1)},     // output_padding 1
+    {2, 3, 4, 5, 2, 4, 4, ConvTranspose2dParams::square(2, 1)},     // the U-Net's up step
+    {1, 4, 3, 4, 6, 3, 3, ConvTranspose2dParams::square(2, 1, 1)},  // output_padding 1
     {2, 4, 5, 3, 2, 3, 2, {2, 1, 1, 0, 1, 0, 1, 2, 2}},  // stride (2,1), pad (1,0), op (1,0), dil (1,2), groups 2
-    {1, 2, 4, 4, 3, 3, 3, ConvTranspose2dParams::square(1, 1, 1, 2)},  // op 1 >= stride, < dilation 2
-    {3, 5, 3, 2, 4, 1, 1, {}},                                         // 1x1: a plain GEMM
+    {1, 2, 4, 4, 3, 3, 3, ConvTranspose2dParams::square(1, 1, 1, 2)},     // op 1 >= stride, < dilation 2
+    {3, 5, 3, 2, 4, 1, 1, {}},                                            // 1x1: a plain GEMM
     {2, 4, 3, 3, 2, 1, 1, ConvTranspose2dParams::square(2, 0, 1, 1, 2)},  // 1x1 stride 2, groups 2
-    {4, 16, 32, 32, 8, 4, 4, ConvTranspose2dParams::square(2, 1)},    // blocks split over threads
-    {1, 4, 3, 512, 64, 3, 3, ConvTranspose2dParams::square(1, 1)},    // one-row blocks that overlap
+    {4, 16, 32, 32, 8, 4, 4, ConvTranspose2dParams::square(2, 1)},        // blocks split over threads
+    {1, 4, 3, 512, 64, 3, 3, ConvTranspose2dParams::square(1, 1)},        // one-row blocks that overlap
 };
 
 ConvGeometry geometry_of(const Case& c) {
-  return conv_transpose2d_geometry(c.N, c.C_in, c.H, c.W, c.C_out, c.kh, c.kw, c.p.stride_h,
-                                   c.p.stride_w, c.p.pad_h, c.p.pad_w, c.p.out_pad_h,
-                                   c.p.out_pad_w, c.p.dil_h, c.p.dil_w, c.p.groups);
+  return conv_transpose2d_geometry(c.N, c.C_in, c.H, c.W, c.C_out, c.kh, c.kw, c.p.stride_h, c.p.stride_w, c.p.pad_h,
+                                   c.p.pad_w, c.p.out_pad_h, c.p.out_pad_w, c.p.dil_h, c.p.dil_w, c.p.groups);
 }
 
 }  // namespace
@@ -53,15 +52,13 @@ TEST(ConvTranspose2d, OutputShapeFollowsPyTorchFormula) {
     auto out = [](int64_t in, int64_t k, int64_t s, int64_t p, int64_t op, int64_t d) {
       return (in - 1) * s - 2 * p + d * (k - 1) + op + 1;
     };
-    EXPECT_EQ(y.shape(),
-              (Shape{c.N, c.C_out, out(c.H, c.kh, c.p.stride_h, c.p.pad_h, c.p.out_pad_h, c.p.dil_h),
-                     out(c.W, c.kw, c.p.stride_w, c.p.pad_w, c.p.out_pad_w, c.p.dil_w)}));
+    EXPECT_EQ(y.shape(), (Shape{c.N, c.C_out, out(c.H, c.kh, c.p.stride_h, c.p.pad_h, c.p.out_pad_h, c.p.dil_h),
+                                out(c.W, c.kw, c.p.stride_w, c.p.pad_w, c.p.out_pad_w, c.p.dil_w)}));
   }
   // pix2pix's up step doubles the size: 128 -> 64 channels, k4 s2 p1.
   Var<float> x(Tensor<float>::zeros({1, 2, 8, 6}));
   Var<float> w(Tensor<float>::zeros({2, 3, 4, 4}));
-  EXPECT_EQ(conv_transpose2d(x, w, Var<float>(), ConvTranspose2dParams::square(2, 1)).shape(),
-            (Shape{1, 3, 16, 12}));
+  EXPECT_EQ(conv_transpose2d(x, w, Var<float>(), ConvTranspose2dParams::square(2, 1)).shape(), (Shape{1, 3, 16, 12}));
 }
 
 TEST(ConvTranspose2d, ForwardHandComputed) {
@@ -71,8 +68,7 @@ TEST(ConvTranspose2d, ForwardHandComputed) {
   Var<float> b(Tensor<float>::from({1}, {0.5f}));
   Var<float> y = conv_transpose2d(x, w, b, ConvTranspose2dParams::square(2));
   ASSERT_EQ(y.shape(), (Shape{1, 1, 4, 4}));
-  const float expect[16] = {1, 10, 2, 20, 100, 1000, 200, 2000,
-                            3, 30, 4, 40, 300, 3000, 400, 4000};
+  const float expect[16] = {1, 10, 2, 20, 100, 1000, 200, 2000, 3, 30, 4, 40, 300, 3000, 400, 4000};
   for (int i = 0; i < 16; ++i) EXPECT_FLOAT_EQ(y.value()[i], expect[i] + 0.5f) << "at " << i;
 
   // k3 s1 p1 on a single pixel: the kernel itself, cropped by the padding to 1x1.
@@ -96,8 +92,8 @@ TEST(ConvTranspose2d, IsTheAdjointOfConv2d) {
     ConvGeometry g = geometry_of(c);
     Conv2dParams cp{c.p.stride_h, c.p.stride_w, c.p.pad_h, c.p.pad_w, c.p.dil_h, c.p.dil_w, c.p.groups};
     auto w = random_tensor({c.C_in, c.C_out / c.p.groups, c.kh, c.kw}, rng);
-    auto y = random_tensor({c.N, c.C_in, c.H, c.W}, rng);      // transposed input
-    auto x = random_tensor({c.N, c.C_out, g.H, g.W}, rng);     // transposed output
+    auto y = random_tensor({c.N, c.C_in, c.H, c.W}, rng);   // transposed input
+    auto x = random_tensor({c.N, c.C_out, g.H, g.W}, rng);  // transposed output
     VarD cx = conv2d(VarD(x), VarD(w), VarD(), cp);
     VarD ty = conv_transpose2d(VarD(y), VarD(w), VarD(), c.p);
     // conv2d may produce one extra row/column that the transposed op does not reach.
@@ -117,8 +113,8 @@ TEST(ConvTranspose2d, IsTheAdjointOfConv2d) {
 
 // Buffers for one case of kCases (g.H, g.W are the output size); the fast pair on them.
 LayerBuffers random_buffers(const Case& c, const ConvGeometry& g, Rng& rng) {
-  return random_layer_buffers({c.N, c.C_in, c.H, c.W}, {c.C_in, c.C_out / c.p.groups, c.kh, c.kw},
-                              {c.C_out}, {c.N, c.C_out, g.H, g.W}, rng);
+  return random_layer_buffers({c.N, c.C_in, c.H, c.W}, {c.C_in, c.C_out / c.p.groups, c.kh, c.kw}, {c.C_out},
+                              {c.N, c.C_out, g.H, g.W}, rng);
 }
 
 std::array<Tensor<float>, 4> run_fast(const LayerBuffers& in, const ConvGeometry& g) {
@@ -132,10 +128,9 @@ TEST(ConvTranspose2d, FastKernelsMatchReference) {
   for (const Case& c : kCases) {
     ConvGeometry g = geometry_of(c);
     LayerBuffers in = random_buffers(c, g, rng);
-    expect_close(run_fast(in, g),
-                 forward_backward<double>(
-                     in, [&](auto... a) { conv_transpose2d_forward_reference(a..., g); },
-                     [&](auto... a) { conv_transpose2d_backward_reference(a..., g); }));
+    expect_close(run_fast(in, g), forward_backward<double>(
+                                      in, [&](auto... a) { conv_transpose2d_forward_reference(a..., g); },
+                                      [&](auto... a) { conv_transpose2d_backward_reference(a..., g); }));
   }
 }
 
@@ -212,8 +207,9 @@ TEST(ConvTranspose2d, Bf16MatchesReferenceOnRoundedOperands) {
   for (const Case& c : kCases) {
     ConvGeometry g = geometry_of(c);
     LayerBuffers in = random_buffers(c, g, rng);
-    expect_bf16_matches_reference(run_fast(in, g), in, [&](auto... a) { conv_transpose2d_forward_reference(a..., g); },
-                                  [&](auto... a) { conv_transpose2d_backward_reference(a..., g); });
+    expect_bf16_matches_reference(
+        run_fast(in, g), in, [&](auto... a) { conv_transpose2d_forward_reference(a..., g); },
+        [&](auto... a) { conv_transpose2d_backward_reference(a..., g); });
   }
 }
 

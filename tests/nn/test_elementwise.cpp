@@ -105,10 +105,14 @@ TEST(Elementwise, GradCheckSameShape) {
     gradcheck(
         [op](std::vector<VarD>& v) {
           switch (op) {
-            case 0: return add(v[0], v[1]);
-            case 1: return sub(v[0], v[1]);
-            case 2: return mul(v[0], v[1]);
-            default: return div(v[0], v[1]);
+            case 0:
+              return add(v[0], v[1]);
+            case 1:
+              return sub(v[0], v[1]);
+            case 2:
+              return mul(v[0], v[1]);
+            default:
+              return div(v[0], v[1]);
           }
         },
         in);
@@ -124,10 +128,14 @@ TEST(Elementwise, GradCheckBroadcast) {
       std::vector<VarD> in = {rv(big, rng), positive(small, rng)};
       auto f = [op](std::vector<VarD>& v) {
         switch (op) {
-          case 0: return add(v[0], v[1]);
-          case 1: return sub(v[1], v[0]);  // the broadcast operand on the left
-          case 2: return mul(v[0], v[1]);
-          default: return div(v[0], v[1]);
+          case 0:
+            return add(v[0], v[1]);
+          case 1:
+            return sub(v[1], v[0]);  // the broadcast operand on the left
+          case 2:
+            return mul(v[0], v[1]);
+          default:
+            return div(v[0], v[1]);
         }
       };
       gradcheck(f, in);

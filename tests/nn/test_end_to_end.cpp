@@ -15,9 +15,7 @@ using namespace nns;
 
 namespace {
 
-Var<float> mse(const Var<float>& pred, const Var<float>& target) {
-  return mean(square(pred - target));
-}
+Var<float> mse(const Var<float>& pred, const Var<float>& target) { return mean(square(pred - target)); }
 
 }  // namespace
 
@@ -64,8 +62,7 @@ TEST(EndToEnd, ConvLearnsAFixed3x3Filter) {
           for (int di = -1; di <= 1; ++di)
             for (int dj = -1; dj <= 1; ++dj) {
               int64_t ii = i + di, jj = j + dj;
-              if (ii >= 0 && ii < H && jj >= 0 && jj < W)
-                s += kernel[(di + 1) * 3 + dj + 1] * x[(b * H + ii) * W + jj];
+              if (ii >= 0 && ii < H && jj >= 0 && jj < W) s += kernel[(di + 1) * 3 + dj + 1] * x[(b * H + ii) * W + jj];
             }
           y[(b * H + i) * W + j] = s;
         }

@@ -17,8 +17,7 @@ TEST(Linear, ForwardHandComputed) {
 
 TEST(Linear, GradCheck) {
   Rng rng(7);
-  std::vector<VarD> in = {VarD(random_tensor({3, 5}, rng), true),
-                          VarD(random_tensor({4, 5}, rng), true),
+  std::vector<VarD> in = {VarD(random_tensor({3, 5}, rng), true), VarD(random_tensor({4, 5}, rng), true),
                           VarD(random_tensor({4}, rng), true)};
   gradcheck([](std::vector<VarD>& v) { return linear(v[0], v[1], v[2]); }, in);
 }

@@ -60,6 +60,5 @@ TEST(LinearModule, GradCheckThroughTheModule) {
   Rng rng(5);
   Linear<double> fc(rng, 6, 3);
   VarD x(random_tensor({4, 6}, rng), true);
-  gradcheck([&fc](std::vector<VarD>& v) { return fc.forward(v[0]); },
-            {x, fc.weight, fc.bias});
+  gradcheck([&fc](std::vector<VarD>& v) { return fc.forward(v[0]); }, {x, fc.weight, fc.bias});
 }

@@ -28,7 +28,8 @@ TEST(Losses, ForwardHandComputed) {
   Var<double> x(Tensor<double>::from({3}, {0, 2, -1}));
   Var<double> y(Tensor<double>::from({3}, {1, 0, 0.5}));
   const double want = (std::log(2.0) + std::log(1 + std::exp(2.0)) +
-                       (0.5 * std::log(1 + std::exp(1.0)) + 0.5 * std::log(1 + std::exp(-1.0)))) / 3;
+                       (0.5 * std::log(1 + std::exp(1.0)) + 0.5 * std::log(1 + std::exp(-1.0)))) /
+                      3;
   EXPECT_NEAR(bce_with_logits_loss(x, y).value()[0], want, 1e-14);
 
   Var<double> pr(Tensor<double>::from({2}, {0.25, 0.5}));

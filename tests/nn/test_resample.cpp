@@ -35,8 +35,7 @@ TEST(Upsample, MatchesPyTorchHandCase) {
   Var<double> x(Tensor<double>::from({1, 1, 2, 2}, {1, 2, 3, 4}));
   auto y = upsample_bilinear2x(x);
   // torch.nn.Upsample(scale_factor=2, mode='bilinear', align_corners=False)
-  std::vector<double> want = {1.0, 1.25, 1.75, 2.0, 1.5, 1.75, 2.25, 2.5,
-                              2.5, 2.75, 3.25, 3.5, 3.0, 3.25, 3.75, 4.0};
+  std::vector<double> want = {1.0, 1.25, 1.75, 2.0, 1.5, 1.75, 2.25, 2.5, 2.5, 2.75, 3.25, 3.5, 3.0, 3.25, 3.75, 4.0};
   ASSERT_EQ(y.shape(), Shape({1, 1, 4, 4}));
   for (int i = 0; i < 16; ++i) EXPECT_DOUBLE_EQ(y.value()[i], want[size_t(i)]) << i;
 }

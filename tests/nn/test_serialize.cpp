@@ -72,8 +72,7 @@ TEST(Serialize, NamesAreDotted) {
   put_module(b, a);
   std::vector<std::string> names;
   for (auto& [n, t] : b.tensors()) names.push_back(n);
-  EXPECT_EQ(names, (std::vector<std::string>{"fc1.weight", "fc1.bias", "fc2.weight", "fc2.bias",
-                                             "running", "noise"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"fc1.weight", "fc1.bias", "fc2.weight", "fc2.bias", "running", "noise"}));
 }
 
 TEST(Serialize, MissingTensorIsNamed) {

@@ -25,9 +25,7 @@ void operator delete(void* p, size_t) noexcept { std::free(p); }
 
 namespace {
 
-Var<double> param(std::vector<double> v) {
-  return Var<double>(Tensor<double>::from({int64_t(v.size())}, v), true);
-}
+Var<double> param(std::vector<double> v) { return Var<double>(Tensor<double>::from({int64_t(v.size())}, v), true); }
 void set_grad(Var<double>& p, std::vector<double> g) {
   auto& buf = p.grad_buffer();
   for (size_t i = 0; i < g.size(); ++i) buf[int64_t(i)] = g[i];

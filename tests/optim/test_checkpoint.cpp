@@ -63,10 +63,16 @@ struct TrainingRun {
   Checkpoint<float> ck;
 
   explicit TrainingRun(uint64_t seed)
-      : model(seed), adam(model.parameters(), {.lr = 1e-2, .beta1 = 0.5}),
-        sgd(model.parameters(), {.lr = 1e-3, .momentum = 0.9}), data(seed + 100) {
-    ck.add_module("model", model).add_optimizer("adam", adam).add_optimizer("sgd", sgd)
-        .add_rng("data", data).add_counter("step", step).add_counter("epoch", epoch);
+      : model(seed),
+        adam(model.parameters(), {.lr = 1e-2, .beta1 = 0.5}),
+        sgd(model.parameters(), {.lr = 1e-3, .momentum = 0.9}),
+        data(seed + 100) {
+    ck.add_module("model", model)
+        .add_optimizer("adam", adam)
+        .add_optimizer("sgd", sgd)
+        .add_rng("data", data)
+        .add_counter("step", step)
+        .add_counter("epoch", epoch);
   }
   void advance(int64_t to) {
     for (; step < to; ++step) {
@@ -120,8 +126,10 @@ TEST(Checkpoint, WithoutRestoringTheRunDiverges) {
 
   TrainingRun resumed(99);
   Checkpoint<float> partial;
-  partial.add_module("model", resumed.model).add_rng("data", resumed.data)
-      .add_counter("step", resumed.step).add_counter("epoch", resumed.epoch);
+  partial.add_module("model", resumed.model)
+      .add_rng("data", resumed.data)
+      .add_counter("step", resumed.step)
+      .add_counter("epoch", resumed.epoch);
   partial.load(p);
   resumed.advance(25);
   bool differs = false;
@@ -169,10 +177,18 @@ TEST(Checkpoint, ASavedLearningRateThatIsNoneIsRefusedNamingTheFile) {
         const Shape shape(t.dims.begin(), t.dims.end());
         const char* d = t.bytes.data();
         switch (t.dtype) {
-          case DType::F32: tampered.put(name, shape, reinterpret_cast<const float*>(d)); break;
-          case DType::F64: tampered.put(name, shape, reinterpret_cast<const double*>(d)); break;
-          case DType::I64: tampered.put(name, shape, reinterpret_cast<const int64_t*>(d)); break;
-          case DType::U64: tampered.put(name, shape, reinterpret_cast<const uint64_t*>(d)); break;
+          case DType::F32:
+            tampered.put(name, shape, reinterpret_cast<const float*>(d));
+            break;
+          case DType::F64:
+            tampered.put(name, shape, reinterpret_cast<const double*>(d));
+            break;
+          case DType::I64:
+            tampered.put(name, shape, reinterpret_cast<const int64_t*>(d));
+            break;
+          case DType::U64:
+            tampered.put(name, shape, reinterpret_cast<const uint64_t*>(d));
+            break;
         }
       }
     }

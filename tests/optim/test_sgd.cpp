@@ -106,6 +106,5 @@ TEST(Sgd, ResultDoesNotDependOnTensorBoundaries) {
     a.step();
     b.step();
   }
-  for (int k = 0; k < 37; ++k)
-    EXPECT_EQ(std::memcmp(&whole.value()[k], &parts[k].value()[0], 4), 0) << k;
+  for (int k = 0; k < 37; ++k) EXPECT_EQ(std::memcmp(&whole.value()[k], &parts[k].value()[0], 4), 0) << k;
 }

@@ -150,10 +150,10 @@ TEST(RenderNextEvent, OneLightConvergesToAllLights) {
   add_box(s, {2.5f, 0, -0.5f}, {3.5f, 1, 0.5f}, 0);  // closed box round the last lamp
   float theta = 0.7f;
   s.suns.push_back({{std::sin(theta), std::cos(theta), 0}, {2.0f, 1.0f, 0.5f}, 0});
-  s.points.push_back({{-20, 10, 5}, {400, 300, 200}});     // far and strong
-  s.points.push_back({{0.3f, 0.5f, -0.2f}, {0.04f, 0.05f, 0.06f}});  // near and dim
-  s.points.push_back({{1, -1, 0}, {50, 50, 50}});          // below the floor's horizon
-  s.points.push_back({{3, 0.5f, 0}, {30, 30, 30}});         // inside the box
+  s.points.push_back({{-20, 10, 5}, {400, 300, 200}});                      // far and strong
+  s.points.push_back({{0.3f, 0.5f, -0.2f}, {0.04f, 0.05f, 0.06f}});         // near and dim
+  s.points.push_back({{1, -1, 0}, {50, 50, 50}});                           // below the floor's horizon
+  s.points.push_back({{3, 0.5f, 0}, {30, 30, 30}});                         // inside the box
   s.rects.push_back({{-1, 1, -1}, {2, 0, 0}, {0, 0, 2}, {0.5f, 1, 1.5f}});  // 2x2 at height 1, emits down
   RayTracer rt(s);
   auto corner = [](double a, double b) {  // as in RectLightFormFactor
@@ -213,8 +213,8 @@ TEST(RenderNextEvent, LightsPartlyAboveTheHorizonAreSampled) {
   s.name = "empty";
   s.add_material({});
   s.rects.push_back({{-1, 1, -1}, {2, 0, 0}, {0, 0, 2}, {1, 1, 1}});  // centre straight above p
-  s.suns.push_back({{0, 0.01f, 1}, {100, 100, 100}, 0.04f});           // centre 0.6 degrees up
-  s.points.push_back({{0.5f, 0.3f, 0.4f}, {1, 1, 1}});                 // a lamp, for competition
+  s.suns.push_back({{0, 0.01f, 1}, {100, 100, 100}, 0.04f});          // centre 0.6 degrees up
+  s.points.push_back({{0.5f, 0.3f, 0.4f}, {1, 1, 1}});                // a lamp, for competition
   Vec3 p(0, 0, 0);
   // The normal leans 97 degrees from up towards +x and 1.5 degrees down from the
   // horizon at +z: the rect centre and the sun centre are below its horizon, two rect

@@ -45,8 +45,9 @@ TEST(RenderDatasetCli, TinyRenderValidates) {
 TEST(RenderDatasetCli, HoldoutRenderValidates) {
   ASSERT_TRUE(fs::exists(kBin)) << kBin << " is not built (ninja render-dataset)";
   std::string out = temp_dir() + "-holdout", log;
-  int rc = run(kBin + " --out " + out + " --preset nnao-v2 --views 4 --size 16x9 --spp 4 --families room,cave,pipes"
-                      " --holdout-families cave --threads 2",
+  int rc = run(kBin + " --out " + out +
+                   " --preset nnao-v2 --views 4 --size 16x9 --spp 4 --families room,cave,pipes"
+                   " --holdout-families cave --threads 2",
                log);
   ASSERT_EQ(rc, 0) << log;
   EXPECT_NE(log.find("2 train + 1 test + 1 holdout views"), std::string::npos) << log;
@@ -70,7 +71,8 @@ TEST(RenderDatasetCli, BadInputIsAnErrorThatSaysWhy) {
   EXPECT_NE(log.find("unknown scene family 'castle'"), std::string::npos) << log;
   EXPECT_EQ(run(kBin + " --out " + out + " --holdout-families castle --views 4 --size 16x9", log), 1);
   EXPECT_NE(log.find("--holdout-families: unknown scene family 'castle'"), std::string::npos) << log;
-  EXPECT_EQ(run(kBin + " --out " + out + " --families room,thin --holdout-families thin,room --views 4 --size 16x9", log), 1);
+  EXPECT_EQ(
+      run(kBin + " --out " + out + " --families room,thin --holdout-families thin,room --views 4 --size 16x9", log), 1);
   EXPECT_NE(log.find("leaving none for train/ and test/"), std::string::npos) << log;
   EXPECT_EQ(run(kBin + " --out " + out + " --holdout-families room --holdout-fraction 1.5 --size 16x9", log), 2);
   EXPECT_NE(log.find("--holdout-fraction: 1.5 is out of range"), std::string::npos) << log;

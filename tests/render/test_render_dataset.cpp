@@ -47,7 +47,8 @@ class RemoveTempDir : public ::testing::Environment {
  public:
   void TearDown() override {
     std::error_code ignore;
-    std::filesystem::remove_all(std::filesystem::temp_directory_path() / ("nnshade-render-dataset-" + std::to_string(::getpid())), ignore);
+    std::filesystem::remove_all(
+        std::filesystem::temp_directory_path() / ("nnshade-render-dataset-" + std::to_string(::getpid())), ignore);
   }
 };
 const auto* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
@@ -324,8 +325,8 @@ TEST(RenderDataset, NnaoV2VariesViewsDeterministically) {
   EXPECT_EQ(v.metadata["preset"], "nnao-v2");
   EXPECT_NE(v.metadata["view-variation"].find("fovY 35-90"), std::string::npos);
   // 8 train scenes: the generations interleave, so both are in even a small dataset.
-  EXPECT_EQ(v.split_families["train"],
-            (std::vector<std::string>{"room", "lounge", "window-room", "clutter", "colonnade", "stairwell", "stairs", "arcade"}));
+  EXPECT_EQ(v.split_families["train"], (std::vector<std::string>{"room", "lounge", "window-room", "clutter",
+                                                                 "colonnade", "stairwell", "stairs", "arcade"}));
   std::set<float> fovs, radii;
   std::set<std::pair<int, int>> sizes;
   DatasetListing l = list_dataset(out);

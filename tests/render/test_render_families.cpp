@@ -67,7 +67,8 @@ TEST(MeshBuilder, GeneratedMeshesAreClosed) {
   add_dome(s, {0, 0, 0}, 1, 32, 0, true);
   EXPECT_EQ(open_edges(s), 0) << "dome";
   s = one_material();
-  add_displaced_sphere(s, {0, 0, 0}, {1, 0.6f, 1.2f}, 3, [](Vec3 p) { return 0.2f * fbm(5, p * 2.0f, 3); }, 0, true);
+  add_displaced_sphere(
+      s, {0, 0, 0}, {1, 0.6f, 1.2f}, 3, [](Vec3 p) { return 0.2f * fbm(5, p * 2.0f, 3); }, 0, true);
   EXPECT_EQ(open_edges(s), 0) << "displaced icosphere";
   // Seams of separately built faces: closed only because seam vertices are computed
   // bit-identically from either face, also after a rotation.
@@ -181,7 +182,10 @@ TEST(SceneFamiliesV2, EveryFamilyRendersANonDegenerateView) {
       double ao = 0;
       float ao_min = 1;
       for (size_t i = 0; i < v.channel("Z").size(); ++i) {
-        if (is_sky(v.channel("Z")[i])) { ++sky; continue; }
+        if (is_sky(v.channel("Z")[i])) {
+          ++sky;
+          continue;
+        }
         ao += v.channel("AO")[i], ++n;
         occluded += v.channel("AO")[i] < 0.9f;
         ao_min = std::min(ao_min, v.channel("AO")[i]);
@@ -190,9 +194,9 @@ TEST(SceneFamiliesV2, EveryFamilyRendersANonDegenerateView) {
       sky_sum += double(sky) / double(v.width * v.height);
       occluded_sum += double(occluded) / n;
       EXPECT_LT(ao_min, 0.8f) << a.name << ": nothing occluded anywhere";
-      std::printf("%-14s %6zu triangles, %-12s normals, sky %2.0f%%, mean AO %.3f, AO < 0.9 on %2.0f%%\n", a.name.c_str(),
-                  a.triangles.size(), a.normals.empty() ? "flat" : "interpolated", 100.0 * sky / double(v.width * v.height),
-                  ao / n, 100.0 * occluded / n);
+      std::printf("%-14s %6zu triangles, %-12s normals, sky %2.0f%%, mean AO %.3f, AO < 0.9 on %2.0f%%\n",
+                  a.name.c_str(), a.triangles.size(), a.normals.empty() ? "flat" : "interpolated",
+                  100.0 * sky / double(v.width * v.height), ao / n, 100.0 * occluded / n);
     }
     EXPECT_LT(sky_sum / 3, 0.3) << name << ": mostly sky";
     // At least a tenth of the geometry visibly occluded: something to learn from.
@@ -225,9 +229,10 @@ TEST(SceneFamiliesV2, SmoothSceneIdenticalWithOneAndTwoThreads) {
 // first two what nnao-v2 and surround-v2 render; those lists must not change (their
 // datasets would). Later families join a later generation.
 TEST(SceneFamiliesV2, FirstTwoGenerationsAreFixed) {
-  std::vector<std::string> first = {"room", "window-room", "colonnade", "stairs", "voxel", "thin", "floating", "offscreen"};
-  std::vector<std::string> second = {"lounge", "clutter", "stairwell", "arcade", "vaults", "foliage",
-                                     "terrain", "cave", "round", "pipes", "street"};
+  std::vector<std::string> first = {"room",  "window-room", "colonnade", "stairs",
+                                    "voxel", "thin",        "floating",  "offscreen"};
+  std::vector<std::string> second = {"lounge",  "clutter", "stairwell", "arcade", "vaults", "foliage",
+                                     "terrain", "cave",    "round",     "pipes",  "street"};
   EXPECT_EQ(scene_family_names(1), first);
   EXPECT_EQ(scene_family_names(2), second);
   for (auto& f : scene_families()) EXPECT_TRUE(f.generation >= 1 && f.generation <= 4) << f.name;

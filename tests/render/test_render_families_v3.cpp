@@ -171,6 +171,7 @@ TEST(RenderDatasetV3, PresetTakesTheThirdGenerationAndRecordsIt) {
   render_dataset(job("surround-v2"));
   ValidationReport v2 = validate_dataset((root / "surround-v2").string(), {});
   for (auto& [split, fams] : v2.split_families)
-    for (const std::string& f : kThird) EXPECT_EQ(std::find(fams.begin(), fams.end(), f), fams.end()) << f << " in " << split;
+    for (const std::string& f : kThird)
+      EXPECT_EQ(std::find(fams.begin(), fams.end(), f), fams.end()) << f << " in " << split;
   fs::remove_all(root);
 }

@@ -181,7 +181,8 @@ TEST(RenderFingerprints, ExistingPresetsRenderTheSameNumbers) {
       continue;
     }
     const RenderSignature want = read_signature(reference_path(preset));
-    EXPECT_EQ(got.structure, want.structure) << preset << ": the files, sizes or channels of an existing preset changed";
+    EXPECT_EQ(got.structure, want.structure)
+        << preset << ": the files, sizes or channels of an existing preset changed";
     ASSERT_EQ(got.values.size(), want.values.size()) << preset;
     for (auto& [name, bytes] : want.values) {
       auto it = got.values.find(name);

@@ -78,14 +78,14 @@ TEST(Surround, FaceOrientationsFollowTheSpec) {
   auto fwd = [](const Camera& c) { return c.forward(); };
   auto near = [](Vec3 a, Vec3 b) { return length(a - b) < 1e-5f; };
   EXPECT_TRUE(near(fwd(faces[0]), front.forward()));
-  EXPECT_TRUE(near(fwd(faces[1]), front.back));                        // back looks +z
-  EXPECT_TRUE(near(fwd(faces[2]), -front.right));                      // left looks -x
-  EXPECT_TRUE(near(fwd(faces[3]), front.right));                       // right looks +x
-  EXPECT_TRUE(near(fwd(faces[4]), front.up));                          // up looks +y
-  EXPECT_TRUE(near(fwd(faces[5]), -front.up));                         // down looks -y
+  EXPECT_TRUE(near(fwd(faces[1]), front.back));                               // back looks +z
+  EXPECT_TRUE(near(fwd(faces[2]), -front.right));                             // left looks -x
+  EXPECT_TRUE(near(fwd(faces[3]), front.right));                              // right looks +x
+  EXPECT_TRUE(near(fwd(faces[4]), front.up));                                 // up looks +y
+  EXPECT_TRUE(near(fwd(faces[5]), -front.up));                                // down looks -y
   for (int i = 0; i < 4; ++i) EXPECT_TRUE(near(faces[i].up, front.up)) << i;  // yawed faces keep up
-  EXPECT_TRUE(near(faces[4].up, front.back));   // up: image up towards the back (+z)
-  EXPECT_TRUE(near(faces[5].up, -front.back));  // down: image up -z
+  EXPECT_TRUE(near(faces[4].up, front.back));                                 // up: image up towards the back (+z)
+  EXPECT_TRUE(near(faces[5].up, -front.back));                                // down: image up -z
   for (auto& c : faces) {
     EXPECT_TRUE(near(cross(c.right, c.up), c.back));  // right-handed
     EXPECT_EQ(c.fov_y_deg, 90.0f);
@@ -196,7 +196,8 @@ class RemoveTempDir : public ::testing::Environment {
  public:
   void TearDown() override {
     std::error_code ignore;
-    std::filesystem::remove_all(std::filesystem::temp_directory_path() / ("nnshade-render-test-" + std::to_string(::getpid())), ignore);
+    std::filesystem::remove_all(
+        std::filesystem::temp_directory_path() / ("nnshade-render-test-" + std::to_string(::getpid())), ignore);
   }
 };
 const auto* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
@@ -298,12 +299,13 @@ TEST(MeshLoader, NonFiniteVerticesAreRefusedNamingTheFile) {
     for (int k = 3; k >= 0; --k) enc += b64[(v >> (6 * k)) & 63];
   }
   std::string gltf = temp_path("huge.gltf");
-  std::ofstream(gltf) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
-                      << R"("nodes":[{"mesh":0,"scale":[1e39,1,1]}],)"
-                      << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
-                      << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
-                      << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
-                      << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)" << enc << R"("}]})";
+  std::ofstream(gltf)
+      << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
+      << R"("nodes":[{"mesh":0,"scale":[1e39,1,1]}],)"
+      << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+      << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
+      << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+      << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)" << enc << R"("}]})";
   try {
     load_mesh_scene(gltf);
     ADD_FAILURE() << "no error for a non-finite transformed vertex";
@@ -317,12 +319,13 @@ TEST(MeshLoader, NonFiniteVerticesAreRefusedNamingTheFile) {
 // twice would also multiply the work of every shared subtree.
 TEST(MeshLoader, GltfNodeHierarchyMustBeAForest) {
   auto write = [](const std::string& path, const std::string& nodes) {
-    std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":)" << nodes
-                        << R"(,"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
-                        << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
-                        << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
-                        << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)"
-                        << R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/"}]})";
+    std::ofstream(path)
+        << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":)" << nodes
+        << R"(,"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+        << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
+        << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+        << R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)"
+        << R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/"}]})";
   };
   for (const char* nodes : {R"([{"mesh":0,"children":[0]}])", R"([{"mesh":0,"children":[1]},{"children":[0]}])",
                             R"([{"mesh":0,"children":[1,1]},{"mesh":0}])"}) {
@@ -348,11 +351,12 @@ TEST(MeshLoader, GltfBufferUriMustBeARegularFile) {
   const std::string dir = temp_path("gltf-uri");
   std::filesystem::create_directories(dir + "/folder");
   auto write = [&](const std::string& path, const std::string& uri) {
-    std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}])"
-                        << R"(,"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
-                        << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
-                        << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
-                        << R"("buffers":[{"byteLength":36,"uri":")" << uri << R"("}]})";
+    std::ofstream(path)
+        << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}])"
+        << R"(,"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+        << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}],)"
+        << R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+        << R"("buffers":[{"byteLength":36,"uri":")" << uri << R"("}]})";
   };
   const std::string bad = dir + "/dir-uri.gltf";
   write(bad, "folder");

@@ -63,13 +63,15 @@ TEST(Chart, AQuoteInThePathReachesNoShellAndStillGetsItsPng) {
 // A variant series (a method with temporal accumulation) is drawn dashed, in the colour
 // it is given (its method's), line and legend alike; plain series are solid.
 TEST(Chart, DashedVariantTakesTheGivenColour) {
-  std::vector<ChartSeries> s = {{"GTAO", {1, 2}, {0.02, 0.01}, {}}, {"HBAO", {1, 2}, {0.03, 0.02}, {}},
+  std::vector<ChartSeries> s = {{"GTAO", {1, 2}, {0.02, 0.01}, {}},
+                                {"HBAO", {1, 2}, {0.03, 0.02}, {}},
                                 {"GTAO+TA", {1.1, 2.1}, {0.019, 0.009}, {}}};
   s[2].colour = 0;
   s[2].dashed = true;
   const std::string svg = line_chart_svg(s, ChartOptions{});
   size_t dashes = 0;
-  for (size_t at = svg.find("stroke-dasharray"); at != std::string::npos; at = svg.find("stroke-dasharray", at + 1)) ++dashes;
+  for (size_t at = svg.find("stroke-dasharray"); at != std::string::npos; at = svg.find("stroke-dasharray", at + 1))
+    ++dashes;
   EXPECT_EQ(dashes, 2u);  // its polyline and its legend line
   // The first series' colour appears on the variant's dashed polyline.
   const size_t first = svg.find("<polyline"), third = svg.rfind("<polyline");
@@ -85,7 +87,8 @@ TEST(Chart, ALogAxisWithinADecadeHasTicksToReadItBy) {
   o.log_y = true;
   const std::string svg = line_chart_svg({{"loss", {1, 2, 3}, {0.9, 0.5, 0.3}, {}}}, o);
   size_t ticks = 0;
-  for (size_t at = svg.find("text-anchor=\"end\">"); at != std::string::npos; at = svg.find("text-anchor=\"end\">", at + 1))
+  for (size_t at = svg.find("text-anchor=\"end\">"); at != std::string::npos;
+       at = svg.find("text-anchor=\"end\">", at + 1))
     ++ticks;
   EXPECT_GE(ticks, 3u) << svg;
 }
@@ -131,5 +134,6 @@ TEST(Chart, LabelsOfNearbyPointsDoNotOverlap) {
   double ax0, ax1, bx0, bx1;
   box(ta, a.size(), ax0, ax1), box(tb, b.size(), bx0, bx1);
   const bool x_overlap = ax0 < bx1 && bx0 < ax1, y_overlap = std::abs(ta.y - tb.y) < 11;
-  EXPECT_FALSE(x_overlap && y_overlap) << "labels at (" << ta.x << ", " << ta.y << ") and (" << tb.x << ", " << tb.y << ")";
+  EXPECT_FALSE(x_overlap && y_overlap) << "labels at (" << ta.x << ", " << ta.y << ") and (" << tb.x << ", " << tb.y
+                                       << ")";
 }

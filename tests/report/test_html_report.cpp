@@ -25,10 +25,10 @@ size_t count(const std::string& s, const std::string& what) {
 // Every tag of `page` outside its <style> that the writer does not write, or that
 // carries an attribute starting with "on"; "" when there is none.
 std::string stray_tags(const std::string& page) {
-  static const std::set<std::string> ours = {"!DOCTYPE", "html", "head", "meta", "title", "style", "body", "main",
-                                             "h1", "h2", "h3", "nav", "a", "p", "ul", "li", "code", "strong", "div",
-                                             "table", "thead", "tbody", "tr", "th", "td", "figure", "figcaption",
-                                             "img", "section", "input", "label", "b", "br"};
+  static const std::set<std::string> ours = {
+      "!DOCTYPE", "html", "head", "meta",   "title",      "style", "body",    "main",  "h1",    "h2",    "h3",
+      "nav",      "a",    "p",    "ul",     "li",         "code",  "strong",  "div",   "table", "thead", "tbody",
+      "tr",       "th",   "td",   "figure", "figcaption", "img",   "section", "input", "label", "b",     "br"};
   std::string stray;
   for (size_t i = page.find('<'); i != std::string::npos; i = page.find('<', i + 1)) {
     const size_t end = page.find('>', i);
@@ -93,9 +93,11 @@ TEST(HtmlReport, PageAndMarkdownShowTheSameRows) {
   Report r("AO");
   r.heading("Results").table({{"method", "samples", "MSE"}, {{"SSAO", "16", "0.0123"}, {"HBAO", "64", "nan"}}});
   r.chart("speed.svg", "speed vs accuracy");
-  r.comparison({"view 0", {{"ground truth", "previews/v_gt.png", ""}, {"SSAO, 16", "previews/v_ssao.png", "MSE 0.01"}}});
+  r.comparison(
+      {"view 0", {{"ground truth", "previews/v_gt.png", ""}, {"SSAO, 16", "previews/v_ssao.png", "MSE 0.01"}}});
   const std::string md = r.markdown(), page = r.html();
-  EXPECT_EQ(md.rfind("# AO\n\n## Results\n\n| method | samples | MSE |\n|---|---|---|\n| SSAO | 16 | 0.0123 |\n", 0), 0u)
+  EXPECT_EQ(md.rfind("# AO\n\n## Results\n\n| method | samples | MSE |\n|---|---|---|\n| SSAO | 16 | 0.0123 |\n", 0),
+            0u)
       << md;
   EXPECT_NE(md.find("![speed vs accuracy](speed.svg)"), std::string::npos) << md;
   EXPECT_NE(md.find("| SSAO, 16 | MSE 0.01 | ![SSAO, 16](previews/v_ssao.png) |"), std::string::npos) << md;

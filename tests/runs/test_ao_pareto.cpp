@@ -25,17 +25,17 @@ const ParetoRow& find(const std::vector<ParetoRow>& rows, const std::string& m, 
 
 TEST(AoPareto, FrontAndWinsAtNoMoreTime) {
   std::vector<ParetoRow> rows = {
-      row("SSAO", "4", 2.0, 0.030, 0.60),        // cheapest: on the front whatever its error
-      row("GTAO", "8", 6.0, 0.012, 0.80),        //
-      row("GTAO", "32", 16.0, 0.0080, 0.88),     //
+      row("SSAO", "4", 2.0, 0.030, 0.60),     // cheapest: on the front whatever its error
+      row("GTAO", "8", 6.0, 0.012, 0.80),     //
+      row("GTAO", "32", 16.0, 0.0080, 0.88),  //
       row("NNAO-exact", "quarter", 3.0, 0.0100, 0.85),
       row("NNAO-exact", "half", 10.0, 0.0070, 0.89),
       row("NNAO-exact", "slow", 40.0, 0.0075, 0.90),  // slower and worse than "half": off the front
   };
   nns::runs::mark_front_and_wins(rows);
   EXPECT_TRUE(find(rows, "SSAO", "4").on_front);
-  EXPECT_FALSE(find(rows, "GTAO", "8").on_front);    // "quarter" is faster and better
-  EXPECT_FALSE(find(rows, "GTAO", "32").on_front);   // "half" is faster and better
+  EXPECT_FALSE(find(rows, "GTAO", "8").on_front);   // "quarter" is faster and better
+  EXPECT_FALSE(find(rows, "GTAO", "32").on_front);  // "half" is faster and better
   EXPECT_TRUE(find(rows, "NNAO-exact", "quarter").on_front);
   EXPECT_TRUE(find(rows, "NNAO-exact", "half").on_front);
   EXPECT_FALSE(find(rows, "NNAO-exact", "slow").on_front);
@@ -54,6 +54,8 @@ TEST(AoPareto, ABetterMseWithAWorseSsimIsNoWin) {
   nns::runs::mark_front_and_wins(rows);
   EXPECT_EQ(rows[0].beaten_by, "none");  // a: SSIM lower; b: MSE higher; c: slower
   const std::string csv = nns::runs::pareto_csv(rows);
-  EXPECT_EQ(csv.rfind("method,setting,wall_ms,cpu_ms,mse,ssim,flicker_x_truth,on_front,beaten_by_nnao_at_no_more_time\n", 0), 0u);
+  EXPECT_EQ(
+      csv.rfind("method,setting,wall_ms,cpu_ms,mse,ssim,flicker_x_truth,on_front,beaten_by_nnao_at_no_more_time\n", 0),
+      0u);
   EXPECT_NE(csv.find("\nHBAO,16,5,10,0.01,0.9,,no,none\n"), std::string::npos) << csv;
 }

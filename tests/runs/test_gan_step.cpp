@@ -40,7 +40,8 @@ TEST(GanStep, DiscriminatorGradientIsTheDiscriminatorLossAlone) {
   auto pair = [](const Var<float>& a, const Var<float>& b) { return concat_channels(std::vector<Var<float>>{a, b}); };
   Var<float> x_f(crop2d(s.input, s.front));
   Var<float> d_loss = (bce_with_logits_target(t.D->forward(pair(x_f, Var<float>(s.target))), 1.0f) +
-                       bce_with_logits_target(t.D->forward(pair(x_f, Var<float>(fake.value()))), 0.0f)) * 0.5f;
+                       bce_with_logits_target(t.D->forward(pair(x_f, Var<float>(fake.value()))), 0.0f)) *
+                      0.5f;
   t.D->zero_grad();
   d_loss.backward();
   k = 0;

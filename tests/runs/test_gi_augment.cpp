@@ -40,7 +40,8 @@ std::array<View, 6> faces_of(int frame, int F = kF) {
 
 // The mirrored cube: each face mirrored, left and right swapped (data::Face order).
 std::array<View, 6> mirror_cube(const std::array<View, 6>& f) {
-  return {mirror_view(f[0]), mirror_view(f[1]), mirror_view(f[3]), mirror_view(f[2]), mirror_view(f[4]), mirror_view(f[5])};
+  return {mirror_view(f[0]), mirror_view(f[1]), mirror_view(f[3]),
+          mirror_view(f[2]), mirror_view(f[4]), mirror_view(f[5])};
 }
 
 GiInputConfig config(GiMode mode) {

@@ -53,18 +53,22 @@ TEST(GiFlicker, ReprojectedAlongTheCameraPath) {
   o.previews = 0;
   const HdrMapping hdr(0.5f);
   std::string csv;
-  EvalRow truth = score("truth", "-", frames, hdr, o, [](const GiSample& s) { return s.target_linear.clone(); }, csv);
+  EvalRow truth = score(
+      "truth", "-", frames, hdr, o, [](const GiSample& s) { return s.target_linear.clone(); }, csv);
   EXPECT_EQ(truth.flicker_pairs, 2);
   EXPECT_GT(truth.flicker_truth, 0);
   EXPECT_DOUBLE_EQ(truth.flicker, truth.flicker_truth);
   EXPECT_EQ(truth.temporal_error, 0);
 
   Rng rng(5);
-  EvalRow noisy = score("noisy", "-", frames, hdr, o, [&](const GiSample& s) {
-    Tensor<float> p = s.target_linear.clone();
-    for (int64_t i = 0; i < p.numel(); ++i) p[i] *= float(rng.uniform(0.7, 1.3));
-    return p;
-  }, csv);
+  EvalRow noisy = score(
+      "noisy", "-", frames, hdr, o,
+      [&](const GiSample& s) {
+        Tensor<float> p = s.target_linear.clone();
+        for (int64_t i = 0; i < p.numel(); ++i) p[i] *= float(rng.uniform(0.7, 1.3));
+        return p;
+      },
+      csv);
   EXPECT_GT(noisy.flicker, 1.2 * noisy.flicker_truth);
   EXPECT_GT(noisy.temporal_error, 0.01);
 

@@ -29,7 +29,9 @@ struct Net : Module<float> {
     b = register_module("b", std::make_shared<Linear<float>>(rng, 16, 16));
     c = register_module("c", std::make_shared<Linear<float>>(rng, 16, 1));
   }
-  Var<float> forward(const Var<float>& x) override { return c->forward(tanh(b->forward(drop->forward(tanh(a->forward(x)))))); }
+  Var<float> forward(const Var<float>& x) override {
+    return c->forward(tanh(b->forward(drop->forward(tanh(a->forward(x))))));
+  }
   std::shared_ptr<Linear<float>> a, b, c;
   std::shared_ptr<Dropout<float>> drop;
 };

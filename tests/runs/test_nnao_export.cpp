@@ -56,7 +56,8 @@ TEST(NnaoExport, GlslShadersCompileWithGlslangValidator) {
       compiles("grid_" + std::to_string(hidden) + "_" + std::to_string(samples), src);
     }
   const fixtures::HorizonShape shape{16, 8, 4};
-  compiles("horizon", runs::glsl_horizon_pass(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 16, 3, false, shape))));
+  compiles("horizon",
+           runs::glsl_horizon_pass(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 16, 3, false, shape))));
   compiles("blur", runs::glsl_blur_pass());
   // And a broken shader must fail, so the check above can fail.
   std::ofstream(d / "bad.frag") << "#version 330 core\nvoid main() { undefined_call(); }\n";
@@ -69,7 +70,8 @@ TEST(NnaoExport, WritesBothPassesForEitherKind) {
   fs::path d = fs::temp_directory_path() / ("nnao_export_kinds_" + std::to_string(::getpid()));
   runs::write_export(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(9, 4, 1)), (d / "grid").string(), 64);
   const fixtures::HorizonShape shape{8, 4, 2};
-  runs::write_export(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 8, 2, false, shape)), (d / "horizon").string(), 64);
+  runs::write_export(nnao::NnaoWeights::from_blob(fixtures::random_nnao_blob(0, 8, 2, false, shape)),
+                     (d / "horizon").string(), 64);
   for (const char* f : {"nnao.frag", "nnao_blur.frag", "nnao_filters.exr", "filter3.exr"})
     EXPECT_TRUE(fs::exists(d / "grid" / f)) << f;
   for (const char* f : {"nnao.frag", "nnao_blur.frag"}) EXPECT_TRUE(fs::exists(d / "horizon" / f)) << f;

@@ -8,8 +8,8 @@ using namespace nns;
 using namespace nns::runs;
 
 TEST(RunReport, OneRowPerEpochFromItsLastRecord) {
-  std::vector<MetricsRecord> log = {{10, 1, {{"d", 0.5}, {"g", 2}}}, {20, 1, {{"d", 0.25}, {"g", 1}}},
-                                    {30, 2, {{"d", 0.125}, {"g", NAN}}}};
+  std::vector<MetricsRecord> log = {
+      {10, 1, {{"d", 0.5}, {"g", 2}}}, {20, 1, {{"d", 0.25}, {"g", 1}}}, {30, 2, {{"d", 0.125}, {"g", NAN}}}};
   const report::Table t = epoch_table(log);
   EXPECT_EQ(t.header, (std::vector<std::string>{"epoch", "step", "d", "g"}));
   ASSERT_EQ(t.rows.size(), 2u);
@@ -28,8 +28,9 @@ TEST(RunReport, LongRunsAreThinnedEvenlyKeepingTheEnds) {
 }
 
 TEST(RunReport, AStoppedRunSaysWhyAndTheTrainerAddsItsBlocks) {
-  const report::Report r = training_report({"train-gan", "NaN at step 5", 1, 5, {{"seconds", 1.5}}}, {},
-                                         {{"lr", "0.0002"}}, [](report::Report& rep) { rep.chart("loss.svg", "losses"); });
+  const report::Report r =
+      training_report({"train-gan", "NaN at step 5", 1, 5, {{"seconds", 1.5}}}, {}, {{"lr", "0.0002"}},
+                      [](report::Report& rep) { rep.chart("loss.svg", "losses"); });
   const std::string md = r.markdown();
   EXPECT_NE(md.find("**Stopped** after 1 epoch, 5 steps: NaN at step 5."), std::string::npos) << md;
   EXPECT_NE(md.find("![losses](loss.svg)"), std::string::npos) << md;
@@ -50,7 +51,8 @@ TEST(RunReport, ConfigurationValuesReadAsPeopleWriteThem) {
   EXPECT_EQ(readable_value("horizon"), "horizon");
   EXPECT_EQ(readable_value("/data/run 0.3"), "/data/run 0.3");
   EXPECT_EQ(readable_value(""), "");
-  const report::Report r = training_report({"train-nnao", "", 1, 8, {}}, {}, {{"gamma", "0.0001"}, {"dropout", "0.29999999999999999"}}, {});
+  const report::Report r =
+      training_report({"train-nnao", "", 1, 8, {}}, {}, {{"gamma", "0.0001"}, {"dropout", "0.29999999999999999"}}, {});
   EXPECT_NE(r.markdown().find("| dropout | 0.3 |"), std::string::npos) << r.markdown();
   EXPECT_NE(r.markdown().find("**Finished**: 1 epoch, 8 steps."), std::string::npos) << r.markdown();
 }

@@ -49,10 +49,10 @@ TEST(MetricsLine, RoundTripsAndWritesNullForNonFinite) {
 }
 
 TEST(MetricsLine, RefusesWhatItDidNotWrite) {
-  for (const char* bad : {"", "{", "{\"step\":1,\"epoch\":1", "{\"step\":1,\"epoch\":1,\"a\":}",
-                          "{\"epoch\":1,\"step\":1}", "{\"step\":1.5,\"epoch\":1}", "{\"step\":1,\"epoch\":1} ",
-                          "{\"step\":1,\"epoch\":1,\"a\":nan}", "{\"step\":1,\"epoch\":1,\"a\":1e999}",
-                          "{\"epoch\": 1, \"train_loss\": 0.5, \"test_mse\": 0.1}"})
+  for (const char* bad :
+       {"", "{", "{\"step\":1,\"epoch\":1", "{\"step\":1,\"epoch\":1,\"a\":}", "{\"epoch\":1,\"step\":1}",
+        "{\"step\":1.5,\"epoch\":1}", "{\"step\":1,\"epoch\":1} ", "{\"step\":1,\"epoch\":1,\"a\":nan}",
+        "{\"step\":1,\"epoch\":1,\"a\":1e999}", "{\"epoch\": 1, \"train_loss\": 0.5, \"test_mse\": 0.1}"})
     EXPECT_FALSE(parse_metrics_line(bad)) << bad;
 }
 
@@ -249,9 +249,12 @@ TEST(TrainingRun, ResumeRefusesACounterOutOfRangeNamingIt) {
   const std::string ck_path = (d / "checkpoint.blob").string();
   const Blob good = Blob::load(ck_path);
   spec.resume = true;
-  for (auto [counter, value] : std::initializer_list<std::pair<const char*, int64_t>>{
-           {"counter.epochs_done", int64_t(1) << 62}, {"counter.epochs_done", -1}, {"counter.epochs_done", 100001},
-           {"counter.step", -1}, {"counter.step", (int64_t(1) << 53) + 1}}) {
+  for (auto [counter, value] :
+       std::initializer_list<std::pair<const char*, int64_t>>{{"counter.epochs_done", int64_t(1) << 62},
+                                                              {"counter.epochs_done", -1},
+                                                              {"counter.epochs_done", 100001},
+                                                              {"counter.step", -1},
+                                                              {"counter.step", (int64_t(1) << 53) + 1}}) {
     with_i64(good, counter, value).save(ck_path);
     try {
       TrainingRun run(spec, ck, step);
@@ -260,7 +263,8 @@ TEST(TrainingRun, ResumeRefusesACounterOutOfRangeNamingIt) {
       const std::string m = e.what();
       EXPECT_NE(m.find(ck_path), std::string::npos) << m;
       EXPECT_NE(m.find(std::string(counter).substr(8) + "' is " + std::to_string(value) + ", out of range"),
-                std::string::npos) << m;
+                std::string::npos)
+          << m;
     }
   }
   good.save(ck_path);
@@ -333,8 +337,9 @@ TEST(TrainingRun, FinishWritesValidJsonEvenForAStopMessageWithQuotes) {
   spec.out = d.string();
   TrainingRun run(spec, ck, step);
   EXPECT_EQ(run.finish("stopped in \"G\"\n", {{"seconds", std::nan("")}}), 3);
-  EXPECT_EQ(read_file((d / "summary.json").string()),
-            "{\"finished\":false,\"stop\":\"stopped in \\\"G\\\"\\u000a\",\"epochs_done\":0,\"steps\":0,\"seconds\":null}\n");
+  EXPECT_EQ(
+      read_file((d / "summary.json").string()),
+      "{\"finished\":false,\"stop\":\"stopped in \\\"G\\\"\\u000a\",\"epochs_done\":0,\"steps\":0,\"seconds\":null}\n");
   fs::remove_all(d);
 }
 

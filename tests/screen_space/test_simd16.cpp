@@ -31,13 +31,50 @@ const float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // The floats where implementations part ways.
 std::vector<float> special_floats() {
-  return {0.0f, -0.0f, 1.0f, -1.0f, 0.5f, -0.5f, 1.5f, -1.5f, 2.5f, -2.5f, 0.49999997f, -0.49999997f,
-          0.99999994f, -0.99999994f, 3.0e-39f /* subnormal */, -3.0e-39f, FLT_MIN, -FLT_MIN,
-          std::numeric_limits<float>::denorm_min(), -std::numeric_limits<float>::denorm_min(), FLT_MAX, -FLT_MAX,
-          kInf, -kInf, kNaN, -kNaN, std::bit_cast<float>(0x7FA00001u) /* signalling NaN */,
-          2147483648.0f /* 2^31 */, -2147483648.0f, 2147483520.0f /* largest below 2^31 */,
-          -2147483904.0f /* next below -2^31 */, 8388607.5f, -8388607.5f, 16777216.0f, 1e10f, -1e10f,
-          1e30f /* data::kSkyDepth */, -87.0f, -87.5f, 88.0f, 3.14159265f, -0.1f, 1e-7f, 100.25f};
+  return {0.0f,
+          -0.0f,
+          1.0f,
+          -1.0f,
+          0.5f,
+          -0.5f,
+          1.5f,
+          -1.5f,
+          2.5f,
+          -2.5f,
+          0.49999997f,
+          -0.49999997f,
+          0.99999994f,
+          -0.99999994f,
+          3.0e-39f /* subnormal */,
+          -3.0e-39f,
+          FLT_MIN,
+          -FLT_MIN,
+          std::numeric_limits<float>::denorm_min(),
+          -std::numeric_limits<float>::denorm_min(),
+          FLT_MAX,
+          -FLT_MAX,
+          kInf,
+          -kInf,
+          kNaN,
+          -kNaN,
+          std::bit_cast<float>(0x7FA00001u) /* signalling NaN */,
+          2147483648.0f /* 2^31 */,
+          -2147483648.0f,
+          2147483520.0f /* largest below 2^31 */,
+          -2147483904.0f /* next below -2^31 */,
+          8388607.5f,
+          -8388607.5f,
+          16777216.0f,
+          1e10f,
+          -1e10f,
+          1e30f /* data::kSkyDepth */,
+          -87.0f,
+          -87.5f,
+          88.0f,
+          3.14159265f,
+          -0.1f,
+          1e-7f,
+          100.25f};
 }
 
 // A float equal to the reference: the same bits, or NaN for NaN (payloads are the
@@ -93,8 +130,8 @@ Pairs float_pairs(uint32_t seed) {
 
 // Masks with holes, runs across the two 8-lane halves, and bits above lane 15 (ignored).
 std::vector<Mask> masks(uint32_t seed) {
-  std::vector<Mask> m = {0u, kAll, 1u, 0x8000u, 0x00FFu, 0xFF00u, 0x5555u, 0xAAAAu, 0x0180u, 0x7FFEu,
-                         0x8001u, 0x0100u, 0x0080u, 0xFFFF0000u, 0xFFFFFFFFu, 0x12345u, 0xF00Fu};
+  std::vector<Mask> m = {0u,      kAll,    1u,      0x8000u, 0x00FFu,     0xFF00u,     0x5555u,  0xAAAAu, 0x0180u,
+                         0x7FFEu, 0x8001u, 0x0100u, 0x0080u, 0xFFFF0000u, 0xFFFFFFFFu, 0x12345u, 0xF00Fu};
   std::mt19937 rng(seed);
   for (int i = 0; i < 200; ++i) m.push_back(uint32_t(rng()));
   return m;
@@ -106,15 +143,16 @@ void expect_binary(const Pairs& p, Vector vec, Scalar ref, const char* what) {
     const Floats r = out(vec(load(&p.a[i]), load(&p.b[i])));
     for (int l = 0; l < kLanes; ++l) {
       const float want = ref(p.a[i + l], p.b[i + l]);
-      ASSERT_TRUE(same(r.v[l], want)) << what << " lane " << l << " (" << p.a[i + l] << ", " << p.b[i + l]
-                                      << "): got " << r.v[l] << ", scalar " << want;
+      ASSERT_TRUE(same(r.v[l], want)) << what << " lane " << l << " (" << p.a[i + l] << ", " << p.b[i + l] << "): got "
+                                      << r.v[l] << ", scalar " << want;
     }
   }
 }
 
 template <class Vector, class Scalar>
 void expect_unary(const Pairs& p, Vector vec, Scalar ref, const char* what) {
-  expect_binary(p, [&](VF a, VF) { return vec(a); }, [&](float a, float) { return ref(a); }, what);
+  expect_binary(
+      p, [&](VF a, VF) { return vec(a); }, [&](float a, float) { return ref(a); }, what);
 }
 
 // The x86 conversion's answer where C++'s int(float) is undefined: INT_MIN.
@@ -129,20 +167,29 @@ TEST(Simd16, ReportsItsBackend) {
 
 TEST(Simd16, ArithmeticMatchesScalarLaneByLane) {
   const Pairs p = float_pairs(1);
-  expect_binary(p, [](VF a, VF b) { return a + b; }, [](float a, float b) { return a + b; }, "+");
-  expect_binary(p, [](VF a, VF b) { return a - b; }, [](float a, float b) { return a - b; }, "-");
-  expect_binary(p, [](VF a, VF b) { return a * b; }, [](float a, float b) { return a * b; }, "*");
-  expect_binary(p, [](VF a, VF b) { return a / b; }, [](float a, float b) { return a / b; }, "/");
-  expect_unary(p, [](VF a) { return sqrt(a); }, [](float a) { return std::sqrt(a); }, "sqrt");
-  expect_unary(p, [](VF a) { return -a; }, [](float a) { return 0.0f - a; }, "unary -");
-  expect_unary(p, [](VF a) { return abs(a); }, [](float a) { return std::fabs(a); }, "abs");
+  expect_binary(
+      p, [](VF a, VF b) { return a + b; }, [](float a, float b) { return a + b; }, "+");
+  expect_binary(
+      p, [](VF a, VF b) { return a - b; }, [](float a, float b) { return a - b; }, "-");
+  expect_binary(
+      p, [](VF a, VF b) { return a * b; }, [](float a, float b) { return a * b; }, "*");
+  expect_binary(
+      p, [](VF a, VF b) { return a / b; }, [](float a, float b) { return a / b; }, "/");
+  expect_unary(
+      p, [](VF a) { return sqrt(a); }, [](float a) { return std::sqrt(a); }, "sqrt");
+  expect_unary(
+      p, [](VF a) { return -a; }, [](float a) { return 0.0f - a; }, "unary -");
+  expect_unary(
+      p, [](VF a) { return abs(a); }, [](float a) { return std::fabs(a); }, "abs");
 }
 
 TEST(Simd16, MinMaxTakeTheScalarOperandOnNaNAndSignedZero) {
   // min(a, b) is b < a ? b : a: a NaN in a stays, a NaN in b gives a, min(-0, +0) is -0.
   const Pairs p = float_pairs(2);
-  expect_binary(p, [](VF a, VF b) { return min(a, b); }, [](float a, float b) { return b < a ? b : a; }, "min");
-  expect_binary(p, [](VF a, VF b) { return max(a, b); }, [](float a, float b) { return b > a ? b : a; }, "max");
+  expect_binary(
+      p, [](VF a, VF b) { return min(a, b); }, [](float a, float b) { return b < a ? b : a; }, "min");
+  expect_binary(
+      p, [](VF a, VF b) { return max(a, b); }, [](float a, float b) { return b > a ? b : a; }, "max");
   expect_unary(
       p, [](VF a) { return saturate(a); },
       [](float a) {
@@ -154,7 +201,8 @@ TEST(Simd16, MinMaxTakeTheScalarOperandOnNaNAndSignedZero) {
 
 TEST(Simd16, RoundingAndConversionsMatchScalar) {
   const Pairs p = float_pairs(3);
-  expect_unary(p, [](VF a) { return floor(a); }, [](float a) { return std::floor(a); }, "floor");
+  expect_unary(
+      p, [](VF a) { return floor(a); }, [](float a) { return std::floor(a); }, "floor");
   for (size_t i = 0; i < p.a.size(); i += kLanes) {
     const VF a = load(&p.a[i]);
     const Ints t = out(to_int(a)), f = out(floor_to_int(a));
@@ -167,13 +215,14 @@ TEST(Simd16, RoundingAndConversionsMatchScalar) {
 }
 
 TEST(Simd16, IntegerLanesMatchScalar) {
-  std::vector<int32_t> v = {0, 1, -1, 2, -2, 7, INT32_MAX, INT32_MIN, INT32_MAX - 1, INT32_MIN + 1, 46341, -46341,
-                            65536, 16777217, -16777217, 1 << 30, 123456789, -987654321};
+  std::vector<int32_t> v = {
+      0,     1,      -1,    2,        -2,        7,       INT32_MAX, INT32_MIN, INT32_MAX - 1, INT32_MIN + 1,
+      46341, -46341, 65536, 16777217, -16777217, 1 << 30, 123456789, -987654321};
   std::mt19937 rng(4);
   for (int i = 0; i < 16 * 500; ++i) v.push_back(int32_t(rng()));
   while (v.size() % kLanes) v.push_back(3);
-  const std::vector<std::pair<int, int>> bounds = {{0, 319}, {0, 0}, {-5, 5}, {INT32_MIN, INT32_MAX}, {7, 7},
-                                                   {INT32_MIN, -1}, {1, INT32_MAX}};
+  const std::vector<std::pair<int, int>> bounds = {{0, 319}, {0, 0},          {-5, 5},       {INT32_MIN, INT32_MAX},
+                                                   {7, 7},   {INT32_MIN, -1}, {1, INT32_MAX}};
   for (size_t i = 0; i < v.size(); i += kLanes) {
     // Lanes from v through the float view of their bits (the backend loads floats).
     float a_bits[kLanes], b_bits[kLanes];
@@ -246,8 +295,8 @@ TEST(Simd16, Scale2IsLdexpAlsoForSubnormalAndOverflowingResults) {
     for (int k = 0; k < 48; ++k) p.a.push_back(std::bit_cast<float>(uint32_t(rng()))), p.b.push_back(n);
   }
   while (p.a.size() % kLanes) p.a.push_back(1.0f), p.b.push_back(0.0f);
-  expect_binary(p, [](VF a, VF n) { return scale2(a, n); }, [](float a, float n) { return std::ldexp(a, int(n)); },
-                "scale2");
+  expect_binary(
+      p, [](VF a, VF n) { return scale2(a, n); }, [](float a, float n) { return std::ldexp(a, int(n)); }, "scale2");
 }
 
 TEST(Simd16, Scale2NormalIsLdexpForExponentsOfNormalPowers) {
@@ -261,8 +310,9 @@ TEST(Simd16, Scale2NormalIsLdexpForExponentsOfNormalPowers) {
     for (int k = 0; k < 48; ++k) p.a.push_back(std::bit_cast<float>(uint32_t(rng()))), p.b.push_back(float(n));
   }
   while (p.a.size() % kLanes) p.a.push_back(1.0f), p.b.push_back(0.0f);
-  expect_binary(p, [](VF a, VF n) { return scale2_normal(a, n); },
-                [](float a, float n) { return std::ldexp(a, int(n)); }, "scale2_normal");
+  expect_binary(
+      p, [](VF a, VF n) { return scale2_normal(a, n); }, [](float a, float n) { return std::ldexp(a, int(n)); },
+      "scale2_normal");
 }
 
 TEST(Simd16, PreluPicksByTheSignOfX) {

@@ -52,10 +52,8 @@ struct GradCheckResult {
 // Central differences with step eps have truncation error ~eps^2 and round-off
 // ~1e-16/eps relative to the loss, so abs_tol = 1e-8 is far above the noise and far
 // below any real mistake in an O(1) gradient.
-inline GradCheckResult gradcheck(const std::function<VarD(std::vector<VarD>&)>& f,
-                                 std::vector<VarD> inputs, double tol = 1e-6,
-                                 double eps = 1e-6, double abs_tol = 1e-8,
-                                 uint64_t seed = 1234) {
+inline GradCheckResult gradcheck(const std::function<VarD(std::vector<VarD>&)>& f, std::vector<VarD> inputs,
+                                 double tol = 1e-6, double eps = 1e-6, double abs_tol = 1e-8, uint64_t seed = 1234) {
   GradCheckResult res;
   Rng rng(seed);
   VarD out0 = f(inputs);
@@ -100,16 +98,16 @@ inline GradCheckResult gradcheck(const std::function<VarD(std::vector<VarD>&)>& 
       if (mag >= 1e-4) res.max_rel_error = std::max(res.max_rel_error, diff / mag);
       if (err > res.max_error) {
         res.max_error = err;
-        res.worst = "input " + std::to_string(k) + " index " + std::to_string(i) +
-                    ": analytic " + std::to_string(a) + " numeric " + std::to_string(numeric);
+        res.worst = "input " + std::to_string(k) + " index " + std::to_string(i) + ": analytic " + std::to_string(a) +
+                    " numeric " + std::to_string(numeric);
       }
     }
   }
   EXPECT_LE(res.max_error, tol) << "worst: " << res.worst;
   // For the closing note's table: ctest -V (or running the test binary) shows it.
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::printf("[gradcheck] %s.%s max_rel_error=%.3e criterion=%.3e\n", info->test_suite_name(),
-              info->name(), res.max_rel_error, res.max_error);
+  std::printf("[gradcheck] %s.%s max_rel_error=%.3e criterion=%.3e\n", info->test_suite_name(), info->name(),
+              res.max_rel_error, res.max_error);
   return res;
 }
 

@@ -26,8 +26,7 @@ inline Tensor<float> randn_float(const Shape& s, Rng& rng) {
   return t;
 }
 
-inline LayerBuffers random_layer_buffers(const Shape& x, const Shape& w, const Shape& b,
-                                         const Shape& y, Rng& rng) {
+inline LayerBuffers random_layer_buffers(const Shape& x, const Shape& w, const Shape& b, const Shape& y, Rng& rng) {
   LayerBuffers in;
   in.x = randn_float(x, rng);
   in.w = randn_float(w, rng);
@@ -76,8 +75,7 @@ void expect_close(const Tensor<float>& a, const Tensor<R>& ref, const char* what
 }
 
 template <class R>
-void expect_close(const std::array<Tensor<float>, 4>& fast,
-                  const std::array<Tensor<R>, 4>& reference) {
+void expect_close(const std::array<Tensor<float>, 4>& fast, const std::array<Tensor<R>, 4>& reference) {
   for (int i = 0; i < 4; ++i) expect_close(fast[i], reference[i], kLayerOutputNames[i]);
 }
 
@@ -85,15 +83,14 @@ void expect_close(const std::array<Tensor<float>, 4>& fast,
 // in's x, w and dy rounded to bf16, so {y, dx, dw} are the double reference's on those
 // rounded operands, up to fp32 summation (unrounded operands would be ~1e-2 off).
 template <class Fwd, class Bwd>
-void expect_bf16_matches_reference(const std::array<Tensor<float>, 4>& fast, const LayerBuffers& in,
-                                   Fwd reference_fwd, Bwd reference_bwd) {
+void expect_bf16_matches_reference(const std::array<Tensor<float>, 4>& fast, const LayerBuffers& in, Fwd reference_fwd,
+                                   Bwd reference_bwd) {
   const auto ref = forward_backward<double>(bf16_operands(in), reference_fwd, reference_bwd);
   for (int k = 0; k < 3; ++k) expect_close(fast[k], ref[k], kLayerOutputNames[k]);
 }
 
 inline bool bitwise_equal(const Tensor<float>& a, const Tensor<float>& b) {
-  return a.numel() == b.numel() &&
-         std::memcmp(a.data(), b.data(), sizeof(float) * a.numel()) == 0;
+  return a.numel() == b.numel() && std::memcmp(a.data(), b.data(), sizeof(float) * a.numel()) == 0;
 }
 
 // run_all(rng) returns one {y, dx, dw, db} per case. It runs with 1 thread, then with 2,
@@ -109,8 +106,7 @@ void expect_same_bits_on_1_and_2_threads(uint64_t seed, RunAll run_all) {
   ASSERT_EQ(res[0].size(), res[1].size());
   for (size_t i = 0; i < res[0].size(); ++i)
     for (int k = 0; k < 4; ++k)
-      EXPECT_TRUE(bitwise_equal(res[0][i][k], res[1][i][k]))
-          << "case " << i << " " << kLayerOutputNames[k];
+      EXPECT_TRUE(bitwise_equal(res[0][i][k], res[1][i][k])) << "case " << i << " " << kLayerOutputNames[k];
 }
 
 }  // namespace nns::testing

@@ -23,8 +23,8 @@ struct KillStats {
 // `command` is run by /bin/sh with `exec` so the signal reaches the trainer itself;
 // " --resume" is appended once OUT/checkpoint.blob exists. Delays are drawn uniformly
 // from [0, max_delay_ms) by a seeded Rng: the same seed kills at the same moments.
-inline KillStats kill_and_resume(const std::string& command, const std::string& out, const std::string& log,
-                                 int kills, double max_delay_ms, uint64_t seed) {
+inline KillStats kill_and_resume(const std::string& command, const std::string& out, const std::string& log, int kills,
+                                 double max_delay_ms, uint64_t seed) {
   Rng rng(seed);
   KillStats st;
   for (;;) {

@@ -24,9 +24,8 @@ inline View make_face(int F, int frame, int face, bool targets, uint64_t seed) {
   v.fov_y_deg = 90;
   v.scene = "synthetic" + std::to_string(frame % 2);
   nns::Rng rng(seed * 977 + uint64_t(frame * 6 + face));
-  const char* ch[] = {"Z", "N.X", "N.Y", "N.Z", "albedo.R", "albedo.G", "albedo.B",
-                      "direct.R", "direct.G", "direct.B", "env.R", "env.G", "env.B",
-                      "indirect.R", "indirect.G", "indirect.B"};
+  const char* ch[] = {"Z",        "N.X",      "N.Y",   "N.Z",   "albedo.R", "albedo.G",   "albedo.B",   "direct.R",
+                      "direct.G", "direct.B", "env.R", "env.G", "env.B",    "indirect.R", "indirect.G", "indirect.B"};
   for (const char* c : ch) {
     std::string name = c;
     if (!targets && name.rfind("indirect", 0) == 0) continue;
