@@ -37,17 +37,23 @@ bool parse_size(const std::string& s, int& w, int& h) {
 }
 }  // namespace
 
-int main(int argc, char** argv) {
-  // mpirun -np N: view i is rendered by rank i % N, the dataset is the one-process one.
-  runs::Session mpi(argc, argv);
+// What the command line asks for: the dataset job, the threads, and whether an earlier
+// render in --out is replaced.
+struct Command {
+  render::DatasetJob job;
+  int threads = 2;
+  bool replace = false;
+};
+
+Command read_flags(apps::Args& args) {
   std::string families_help =
       "procedural scene families (default: surround-v4 and v5 all, surround-v3 generations 1-3, nnao-v2 and "
       "surround-v2 generations 1-2, other presets the first eight; generation 3 is corridor, courtyard, multiroom, "
       "generation 4 cloister, basilica: ";
   for (auto& f : render::scene_families())
     families_help += f.name + (&f == &render::scene_families().back() ? ")" : ", ");
-  apps::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
-  render::DatasetJob job;
+  Command c;
+  render::DatasetJob& job = c.job;
   job.out = args.get_path("--out", "", "output dataset folder (required)");
   job.preset = args.get_choice(
       "--preset", "nnao",
@@ -78,7 +84,7 @@ int main(int argc, char** argv) {
       "seed of the Monte-Carlo noise alone (-1: --seed): the same scenes and cameras with independent noise", -1,
       INT_MAX);
   job.noise_seed = noise_seed;
-  int threads = args.get_int("--threads", 2, "worker threads", 1, 256);
+  c.threads = args.get_int("--threads", 2, "worker threads", 1, 256);
   job.scene_files = args.get_list("--scene", "an OBJ or glTF scene file instead of the procedural families");
   job.families = args.get_names("--families", "", families_help);
   job.holdout_families =
@@ -91,7 +97,7 @@ int main(int argc, char** argv) {
   job.test_fraction = args.get_double("--test-fraction", 0.2, "share of views from held-out scenes (test/)", 0, 0.95);
   job.fov_y_deg = float(args.get_double(
       "--fov", 60, "vertical field of view in degrees (not surround; nnao-v2 draws one per view)", 1, 179));
-  const bool replace = args.get_flag(
+  c.replace = args.get_flag(
       "--replace", "remove the views of an earlier render in --out first (without it such a folder is refused)");
   args.done();
   if (job.out.empty()) args.error("--out is required"), args.done();
@@ -105,6 +111,31 @@ int main(int argc, char** argv) {
   if (surround && w != h) args.error("--size: surround faces are square, got " + size);
   args.done();
   job.width = w, job.height = h;
+  return c;
+}
+
+// The one line that sums up a render: views, scenes, time, ray throughput.
+void print_summary(const render::DatasetJob& job, const render::DatasetReport& r) {
+  const bool surround = render::is_surround_preset(job.preset);
+  int n = std::max(1, r.train_views + r.test_views + r.holdout_views);
+  std::string held = r.holdout_views ? " + " + std::to_string(r.holdout_views) + " holdout" : "";
+  std::string held_scenes = r.holdout_views ? " + " + std::to_string(r.holdout_scenes.size()) : "";
+  std::printf(
+      "%s: %d train + %d test%s %s (%zu + %zu%s scenes), %.1f s; per %s %.2f s wall, %.2f CPU-s; "
+      "%.2f Mrays/s wall, %.2f Mrays per CPU-s\n",
+      job.out.c_str(), r.train_views, r.test_views, held.c_str(), surround ? "frames" : "views", r.train_scenes.size(),
+      r.test_scenes.size(), held_scenes.c_str(), r.total_seconds, surround ? "frame" : "view", r.render_seconds / n,
+      r.cpu_seconds / n, r.render_seconds > 0 ? r.rays / r.render_seconds * 1e-6 : 0.0,
+      r.cpu_seconds > 0 ? r.rays / r.cpu_seconds * 1e-6 : 0.0);
+}
+
+int main(int argc, char** argv) {
+  // mpirun -np N: view i is rendered by rank i % N, the dataset is the one-process one.
+  runs::Session mpi(argc, argv);
+  apps::Args args(argc, argv, "render-dataset", "Render a G-buffer dataset with Embree ground truth.");
+  Command c = read_flags(args);
+  render::DatasetJob& job = c.job;
+  const int threads = c.threads;
 
   job.part = runs::rank(), job.parts = runs::size();
   job.progress = runs::writer();
@@ -113,7 +144,7 @@ int main(int argc, char** argv) {
     FolderLock lock;
     if (runs::writer()) {
       lock = prepare_output_folder(job.out, "render-dataset");
-      render::prepare_render_folder(job.out, replace);
+      render::prepare_render_folder(job.out, c.replace);
     }
     runs::barrier();
     set_num_threads(threads);
@@ -124,16 +155,7 @@ int main(int argc, char** argv) {
     r.train_views = int(sums[0]), r.test_views = int(sums[1]), r.holdout_views = int(sums[2]);
     r.rays = uint64_t(sums[3]), r.render_seconds = sums[4], r.cpu_seconds = sums[5];
     if (!runs::writer()) return 0;
-    int n = std::max(1, r.train_views + r.test_views + r.holdout_views);
-    std::string held = r.holdout_views ? " + " + std::to_string(r.holdout_views) + " holdout" : "";
-    std::string held_scenes = r.holdout_views ? " + " + std::to_string(r.holdout_scenes.size()) : "";
-    std::printf(
-        "%s: %d train + %d test%s %s (%zu + %zu%s scenes), %.1f s; per %s %.2f s wall, %.2f CPU-s; "
-        "%.2f Mrays/s wall, %.2f Mrays per CPU-s\n",
-        job.out.c_str(), r.train_views, r.test_views, held.c_str(), surround ? "frames" : "views",
-        r.train_scenes.size(), r.test_scenes.size(), held_scenes.c_str(), r.total_seconds, surround ? "frame" : "view",
-        r.render_seconds / n, r.cpu_seconds / n, r.render_seconds > 0 ? r.rays / r.render_seconds * 1e-6 : 0.0,
-        r.cpu_seconds > 0 ? r.rays / r.cpu_seconds * 1e-6 : 0.0);
+    print_summary(job, r);
     return 0;
   }));
 }
