@@ -12,16 +12,9 @@
 #include <cmath>
 #include <vector>
 
-#include "screen_space/ao_common.h"
+#include "classical_ao/screen_space_names.h"
 
 namespace nns::classical_ao {
-
-using screen_space::box_blur_4x4;
-using screen_space::box_blur_4x4_reference;
-using screen_space::for_each_surface_pixel;
-using screen_space::GBuffer;
-using screen_space::noise_angle_4x4;
-using screen_space::NoiseTile;
 
 // Free parameters (tune-classical-ao fits them; the defaults are the values used before).
 // kappa is the paper's contrast exponent, A^kappa (1: none).

@@ -14,19 +14,9 @@
 #include <cmath>
 #include <vector>
 
-#include "screen_space/ao_common.h"
+#include "classical_ao/screen_space_names.h"
 
 namespace nns::classical_ao {
-
-using screen_space::box_blur_4x4;
-using screen_space::box_blur_4x4_reference;
-using screen_space::for_each_surface_pixel;
-using screen_space::GBuffer;
-using screen_space::hash_unit;
-using screen_space::noise_angle_4x4;
-using screen_space::NoiseTile;
-using screen_space::pixel_hash;
-using screen_space::saturate;
 
 // Free parameters (tune-classical-ao fits them; the defaults are the values used before).
 struct HbaoParams {

@@ -13,19 +13,10 @@
 // per-pixel loop it must match (tests compare them).
 #include <vector>
 
-#include "screen_space/ao_common.h"
+#include "classical_ao/screen_space_names.h"
 #include "screen_space/simd16.h"
 
 namespace nns::classical_ao {
-
-using screen_space::box_blur_4x4;
-using screen_space::box_blur_4x4_reference;
-using screen_space::for_each_surface_pixel;
-using screen_space::GBuffer;
-using screen_space::noise_angle_4x4;
-using screen_space::NoiseTile;
-using screen_space::saturate;
-using screen_space::sphere_kernel;
 
 // Free parameters (tune-classical-ao fits them; the defaults are the values used before):
 // the range check accepts occluders within range * r behind the sample, and gain is the

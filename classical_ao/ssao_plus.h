@@ -10,19 +10,9 @@
 // scalar per-pixel loop it must match (tests compare them).
 #include <vector>
 
-#include "screen_space/ao_common.h"
+#include "classical_ao/screen_space_names.h"
 
 namespace nns::classical_ao {
-
-using screen_space::box_blur_4x4;
-using screen_space::box_blur_4x4_reference;
-using screen_space::for_each_surface_pixel;
-using screen_space::GBuffer;
-using screen_space::noise_angle_4x4;
-using screen_space::NoiseTile;
-using screen_space::normalize_or_facing;
-using screen_space::saturate;
-using screen_space::sphere_kernel;
 
 inline std::vector<Vec3> hemisphere_kernel(int n, uint64_t seed) {
   std::vector<Vec3> k = sphere_kernel(n, seed);

@@ -49,23 +49,27 @@ OPENS = re.compile(r"^namespace\s+(nns(?:::\w+)*)\s*\{", re.M)
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 
 
+def sources(root, top):
+    """(path, text) of every .h and .cpp below root/top."""
+    for dirpath, _, files in os.walk(os.path.join(root, top)):
+        for f in sorted(files):
+            if f.endswith((".h", ".cpp")):
+                path = os.path.join(dirpath, f)
+                with open(path, encoding="utf-8", errors="replace") as fh:
+                    yield path, fh.read()
+
+
 def main(root):
     bad = []
     for top, allowed in ALLOWED.items():
-        for dirpath, _, files in os.walk(os.path.join(root, top)):
-            for f in files:
-                if not f.endswith((".h", ".cpp")):
+        for path, text in sources(root, top):
+            for inc in INCLUDE.findall(text):
+                first = inc.split("/")[0]
+                if "/" not in inc or first == top:
                     continue
-                path = os.path.join(dirpath, f)
-                with open(path, encoding="utf-8", errors="replace") as fh:
-                    text = fh.read()
-                for inc in INCLUDE.findall(text):
-                    first = inc.split("/")[0]
-                    if "/" not in inc or first == top:
-                        continue
-                    if first not in allowed:
-                        bad.append(f"{os.path.relpath(path, root)}: includes {inc} ({top} may use: "
-                                   f"{', '.join(sorted(allowed)) or 'only itself'})")
+                if first not in allowed:
+                    bad.append(f"{os.path.relpath(path, root)}: includes {inc} ({top} may use: "
+                               f"{', '.join(sorted(allowed)) or 'only itself'})")
     wrong_ns = namespace_errors(root)
     for b in bad + wrong_ns:
         print(b)
@@ -88,20 +92,13 @@ def namespace_errors(root):
     for top in NAMESPACE:
         if "/" in top:
             continue
-        for dirpath, _, files in os.walk(os.path.join(root, top)):
-            want = expected_namespace(os.path.relpath(dirpath, root))
-            for f in files:
-                if not f.endswith((".h", ".cpp")):
-                    continue
-                path = os.path.join(dirpath, f)
-                with open(path, encoding="utf-8", errors="replace") as fh:
-                    text = fh.read()
-                for ns in OPENS.findall(text):
-                    ok = ns == want or ns.startswith(want + "::") if want != "nns" else (
-                        ns == "nns" or FOUNDATION_DETAIL.match(ns))
-                    if not ok:
-                        bad.append(f"{os.path.relpath(path, root)}: opens namespace {ns}; "
-                                   f"its folder's is {want}")
+        for path, text in sources(root, top):
+            want = expected_namespace(os.path.relpath(os.path.dirname(path), root))
+            for ns in OPENS.findall(text):
+                ok = ns == want or ns.startswith(want + "::") if want != "nns" else (
+                    ns == "nns" or FOUNDATION_DETAIL.match(ns))
+                if not ok:
+                    bad.append(f"{os.path.relpath(path, root)}: opens namespace {ns}; its folder's is {want}")
     return bad
 
 
