@@ -109,7 +109,9 @@ TrainGanOptions read_flags(apps::Args& a, int& threads) {
                           "read training frames from disk as they are needed (auto: "
                           "when they would take more than --memory-budget); same numbers either way");
   o.memory_budget_gib = a.get_double("--memory-budget", o.memory_budget_gib,
-                                     "GiB of training frames held in memory before --stream auto streams", 0, 1e6);
+                                     "GiB of training frames held in memory before --stream auto streams "
+                                     "(-1: half the memory available when the run starts)",
+                                     -1, 1e6);
   o.validation_fraction = a.get_double("--validation-fraction", o.validation_fraction,
                                        "share of train/'s scenes held out as the "
                                        "validation split (model selection: eval-gi --split validation); 0: none",

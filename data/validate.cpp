@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/thread_pool.h"
 #include "data/dataset.h"
 
 namespace nns::data {
@@ -186,21 +187,45 @@ void check_view(const View& v, const ExrInfo* info, bool is_front, const Validat
 
 namespace {
 
-// Reads and checks one file; returns false (after reporting) if it cannot be read.
-bool check_file(const std::string& path, bool is_front, const ValidateOptions& o, ProblemSink& sink,
-                ValidationReport& r, View* out) {
-  ReadOptions ro;
-  ro.require_attributes = false;
-  ro.warn_half_depth = false;  // reported as a warning in the report instead
+// One file as read, before its checks: the reading (decoding) runs on the pool's workers,
+// the checks and the problems they report stay in the listing's order.
+struct ReadFile {
+  View view;
   ExrInfo info;
-  try {
-    *out = read_view(path, ro, &info);
-  } catch (const std::exception& e) {
-    sink.error(path, "", strip_prefix(e.what(), path));
+  std::string error;  // why it could not be read ("" when read)
+};
+
+// Decodes `paths` on the pool's workers, each file whole: a surround frame's six faces at
+// face 128 take 2 x 0.1 s on 2 threads instead of 6 x 0.1 s in a row.
+std::vector<ReadFile> read_files(const std::vector<std::string>& paths) {
+  std::vector<ReadFile> out(paths.size());
+  parallel_for_dynamic(int64_t(paths.size()), 1, [&](int64_t b, int64_t e) {
+    for (int64_t i = b; i < e; ++i) {
+      ReadFile& f = out[size_t(i)];
+      const std::string& path = paths[size_t(i)];
+      if (path.empty()) continue;
+      ReadOptions ro;
+      ro.require_attributes = false;
+      ro.warn_half_depth = false;  // reported as a warning in the report instead
+      try {
+        f.view = read_view(path, ro, &f.info);
+      } catch (const std::exception& ex) {
+        f.error = strip_prefix(ex.what(), path);
+      }
+    }
+  });
+  return out;
+}
+
+// Checks one file as read; returns false (after reporting) if it could not be read.
+bool check_file(const std::string& path, ReadFile& f, bool is_front, const ValidateOptions& o, ProblemSink& sink,
+                ValidationReport& r) {
+  if (!f.error.empty()) {
+    sink.error(path, "", f.error);
     return false;
   }
-  r.resolutions[std::to_string(out->width) + "x" + std::to_string(out->height)]++;
-  check_view(*out, &info, is_front, o, sink, &r);
+  r.resolutions[std::to_string(f.view.width) + "x" + std::to_string(f.view.height)]++;
+  check_view(f.view, &f.info, is_front, o, sink, &r);
   return true;
 }
 
@@ -313,19 +338,30 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
       r.scenes[name].insert(v.scene);
       first_file[name].emplace(v.scene, v.source);
     };
-    for (auto& path : split->views) {
-      View v;
-      if (check_file(path, true, o, sink, r, &v)) note_scene(v);
+    // Views in batches of a few, so that the pool's workers decode side by side.
+    constexpr size_t kBatch = 8;
+    for (size_t b = 0; b < split->views.size(); b += kBatch) {
+      const std::vector<std::string> paths(
+          split->views.begin() + std::ptrdiff_t(b),
+          split->views.begin() + std::ptrdiff_t(std::min(b + kBatch, split->views.size())));
+      std::vector<ReadFile> files = read_files(paths);
+      for (size_t i = 0; i < paths.size(); ++i) {
+        if (!check_file(paths[i], files[i], true, o, sink, r)) continue;
+        note_scene(files[i].view);
+        if (o.on_view) o.on_view(std::move(files[i].view));
+      }
     }
     for (auto& frame : split->frames) {
       for (auto& face : frame.missing)
         sink.error(frame.dir + "/" + face + ".exr", "", "surround frame misses this face");
       int front_w = -1, front_h = -1;
       std::string front_file;
+      const std::vector<std::string> paths(frame.faces.begin(), frame.faces.end());
+      std::vector<ReadFile> files = read_files(paths);
       for (size_t i = 0; i < 6; ++i) {
         if (frame.faces[i].empty()) continue;
-        View v;
-        if (!check_file(frame.faces[i], i == size_t(Face::front), o, sink, r, &v)) continue;
+        if (!check_file(frame.faces[i], files[i], i == size_t(Face::front), o, sink, r)) continue;
+        const View& v = files[i].view;
         if (v.width != v.height)
           sink.error(v.source, "",
                      "surround face is " + std::to_string(v.width) + "x" + std::to_string(v.height) +
@@ -339,6 +375,7 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
                          front_file + " (" + std::to_string(front_w) + "x" + std::to_string(front_h) +
                          ") in the same surround frame");
         }
+        if (o.on_view) o.on_view(std::move(files[i].view));
       }
     }
   }

@@ -4,6 +4,7 @@
 // validate_dataset() — a corrupt file is a problem in the report, not a crash.
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -56,6 +57,10 @@ struct ValidateOptions {
   int64_t max_problems = 50;
   // |N| may differ from 1 by this much (HALF storage alone gives ~1e-3).
   double normal_tolerance = 1e-2;
+  // Handed every view that was read, after its checks, in the listing's order and on the
+  // calling thread: a trainer keeps what it trains on (kept_views.h) instead of decoding
+  // the file again.
+  std::function<void(View&&)> on_view;
 };
 
 // Collects problems, keeping the first `limit` and counting the rest.

@@ -32,6 +32,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -41,11 +42,13 @@
 #include "report/chart.h"
 #include "data/dataset.h"
 #include "data/exr_io.h"
+#include "data/kept_views.h"
 #include "data/require_valid_dataset.h"
 #include "data/validation_split.h"
 #include "models/nnao/nnao_fast_step.h"
 #include "models/nnao/nnao_model.h"
 #include "runs/ao/nnao_points.h"
+#include "runs/available_memory.h"
 #include "nn/serialize.h"
 #include "optim/adam.h"
 #include "optim/checkpoint.h"
@@ -202,7 +205,8 @@ struct BuildShare {
   double exchange_seconds = 0;  // in the broadcasts, waiting for the owners included
 };
 inline PointFile build_points(const std::vector<std::string>& paths, const TrainOptions& o, int per_view,
-                              uint64_t stream, const std::string& name, StandardizerSums* sums, BuildShare& share) {
+                              uint64_t stream, const std::string& name, StandardizerSums* sums, BuildShare& share,
+                              data::KeptViews& kept) {
   PointFile pf;
   pf.input = o.net.input();
   pf.features = pf.input.count();
@@ -221,7 +225,7 @@ inline PointFile build_points(const std::vector<std::string>& paths, const Train
       const size_t i = first + me;
       if (fail && std::filesystem::path(paths[i]).filename() == fail)
         throw std::runtime_error(paths[i] + ": NNSHADE_TEST_FAIL_POINT_VIEW");
-      data::View v = data::read_view(paths[i]);
+      data::View v = kept.complete() ? kept.take(paths[i]) : data::read_view(paths[i]);
       Rng rng = base.fork(i);
       view_points(v, pf.input, per_view, o.radius, rng, round[me], o.downsample);
       ++share.views_built;
@@ -383,13 +387,38 @@ inline void check_options(const TrainOptions& o) {
                                 std::to_string(o.batch));
 }
 
-// The dataset's views: train (without validation), validation, test.
-inline data::TrainingSplits open_splits(const TrainOptions& o) {
-  data::require_valid_dataset(o.data_dir, data::Purpose::nnao);
-  data::TrainingSplits s = data::open_training_splits(o.data_dir, o.validation_fraction, o.validation_families);
-  if (o.validation_fraction > 0 && s.validation.size() == 0)
+// The dataset's views, checked: train (without validation), validation, test, and the
+// views this rank builds points from as the check decoded them (each file decoded once),
+// when they fit in half the memory available; else build_points reads them again.
+struct NnaoData {
+  data::TrainingSplits splits;
+  std::unique_ptr<data::KeptViews> kept;
+};
+
+// The views build_points reads on this rank: view i of each split goes to rank i % N.
+inline std::vector<std::string> views_built_here(const data::TrainingSplits& s) {
+  std::vector<std::string> out;
+  const size_t ranks = size_t(runs::size()), me = size_t(runs::rank());
+  for (const auto* list : {&s.listing.train.views, &s.listing.test.views, &s.validation.views})
+    for (size_t i = me; i < list->size(); i += ranks) out.push_back((*list)[i]);
+  return out;
+}
+
+inline NnaoData open_data(const TrainOptions& o) {
+  NnaoData d;
+  try {
+    d.splits = data::open_training_splits(o.data_dir, o.validation_fraction, o.validation_families);
+  } catch (const std::exception&) {
+    data::require_valid_dataset(o.data_dir, data::Purpose::nnao);  // the check's full report first
+    throw;
+  }
+  d.kept = std::make_unique<data::KeptViews>(views_built_here(d.splits), available_memory_gib() / 2 * double(1 << 30));
+  data::require_valid_dataset(o.data_dir, data::Purpose::nnao, d.kept.get());
+  if (o.validation_fraction > 0 && d.splits.validation.size() == 0)
     throw std::runtime_error(o.data_dir + ": cannot hold out validation scenes: the training split has a single scene");
-  return s;
+  if (!d.kept->complete() && !o.quiet)
+    std::fprintf(stderr, "train-nnao: views decoded again after the dataset check: %s\n", d.kept->reason().c_str());
+  return d;
 }
 
 // The trained state, in the order its random numbers are drawn: the weights, then the
@@ -422,7 +451,8 @@ struct NnaoPoints {
 // Built after the run layer has made the folder (they are written into it) and has
 // accepted or refused a --resume (a refusal costs no feature building). They are rebuilt
 // from the seed on every start, so a resume sees the same rows.
-inline NnaoPoints build_all_points(const TrainOptions& o, const data::TrainingSplits& s, nnao::NnaoNet<float>& net) {
+inline NnaoPoints build_all_points(const TrainOptions& o, NnaoData& d, nnao::NnaoNet<float>& net) {
+  const data::TrainingSplits& s = d.splits;
   auto say = [&](const std::string& line) {
     if (!o.quiet) std::fprintf(stderr, "%s\n", line.c_str());
   };
@@ -432,9 +462,9 @@ inline NnaoPoints build_all_points(const TrainOptions& o, const data::TrainingSp
   const auto t_build = std::chrono::steady_clock::now();
   NnaoPoints p;
   StandardizerSums sums(o.net.inputs());
-  p.train = build_points(s.listing.train.views, o, o.points_per_view, 1, "train-points", &sums, p.share);
-  p.test = build_points(s.listing.test.views, o, o.test_points_per_view, 2, "test-points", nullptr, p.share);
-  p.valid = build_points(s.validation.views, o, o.test_points_per_view, 3, "val-points", nullptr, p.share);
+  p.train = build_points(s.listing.train.views, o, o.points_per_view, 1, "train-points", &sums, p.share, *d.kept);
+  p.test = build_points(s.listing.test.views, o, o.test_points_per_view, 2, "test-points", nullptr, p.share, *d.kept);
+  p.valid = build_points(s.validation.views, o, o.test_points_per_view, 3, "val-points", nullptr, p.share, *d.kept);
   p.views = int64_t(s.listing.train.views.size() + s.listing.test.views.size() + s.validation.views.size());
   if (runs::size() > 1)
     say("rank " + std::to_string(runs::rank()) + " built " + std::to_string(p.share.views_built) + " of " +
@@ -597,10 +627,11 @@ inline TrainResult finish_run(runs::TrainingLoop& loop, const NnaoTask& task, co
 inline TrainResult train_nnao(const TrainOptions& o) {
   const auto t_start = std::chrono::steady_clock::now();
   check_options(o);
-  const data::TrainingSplits splits = open_splits(o);
+  NnaoData data = open_data(o);
   NnaoModel model(o);
-  runs::TrainingLoop loop(run_spec(o, splits.listing), model.ck, model.step, o.precision, o.quiet);
-  const NnaoPoints points = build_all_points(o, splits, model.net);
+  runs::TrainingLoop loop(run_spec(o, data.splits.listing), model.ck, model.step, o.precision, o.quiet);
+  const NnaoPoints points = build_all_points(o, data, model.net);
+  data.kept.reset();
   if (points.train.count() < o.batch) throw std::runtime_error("fewer training points than one batch");
   NnaoTask task(o, model, points, loop.run());
   const runs::LoopResult r = loop.train(task, {.progress_label = "train-nnao",

@@ -21,6 +21,7 @@
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "data/global_view.h"
+#include "data/kept_views.h"
 #include "models/gi/gi_inputs.h"
 
 namespace nns::runs {
@@ -152,20 +153,34 @@ inline gi::GiSample assemble_surround(const std::array<data::View, 6>& faces, co
   return s;
 }
 
-// Reads one item of a split (a view or a frame) at the requested size.
+// Reads one item of a split (a view or a frame) at the requested size: from its files, or
+// from the views the dataset check kept (data/kept_views.h), which shrink() has already
+// brought to that size.
 struct GiItemReader {
   gi::GiMode mode;
-  int size;  // 0: as stored
+  int size;                         // 0: as stored
+  data::KeptViews* kept = nullptr;  // complete, or null: read the files
+  bool take = false;                // this read is a kept view's last use: move it out
   std::array<data::View, 6> frame(const data::FrameEntry& e) const {
+    if (kept) {
+      std::array<data::View, 6> faces;
+      for (size_t i = 0; i < 6; ++i) faces[i] = kept_view(e.faces[i]);
+      return faces;
+    }
     auto faces = data::read_frame(e);
     int k = reduction_for(faces[0], size, e.dir);
     for (auto& f : faces) f = downsample_view(f, k);
     return faces;
   }
   data::View view(const std::string& path) const {
-    auto v = data::read_view(path);
-    return downsample_view(v, reduction_for(v, size, path));
+    if (kept) return kept_view(path);
+    return shrink(data::read_view(path));
   }
+  // A view as read from its file -> the view at the requested size.
+  data::View shrink(data::View v) const { return downsample_view(v, reduction_for(v, size, v.source)); }
+
+ private:
+  data::View kept_view(const std::string& path) const { return take ? kept->take(path) : kept->get(path); }
 };
 
 inline size_t split_items(const data::SplitListing& s, gi::GiMode mode) {

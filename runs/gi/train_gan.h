@@ -14,6 +14,8 @@
 
 #include "data/require_valid_dataset.h"
 #include "data/validation_split.h"
+#include "data/kept_views.h"
+#include "runs/available_memory.h"
 #include "runs/distributed/world.h"
 #include "runs/gi/gan_run.h"
 #include "runs/gi/gi_samples.h"
@@ -79,7 +81,7 @@ struct TrainGanOptions {
   bool eval = true;                   // evaluate G.blob on the test split (and holdout/) after training
   double train_subset = 1;            // about this share of the training scenes (data-size curves)
   std::string stream = "auto";        // auto | on | off: read training frames from disk as needed
-  double memory_budget_gib = 2;       // frames held in memory before stream auto streams
+  double memory_budget_gib = -1;      // GiB held in memory before stream auto streams (-1: half the available)
   double validation_fraction = 0.15;  // share of train/'s scenes held out for model selection
   bool test_bn_batch = true;          // BatchNorm batch statistics at test time (else running)
   bool test_dropout = false;
@@ -99,9 +101,17 @@ struct GanSplits {
   data::SplitListing train;  // splits.listing.train, or the --train-subset of it
 };
 
+// The listing alone: the dataset check runs with the first read of the training frames
+// (load_training_frames), which keeps what it decodes. A dataset too broken to list gets
+// the check's full report instead of the listing's first complaint.
 inline GanSplits open_gan_splits(const TrainGanOptions& o) {
-  data::require_valid_dataset(o.data_dir, data::Purpose::gi);
-  GanSplits s{data::open_training_splits(o.data_dir, o.validation_fraction), {}};
+  GanSplits s;
+  try {
+    s.splits = data::open_training_splits(o.data_dir, o.validation_fraction);
+  } catch (const std::exception&) {
+    data::require_valid_dataset(o.data_dir, data::Purpose::gi);
+    throw;
+  }
   // The scenes hold_out_validation would move, i.e. the same hash order, so a smaller
   // subset is contained in a larger one.
   s.train = o.train_subset < 1 ? data::hold_out_validation(s.splits.listing.train, o.train_subset).second
@@ -166,29 +176,61 @@ inline void require_unet_divisible(const TrainGanOptions& o, int height, int wid
   throw std::runtime_error(msg);
 }
 
+// GiB of training data a run may hold in memory: --memory-budget, or half of what the
+// machine has available when the run starts.
+inline double memory_budget_gib(const TrainGanOptions& o) {
+  return o.memory_budget_gib >= 0 ? o.memory_budget_gib : available_memory_gib() / 2;
+}
+
+// The files of the first n items of a split as the reader takes them.
+inline std::vector<std::string> item_files(const data::SplitListing& s, gi::GiMode mode, size_t n) {
+  std::vector<std::string> files;
+  const bool frames = mode == gi::GiMode::surround || s.views.empty();
+  for (size_t i = 0; i < n; ++i)
+    if (frames) files.insert(files.end(), s.frames[i].faces.begin(), s.frames[i].faces.end());
+    else files.push_back(s.views[i]);
+  return files;
+}
+
 // The training frames, normalised with statistics of the training scenes alone; held in
 // memory, or streamed from disk when asked or when they would take more than the budget.
+// Every split is checked first (a bad file in test/ stops the run now, not after hours of
+// training); the check keeps the training files it decodes, at the training size, so that
+// in memory each file is decoded once. Streamed, or when the kept views would not fit,
+// the normalisation fit reads the files again (and a streamed run every step).
 inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplits& s, gi::GiInputConfig& inputs) {
   GiItemReader rd{inputs.mode, o.size};
   const size_t n_train = std::min(max_items(o), split_items(s.train, rd.mode));
   if (n_train == 0) throw std::runtime_error(o.data_dir + ": no training samples for --mode " + o.mode);
-  // The first item, read before the normalisation pass reads the whole split: its shape
-  // is every sample's (the checks and the memory estimate need nothing else).
+  const double budget = memory_budget_gib(o);
+  data::KeptViews kept(item_files(s.train, rd.mode, n_train), o.stream == "on" ? 0 : budget * double(1 << 30),
+                       [rd](data::View&& v) { return rd.shrink(std::move(v)); });
+  data::require_valid_dataset(o.data_dir, data::Purpose::gi, &kept);
+  if (kept.complete()) rd.kept = &kept;
+  // The first item: its shape is every sample's (the checks and the memory estimate need
+  // nothing else).
   const gi::GiSample first = load_sample(s.train, rd, inputs, 0);
   require_unet_divisible(o, int(first.input.size(2)), int(first.input.size(3)));
   if (o.augment.mirror) (void)mirrored(first);  // refuses an odd face size before the first step
   inputs.norm = fit_normalisation(s.train, rd, max_items(o));
   const double gib = double(sample_bytes(first)) * double(n_train) / double(1 << 30);
-  const bool streamed = o.stream == "on" || (o.stream == "auto" && gib > o.memory_budget_gib);
-  GiTrainData train = streamed ? GiTrainData(s.train, rd, inputs, n_train)
-                               : GiTrainData(load_samples(s.train, rd, inputs, max_items(o), "loading train"));
-  if (runs::writer())
+  const bool streamed = o.stream == "on" || (o.stream == "auto" && gib > budget);
+  GiItemReader last_use = rd;
+  last_use.take = true;
+  GiTrainData train = streamed ? GiTrainData(s.train, GiItemReader{rd.mode, rd.size}, inputs, n_train)
+                               : GiTrainData(load_samples(s.train, last_use, inputs, max_items(o), "loading train"));
+  if (runs::writer()) {
     std::fprintf(stderr,
                  "train-gan: %zu training %s (%zu more in validation scenes) from %s, input %s, depth_max %.3g, "
-                 "hdr_scale %.3g, light_max %.3g; %.2f GiB of samples, %s\n",
+                 "hdr_scale %.3g, light_max %.3g; %.2f GiB of samples, %s (budget %.1f GiB)\n",
                  n_train, inputs.mode == gi::GiMode::surround ? "frames" : "views", s.splits.validation.size(),
                  o.data_dir.c_str(), first.input.shape().str().c_str(), inputs.norm.depth_max, inputs.norm.hdr_scale,
-                 inputs.norm.light_max, gib, streamed ? "streamed from disk" : "held in memory");
+                 inputs.norm.light_max, gib, streamed ? "streamed from disk" : "held in memory", budget);
+    if (rd.kept) std::fprintf(stderr, "train-gan: each training file decoded once, by the dataset check\n");
+    else
+      std::fprintf(stderr, "train-gan: training files decoded again after the dataset check: %s\n",
+                   o.stream == "on" ? "--stream on" : kept.reason().c_str());
+  }
   return train;
 }
 

@@ -363,6 +363,10 @@ TEST_F(TrainGan, StreamedFramesTrainBitwiseLikeFramesInMemory) {
   ASSERT_EQ(run(train_cmd(mem, "--stream off --threads 2"), mem + ".log"), 0) << read_all(mem + ".log");
   ASSERT_EQ(run(train_cmd(streamed, "--stream on --threads 1"), streamed + ".log"), 0) << read_all(streamed + ".log");
   EXPECT_NE(read_all(mem + ".log").find("held in memory"), std::string::npos) << read_all(mem + ".log");
+  // In memory, the dataset check's decoded files are the ones trained on (bitwise equal
+  // to the streamed run's, read again from disk at every step).
+  EXPECT_NE(read_all(mem + ".log").find("each training file decoded once"), std::string::npos)
+      << read_all(mem + ".log");
   EXPECT_NE(read_all(streamed + ".log").find("streamed from disk"), std::string::npos) << read_all(streamed + ".log");
   EXPECT_EQ(read_all(mem + "/G.blob"), read_all(streamed + "/G.blob"));
   EXPECT_EQ(read_all(mem + "/checkpoint.blob"), read_all(streamed + "/checkpoint.blob"));
@@ -370,6 +374,11 @@ TEST_F(TrainGan, StreamedFramesTrainBitwiseLikeFramesInMemory) {
   const std::string tight = (root_ / "tight").string();
   ASSERT_EQ(run(train_cmd(tight, "--memory-budget 0"), tight + ".log"), 0) << read_all(tight + ".log");
   EXPECT_NE(read_all(tight + ".log").find("streamed from disk"), std::string::npos);
+  EXPECT_NE(read_all(tight + ".log")
+                .find("decoded again after the dataset check: the decoded training views would "
+                      "take more than the memory budget"),
+            std::string::npos)
+      << read_all(tight + ".log");
   EXPECT_EQ(read_all(mem + "/G.blob"), read_all(tight + "/G.blob"));
 }
 
