@@ -307,6 +307,107 @@ std::string scene_family_of(const std::string& scene) {
   return scene.substr(0, dash);
 }
 
+namespace {
+
+// split -> scene -> the first file of it seen (named in the errors about a scene).
+using FirstFiles = std::map<std::string, std::map<std::string, std::string>>;
+
+// Every file of one split: read (on the pool's workers), checked, its scene noted, and
+// handed to o.on_view.
+void check_split(const std::string& name, const SplitListing& split, const ValidateOptions& o, ProblemSink& sink,
+                 ValidationReport& r, FirstFiles& first_file) {
+  sink.set_split(name);
+  r.views[name] = int64_t(split.views.size());
+  r.frames[name] = int64_t(split.frames.size());
+  auto note_scene = [&](const View& v) {
+    if (v.scene.empty()) return;
+    r.scenes[name].insert(v.scene);
+    first_file[name].emplace(v.scene, v.source);
+  };
+  // Views in batches of a few, so that the pool's workers decode side by side.
+  constexpr size_t kBatch = 8;
+  for (size_t b = 0; b < split.views.size(); b += kBatch) {
+    const std::vector<std::string> paths(
+        split.views.begin() + std::ptrdiff_t(b),
+        split.views.begin() + std::ptrdiff_t(std::min(b + kBatch, split.views.size())));
+    std::vector<ReadFile> files = read_files(paths);
+    for (size_t i = 0; i < paths.size(); ++i) {
+      if (!check_file(paths[i], files[i], true, o, sink, r)) continue;
+      note_scene(files[i].view);
+      if (o.on_view) o.on_view(std::move(files[i].view));
+    }
+  }
+  for (auto& frame : split.frames) {
+    for (auto& face : frame.missing) sink.error(frame.dir + "/" + face + ".exr", "", "surround frame misses this face");
+    int front_w = -1, front_h = -1;
+    std::string front_file;
+    const std::vector<std::string> paths(frame.faces.begin(), frame.faces.end());
+    std::vector<ReadFile> files = read_files(paths);
+    for (size_t i = 0; i < 6; ++i) {
+      if (frame.faces[i].empty()) continue;
+      if (!check_file(frame.faces[i], files[i], i == size_t(Face::front), o, sink, r)) continue;
+      const View& v = files[i].view;
+      if (v.width != v.height)
+        sink.error(
+            v.source, "",
+            "surround face is " + std::to_string(v.width) + "x" + std::to_string(v.height) + ", faces must be square");
+      if (front_w < 0) {
+        front_w = v.width, front_h = v.height, front_file = v.source;
+        note_scene(v);
+      } else if (v.width != front_w || v.height != front_h) {
+        sink.error(v.source, "",
+                   "size " + std::to_string(v.width) + "x" + std::to_string(v.height) + " differs from " + front_file +
+                       " (" + std::to_string(front_w) + "x" + std::to_string(front_h) + ") in the same surround frame");
+      }
+      if (o.on_view) o.on_view(std::move(files[i].view));
+    }
+  }
+}
+
+// No scene in two splits: test/ and holdout/ must come from scenes (holdout/: families)
+// the training split never saw.
+void check_scenes_apart(const DatasetListing& d, ValidationReport& r, ProblemSink& sink, FirstFiles& first_file) {
+  for (auto& scene : r.scenes["test"])
+    if (r.scenes["train"].count(scene))
+      sink.error(first_file["test"][scene], "",
+                 "scene '" + scene + "' is in both train/ and test/ (e.g. " + first_file["train"][scene] +
+                     "); test views must come from held-out scenes");
+  if (!d.has_holdout) return;
+  for (auto& scene : r.scenes["holdout"])
+    for (const char* other : {"train", "test"})
+      if (r.scenes[other].count(scene))
+        sink.error(first_file["holdout"][scene], "",
+                   "scene '" + scene + "' is in both holdout/ and " + other + "/ (e.g. " + first_file[other][scene] +
+                       "); held-out views must come from held-out families");
+}
+
+// Leave-families-out, when metadata.txt names the held-out families: none of their
+// scenes in train/ or test/, and nothing else in holdout/.
+void check_holdout_families(const std::string& root, const DatasetListing& d, ValidationReport& r, ProblemSink& sink,
+                            FirstFiles& first_file) {
+  if (!r.split_families.count("holdout")) return;
+  const auto& held = r.split_families["holdout"];
+  auto is_held = [&](const std::string& scene) {
+    return std::find(held.begin(), held.end(), scene_family_of(scene)) != held.end();
+  };
+  std::string meta = (std::filesystem::path(root) / "metadata.txt").string();
+  if (!d.has_holdout)
+    sink.error(meta, "", "families.holdout names held-out families but the dataset has no holdout/ folder");
+  for (const char* split : {"train", "test"})
+    for (auto& scene : r.scenes[split])
+      if (is_held(scene))
+        sink.error(first_file[split][scene], "",
+                   "scene '" + scene + "' belongs to family '" + scene_family_of(scene) +
+                       "', held out in metadata.txt, but is in " + split + "/");
+  for (auto& scene : r.scenes["holdout"])
+    if (!is_held(scene))
+      sink.error(first_file["holdout"][scene], "",
+                 "scene '" + scene + "' is in holdout/ but its family '" + scene_family_of(scene) +
+                     "' is not in metadata.txt's families.holdout");
+}
+
+}  // namespace
+
 ValidationReport validate_dataset(const std::string& root, const ValidateOptions& o) {
   ValidationReport r;
   r.root = root;
@@ -320,105 +421,15 @@ ValidationReport validate_dataset(const std::string& root, const ValidateOptions
   }
   r.flat = d.flat;
   for (auto& note : d.notes) sink.warn("", "", note);
-
   read_metadata(root, r, sink);
 
-  std::vector<std::pair<std::string, const SplitListing*>> splits;
-  if (d.flat) splits = {{"flat", &d.train}};
-  else splits = {{"train", &d.train}, {"test", &d.test}};
-  if (!d.flat && d.has_holdout) splits.push_back({"holdout", &d.holdout});
-  std::map<std::string, std::map<std::string, std::string>> first_file;  // split -> scene -> file
-
-  for (auto& [name, split] : splits) {
-    sink.set_split(name);
-    r.views[name] = int64_t(split->views.size());
-    r.frames[name] = int64_t(split->frames.size());
-    auto note_scene = [&, name = name](const View& v) {
-      if (v.scene.empty()) return;
-      r.scenes[name].insert(v.scene);
-      first_file[name].emplace(v.scene, v.source);
-    };
-    // Views in batches of a few, so that the pool's workers decode side by side.
-    constexpr size_t kBatch = 8;
-    for (size_t b = 0; b < split->views.size(); b += kBatch) {
-      const std::vector<std::string> paths(
-          split->views.begin() + std::ptrdiff_t(b),
-          split->views.begin() + std::ptrdiff_t(std::min(b + kBatch, split->views.size())));
-      std::vector<ReadFile> files = read_files(paths);
-      for (size_t i = 0; i < paths.size(); ++i) {
-        if (!check_file(paths[i], files[i], true, o, sink, r)) continue;
-        note_scene(files[i].view);
-        if (o.on_view) o.on_view(std::move(files[i].view));
-      }
-    }
-    for (auto& frame : split->frames) {
-      for (auto& face : frame.missing)
-        sink.error(frame.dir + "/" + face + ".exr", "", "surround frame misses this face");
-      int front_w = -1, front_h = -1;
-      std::string front_file;
-      const std::vector<std::string> paths(frame.faces.begin(), frame.faces.end());
-      std::vector<ReadFile> files = read_files(paths);
-      for (size_t i = 0; i < 6; ++i) {
-        if (frame.faces[i].empty()) continue;
-        if (!check_file(frame.faces[i], files[i], i == size_t(Face::front), o, sink, r)) continue;
-        const View& v = files[i].view;
-        if (v.width != v.height)
-          sink.error(v.source, "",
-                     "surround face is " + std::to_string(v.width) + "x" + std::to_string(v.height) +
-                         ", faces must be square");
-        if (front_w < 0) {
-          front_w = v.width, front_h = v.height, front_file = v.source;
-          note_scene(v);
-        } else if (v.width != front_w || v.height != front_h) {
-          sink.error(v.source, "",
-                     "size " + std::to_string(v.width) + "x" + std::to_string(v.height) + " differs from " +
-                         front_file + " (" + std::to_string(front_w) + "x" + std::to_string(front_h) +
-                         ") in the same surround frame");
-        }
-        if (o.on_view) o.on_view(std::move(files[i].view));
-      }
-    }
-  }
-
+  FirstFiles first_file;
+  if (d.flat) check_split("flat", d.train, o, sink, r, first_file);
+  else check_split("train", d.train, o, sink, r, first_file), check_split("test", d.test, o, sink, r, first_file);
+  if (!d.flat && d.has_holdout) check_split("holdout", d.holdout, o, sink, r, first_file);
   sink.set_split("");
-  if (!d.flat)
-    for (auto& scene : r.scenes["test"])
-      if (r.scenes["train"].count(scene))
-        sink.error(first_file["test"][scene], "",
-                   "scene '" + scene + "' is in both train/ and test/ (e.g. " + first_file["train"][scene] +
-                       "); test views must come from held-out scenes");
-
-  // Leave-families-out: no scene of holdout/ elsewhere, and (when metadata.txt names
-  // the held-out families) none of their scenes in train/ or test/, and nothing else
-  // in holdout/.
-  if (d.has_holdout)
-    for (auto& scene : r.scenes["holdout"])
-      for (const char* other : {"train", "test"})
-        if (r.scenes[other].count(scene))
-          sink.error(first_file["holdout"][scene], "",
-                     "scene '" + scene + "' is in both holdout/ and " + other + "/ (e.g. " + first_file[other][scene] +
-                         "); held-out views must come from held-out families");
-  if (r.split_families.count("holdout")) {
-    const auto& held = r.split_families["holdout"];
-    auto is_held = [&](const std::string& scene) {
-      return std::find(held.begin(), held.end(), scene_family_of(scene)) != held.end();
-    };
-    std::string meta = (std::filesystem::path(root) / "metadata.txt").string();
-    if (!d.has_holdout)
-      sink.error(meta, "", "families.holdout names held-out families but the dataset has no holdout/ folder");
-    for (const char* split : {"train", "test"})
-      for (auto& scene : r.scenes[split])
-        if (is_held(scene))
-          sink.error(first_file[split][scene], "",
-                     "scene '" + scene + "' belongs to family '" + scene_family_of(scene) +
-                         "', held out in metadata.txt, but is in " + split + "/");
-    for (auto& scene : r.scenes["holdout"])
-      if (!is_held(scene))
-        sink.error(first_file["holdout"][scene], "",
-                   "scene '" + scene + "' is in holdout/ but its family '" + scene_family_of(scene) +
-                       "' is not in metadata.txt's families.holdout");
-  }
-
+  check_scenes_apart(d, r, sink, first_file);
+  check_holdout_families(root, d, r, sink, first_file);
   if (!d.flat) check_split_counts(root, r, sink);
 
   int64_t total = 0;
