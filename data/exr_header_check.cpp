@@ -94,24 +94,71 @@ int32_t get_i32(const std::string& v, size_t at) {
   return x;
 }
 
-}  // namespace
-
-ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& limits) {
-  ExrHeaderFacts f;
-  {
-    std::ifstream probe(path, std::ios::binary | std::ios::ate);
-    if (!probe) throw std::runtime_error(path + ": cannot open the file");
-    f.file_bytes = int64_t(probe.tellg());
+// The entries of a channel list (OpenEXR parses every chlist by its type, whatever its
+// name): NUL-terminated names, each followed by 16 bytes, the empty name last.
+int64_t count_channels(const HeaderReader& r, const std::string& v) {
+  size_t p = 0;
+  int64_t channels = 0;
+  for (;;) {
+    size_t end = v.find('\0', p);
+    if (end == std::string::npos) r.fail("the channel list runs past its attribute");
+    if (end == p) {  // the empty name closes the list, and must end the value
+      if (end + 1 != v.size()) r.fail("the channel list ends before its attribute does");
+      return channels;
+    }
+    if (end - p > 255) r.fail("a channel name is longer than 255 characters");
+    p = end + 1 + 16;  // pixel type, pLinear + 3 reserved, x and y sampling
+    if (p > v.size()) r.fail("the channel list runs past its attribute");
+    ++channels;
   }
-  HeaderReader r(path, f.file_bytes);
-  std::string magic = r.bytes(4, "the magic number");
-  if (magic != std::string("\x76\x2f\x31\x01", 4)) r.fail("bad magic number");
-  const int32_t version = r.i32("the version field");
-  f.tiled = (version & 0x200) != 0;
-  const size_t max_name = (version & 0x400) ? 255 : 31;
+}
 
+// The value of an attribute whose type OpenEXR sizes its allocations from; the facts
+// the checks after the header need go into f (box: the data window).
+void check_value(const HeaderReader& r, const std::string& name, const std::string& type, const std::string& v,
+                 ExrHeaderFacts& f, int32_t (&box)[4], bool& have_window) {
+  const std::string what = "attribute '" + name + "'";
+  if (type == "box2i") {
+    if (v.size() != 16) r.fail(what + " has " + std::to_string(v.size()) + " bytes, a box2i has 16");
+    if (name == "dataWindow") {
+      for (int k = 0; k < 4; ++k) box[k] = get_i32(v, size_t(4 * k));
+      have_window = true;
+    }
+  } else if (type == "chlist") {
+    const int64_t channels = count_channels(r, v);
+    if (name == "channels") f.channels = channels;
+  } else if (type == "tiledesc") {
+    if (v.size() != 9) r.fail(what + " has " + std::to_string(v.size()) + " bytes, a tiledesc has 9");
+    uint32_t tx, ty;
+    std::memcpy(&tx, v.data(), 4);
+    std::memcpy(&ty, v.data() + 4, 4);
+    if (name == "tiles") f.tile_width = int64_t(tx), f.tile_height = int64_t(ty);
+  } else if (type == "preview") {
+    // OpenEXR allocates width * height RGBA pixels for a preview before reading them.
+    if (v.size() < 8) r.fail(what + " is shorter than a preview header");
+    uint32_t pw, ph;
+    std::memcpy(&pw, v.data(), 4);
+    std::memcpy(&ph, v.data() + 4, 4);
+    if (uint64_t(pw) * uint64_t(ph) * 4 + 8 != uint64_t(v.size()))
+      r.fail(what + " declares a " + std::to_string(pw) + "x" + std::to_string(ph) + " preview that its " +
+             std::to_string(v.size()) + " bytes do not hold");
+  } else if (type == "stringvector") {
+    // OpenEXR sizes each string from its own length field.
+    size_t p = 0;
+    while (p < v.size()) {
+      if (v.size() - p < 4) r.fail(what + " ends inside a string length");
+      int32_t len = get_i32(v, p);
+      p += 4;
+      if (len < 0 || size_t(len) > v.size() - p) r.fail(what + " holds a string longer than the attribute");
+      p += size_t(len);
+    }
+  }
+}
+
+// The attributes up to the header's end: names, types and sizes that stay inside the
+// file, and the values OpenEXR allocates from checked by check_value.
+void walk_attributes(HeaderReader& r, size_t max_name, ExrHeaderFacts& f, int32_t (&box)[4]) {
   bool have_window = false;
-  int32_t box[4] = {0, 0, 0, 0};
   for (;;) {
     std::string name = r.name("an attribute name", max_name);
     if (name.empty()) break;
@@ -129,62 +176,15 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
         type == "box2i" || type == "chlist" || type == "tiledesc" || type == "preview" || type == "stringvector";
     if (type == "floatvector" && size % 4 != 0)
       r.fail(what + " of type floatvector declares " + std::to_string(size) + " bytes, not a multiple of 4");
-    if (!needed) {
-      r.skip(size, what);
-      continue;
-    }
-    const std::string v = r.bytes(size, what.c_str());
-    if (type == "box2i") {
-      if (v.size() != 16) r.fail(what + " has " + std::to_string(v.size()) + " bytes, a box2i has 16");
-      if (name == "dataWindow") {
-        for (int k = 0; k < 4; ++k) box[k] = get_i32(v, size_t(4 * k));
-        have_window = true;
-      }
-    } else if (type == "chlist") {  // any name: OpenEXR parses every chlist by its type
-      size_t p = 0;
-      int64_t channels = 0;
-      for (;;) {
-        size_t end = v.find('\0', p);
-        if (end == std::string::npos) r.fail("the channel list runs past its attribute");
-        if (end == p) {  // the empty name closes the list, and must end the value
-          if (end + 1 != v.size()) r.fail("the channel list ends before its attribute does");
-          break;
-        }
-        if (end - p > 255) r.fail("a channel name is longer than 255 characters");
-        p = end + 1 + 16;  // pixel type, pLinear + 3 reserved, x and y sampling
-        if (p > v.size()) r.fail("the channel list runs past its attribute");
-        ++channels;
-      }
-      if (name == "channels") f.channels = channels;
-    } else if (type == "tiledesc") {
-      if (v.size() != 9) r.fail(what + " has " + std::to_string(v.size()) + " bytes, a tiledesc has 9");
-      uint32_t tx, ty;
-      std::memcpy(&tx, v.data(), 4);
-      std::memcpy(&ty, v.data() + 4, 4);
-      if (name == "tiles") f.tile_width = int64_t(tx), f.tile_height = int64_t(ty);
-    } else if (type == "preview") {
-      // OpenEXR allocates width * height RGBA pixels for a preview before reading them.
-      if (v.size() < 8) r.fail(what + " is shorter than a preview header");
-      uint32_t pw, ph;
-      std::memcpy(&pw, v.data(), 4);
-      std::memcpy(&ph, v.data() + 4, 4);
-      if (uint64_t(pw) * uint64_t(ph) * 4 + 8 != uint64_t(v.size()))
-        r.fail(what + " declares a " + std::to_string(pw) + "x" + std::to_string(ph) + " preview that its " +
-               std::to_string(v.size()) + " bytes do not hold");
-    } else if (type == "stringvector") {
-      // OpenEXR sizes each string from its own length field.
-      size_t p = 0;
-      while (p < v.size()) {
-        if (v.size() - p < 4) r.fail(what + " ends inside a string length");
-        int32_t len = get_i32(v, p);
-        p += 4;
-        if (len < 0 || size_t(len) > v.size() - p) r.fail(what + " holds a string longer than the attribute");
-        p += size_t(len);
-      }
-    }
+    if (!needed) r.skip(size, what);
+    else check_value(r, name, type, r.bytes(size, what.c_str()), f, box, have_window);
   }
   if (!have_window) r.fail("no 'dataWindow' attribute");
+}
 
+// The image the header declares against the limits and against the file's own size.
+void check_declared_size(const std::string& path, ExrHeaderFacts& f, const int32_t (&box)[4],
+                         const ExrHeaderLimits& limits) {
   f.width = int64_t(box[2]) - int64_t(box[0]) + 1;
   f.height = int64_t(box[3]) - int64_t(box[1]) + 1;
   const std::string dims = std::to_string(f.width) + "x" + std::to_string(f.height);
@@ -207,16 +207,33 @@ ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& 
                              " channels (" + mb(decoded) + " decoded) but the file holds " +
                              std::to_string(f.file_bytes) + " bytes; refused before allocating (limit " + mb(limit) +
                              ")");
-  if (f.tiled) {
-    if (f.tile_width < 1 || f.tile_height < 1 || f.tile_width > limits.max_side || f.tile_height > limits.max_side)
-      throw std::runtime_error(path + ": tile size " + std::to_string(f.tile_width) + "x" +
-                               std::to_string(f.tile_height) + " is outside 1.." + std::to_string(limits.max_side));
-    if (f.tile_width * f.tile_height * per_pixel > limit)
-      throw std::runtime_error(path + ": tile size " + std::to_string(f.tile_width) + "x" +
-                               std::to_string(f.tile_height) +
-                               " declares more than the file can hold; refused "
-                               "before allocating");
+  if (!f.tiled) return;
+  if (f.tile_width < 1 || f.tile_height < 1 || f.tile_width > limits.max_side || f.tile_height > limits.max_side)
+    throw std::runtime_error(path + ": tile size " + std::to_string(f.tile_width) + "x" +
+                             std::to_string(f.tile_height) + " is outside 1.." + std::to_string(limits.max_side));
+  if (f.tile_width * f.tile_height * per_pixel > limit)
+    throw std::runtime_error(path + ": tile size " + std::to_string(f.tile_width) + "x" +
+                             std::to_string(f.tile_height) +
+                             " declares more than the file can hold; refused before allocating");
+}
+
+}  // namespace
+
+ExrHeaderFacts check_exr_header(const std::string& path, const ExrHeaderLimits& limits) {
+  ExrHeaderFacts f;
+  {
+    std::ifstream probe(path, std::ios::binary | std::ios::ate);
+    if (!probe) throw std::runtime_error(path + ": cannot open the file");
+    f.file_bytes = int64_t(probe.tellg());
   }
+  HeaderReader r(path, f.file_bytes);
+  std::string magic = r.bytes(4, "the magic number");
+  if (magic != std::string("\x76\x2f\x31\x01", 4)) r.fail("bad magic number");
+  const int32_t version = r.i32("the version field");
+  f.tiled = (version & 0x200) != 0;
+  int32_t box[4] = {0, 0, 0, 0};
+  walk_attributes(r, (version & 0x400) ? 255 : 31, f, box);
+  check_declared_size(path, f, box, limits);
   return f;
 }
 
