@@ -90,65 +90,88 @@ struct NnaoWeights {
   static NnaoWeights from_blob(const Blob& blob) {
     if (blob.kind() != "nnao") throw blob.error("holds a '" + blob.kind() + "' model, expected 'nnao'");
     NnaoWeights m;
-    // Checked as stored, then narrowed (a window of 4294967303 read as 7).
+    read_config(blob, m);
+    if (const std::string p = m.input.problem(); !p.empty()) throw blob.error(p);
+    fold_standardisation(blob, m);
+    for (int l = 0; l < 3; ++l) {
+      const int64_t out = l == 2 ? 1 : m.hidden;
+      m.w[l] = tensor(blob, "fc" + std::to_string(l + 1) + ".weight", {out, m.hidden});
+      m.b[l] = tensor(blob, "fc" + std::to_string(l + 1) + ".bias", {out});
+    }
+    for (int l = 0; l < 4; ++l) {
+      const int64_t n = l == 3 ? 1 : m.hidden;
+      m.alpha[l] = tensor(blob, "act" + std::to_string(l) + ".alpha", {n});
+      m.beta[l] = tensor(blob, "act" + std::to_string(l) + ".beta", {n});
+    }
+    return m;
+  }
+  static NnaoWeights load(const std::string& path) { return from_blob(Blob::load(path)); }
+
+ private:
+  static std::vector<float> tensor(const Blob& blob, const std::string& name, Shape s) {
+    std::vector<float> v(size_t(s.numel()));
+    blob.read(name, s, v.data());
+    return v;
+  }
+
+  // The network's size and the feature layout; every number checked as stored, then
+  // narrowed (a window of 4294967303 read as 7).
+  static void read_config(const Blob& blob, NnaoWeights& m) {
     m.input.window = blob.config_int("window", 0, 63);  // horizon models store 0 (unused)
     m.hidden = blob.config_int("hidden", 1, 64);
     m.radius = float(blob.config_double("radius"));
     if (!(m.radius >= 0))
       throw blob.error("radius " + blob.config_string("radius") +
                        " out of range: expected >= 0 (0: each view's aoRadius)");
-    if (blob.has_config("features")) {
-      m.input.kind = blob.config_string("features");
-      auto layout_int = [&](const char* key) {  // range-checked before it becomes an int
-        const int64_t v = blob.config_int(key);
-        if (v < 1 || v > 64) throw blob.error(std::string(key) + " " + std::to_string(v) + " out of range 1..64");
-        return int(v);
-      };
-      if (m.input.is_horizon()) {
-        m.input.horizon = {layout_int("directions"), layout_int("steps"), layout_int("bands")};
-        // Absent in the first horizon models' blobs: one pass, the first edge terms.
-        if (blob.has_config("blur_passes")) {
-          const int64_t p = blob.config_int("blur_passes");
-          if (p < 1 || p > 16) throw blob.error("blur_passes " + std::to_string(p) + " out of range 1..16");
-          m.blur_passes = int(p);
-        }
-        // A number in [lo, hi] (NaN is not), named with its range when it is not.
-        auto ranged_double = [&](const char* key, double lo, double hi, const char* range) {
-          double v = NAN;  // what is no finite number is out of the range too, said with it
-          try {
-            v = blob.config_double(key);
-          } catch (const std::runtime_error&) {
-          }
-          if (!(v >= lo && v <= hi))
-            throw blob.error(std::string(key) + " " + blob.config_string(key) + " out of range " + range);
-          return float(v);
-        };
-        if (blob.has_config("radius_term_max"))  // 0: no ceiling
-          if (const float v = ranged_double("radius_term_max", 0, 100, "0..100"); v > 0)
-            m.input.horizon.radius_term_max = v;
-        if (blob.has_config("blur_depth")) m.blur_edges.depth = ranged_double("blur_depth", 0.01, 100, "0.01..100");
-        if (blob.has_config("downsample")) {  // absent in blobs made before it: full resolution
-          const int64_t d = blob.config_int("downsample");
-          if (d != 1 && d != 2 && d != 4) throw blob.error("downsample " + std::to_string(d) + " must be 1, 2 or 4");
-          m.downsample = int(d);
-        }
-        if (blob.has_config("blur_normal_power")) {
-          const int64_t p = blob.config_int("blur_normal_power");
-          if (p < 0 || p > 64) throw blob.error("blur_normal_power " + std::to_string(p) + " out of range 0..64");
-          m.blur_edges.normal_power = int(p);
-        }
-      }
-    }
-    if (const std::string p = m.input.problem(); !p.empty()) throw blob.error(p);
-    const int64_t F = m.features(), H = m.hidden;
-    auto vec = [&](const std::string& name, Shape s) {
-      std::vector<float> v(size_t(s.numel()));
-      blob.read(name, s, v.data());
-      return v;
+    if (!blob.has_config("features")) return;
+    m.input.kind = blob.config_string("features");
+    auto layout_int = [&](const char* key) {  // range-checked before it becomes an int
+      const int64_t v = blob.config_int(key);
+      if (v < 1 || v > 64) throw blob.error(std::string(key) + " " + std::to_string(v) + " out of range 1..64");
+      return int(v);
     };
-    std::vector<float> w0 = vec("fc0.weight", {H, F}), b0 = vec("fc0.bias", {H});
-    std::vector<float> mean = vec("feature_mean", {F}), stdv = vec("feature_std", {F});
-    std::vector<float> ts = vec("target_stats", {2});
+    if (!m.input.is_horizon()) return;
+    m.input.horizon = {layout_int("directions"), layout_int("steps"), layout_int("bands")};
+    // Absent in the first horizon models' blobs: one pass, the first edge terms.
+    if (blob.has_config("blur_passes")) {
+      const int64_t p = blob.config_int("blur_passes");
+      if (p < 1 || p > 16) throw blob.error("blur_passes " + std::to_string(p) + " out of range 1..16");
+      m.blur_passes = int(p);
+    }
+    // A number in [lo, hi] (NaN is not), named with its range when it is not.
+    auto ranged_double = [&](const char* key, double lo, double hi, const char* range) {
+      double v = NAN;  // what is no finite number is out of the range too, said with it
+      try {
+        v = blob.config_double(key);
+      } catch (const std::runtime_error&) {
+      }
+      if (!(v >= lo && v <= hi))
+        throw blob.error(std::string(key) + " " + blob.config_string(key) + " out of range " + range);
+      return float(v);
+    };
+    if (blob.has_config("radius_term_max"))  // 0: no ceiling
+      if (const float v = ranged_double("radius_term_max", 0, 100, "0..100"); v > 0)
+        m.input.horizon.radius_term_max = v;
+    if (blob.has_config("blur_depth")) m.blur_edges.depth = ranged_double("blur_depth", 0.01, 100, "0.01..100");
+    if (blob.has_config("downsample")) {  // absent in blobs made before it: full resolution
+      const int64_t d = blob.config_int("downsample");
+      if (d != 1 && d != 2 && d != 4) throw blob.error("downsample " + std::to_string(d) + " must be 1, 2 or 4");
+      m.downsample = int(d);
+    }
+    if (blob.has_config("blur_normal_power")) {
+      const int64_t p = blob.config_int("blur_normal_power");
+      if (p < 0 || p > 64) throw blob.error("blur_normal_power " + std::to_string(p) + " out of range 0..64");
+      m.blur_edges.normal_power = int(p);
+    }
+  }
+
+  // Layer 0 with the feature standardisation folded in: w0 / std, b0 - w0 . mean / std,
+  // so that inference takes the raw features.
+  static void fold_standardisation(const Blob& blob, NnaoWeights& m) {
+    const int64_t F = m.features(), H = m.hidden;
+    std::vector<float> w0 = tensor(blob, "fc0.weight", {H, F}), b0 = tensor(blob, "fc0.bias", {H});
+    std::vector<float> mean = tensor(blob, "feature_mean", {F}), stdv = tensor(blob, "feature_std", {F});
+    std::vector<float> ts = tensor(blob, "target_stats", {2});
     m.target_mean = ts[0];
     m.target_std = ts[1];
     // The trainer stores a constant's std as 1 (nnao_points.h): a zero or negative one
@@ -179,19 +202,7 @@ struct NnaoWeights {
       if (!std::isfinite(m.b0[size_t(k)]))
         throw blob.error("tensor 'fc0.bias' with the standardisation folded in overflows at index " +
                          std::to_string(k));
-    for (int l = 0; l < 3; ++l) {
-      const int64_t out = l == 2 ? 1 : H;
-      m.w[l] = vec("fc" + std::to_string(l + 1) + ".weight", {out, H});
-      m.b[l] = vec("fc" + std::to_string(l + 1) + ".bias", {out});
-    }
-    for (int l = 0; l < 4; ++l) {
-      const int64_t n = l == 3 ? 1 : H;
-      m.alpha[l] = vec("act" + std::to_string(l) + ".alpha", {n});
-      m.beta[l] = vec("act" + std::to_string(l) + ".beta", {n});
-    }
-    return m;
   }
-  static NnaoWeights load(const std::string& path) { return from_blob(Blob::load(path)); }
 };
 
 }  // namespace nns::nnao
