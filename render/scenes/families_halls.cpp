@@ -16,6 +16,41 @@ void add_door(Scene& s, const Wing& w, float u, float v, float width, float heig
   w.box(s, u - 0.08f, 0, v - width / 2 - 0.15f, u, height + 0.15f, v + width / 2 + 0.15f, frame);
   w.box(s, u - 0.12f, 0, v - width / 2, u - 0.08f, height, v + width / 2, panel);
 }
+// A cloister's garth (half sizes X and Z inside an arcade wall t thick): paths crossing
+// it, a well or a tree in the middle, four raised beds now and then.
+struct GarthMaterials {
+  uint32_t stone, paving, wood;
+};
+void add_garth(Scene& s, Rng& rng, float X, float Z, float t, GarthMaterials m, const SceneStyle& st) {
+  const uint32_t stone = m.stone, paving = m.paving, wood = m.wood;
+  const float pw = float(rng.uniform(0.8, 1.5));
+  add_box(s, {-X + t / 2, 0, -pw / 2}, {X - t / 2, 0.04f, pw / 2}, paving);
+  add_box(s, {-pw / 2, 0, -Z + t / 2}, {pw / 2, 0.04f, Z - t / 2}, paving);
+  if (rng.below(2)) {
+    const float R = float(rng.uniform(0.6, 1.0));
+    add_lathe(s, {0, 0, 0}, {0, 1, 0},
+              {{0, 0.05f}, {R - 0.15f, 0.05f}, {R - 0.15f, 0.8f}, {R - 0.15f, 0.8f}, {R, 0.8f}, {R, 0.8f}, {R, 0}},
+              st.segments(32), stone, st.smooth);
+  } else {
+    const float h = float(rng.uniform(2.0, 4.0));
+    add_round_cylinder(s, {0, 0, 0}, {0, h, 0}, 0.15f, st.segments(12), wood, st.smooth);
+    const uint64_t crown = rng.next_u64();
+    const float cr = float(rng.uniform(1.0, std::min(X, Z) * 0.5));
+    add_displaced_sphere(
+        s, {0, h + cr * 0.6f, 0}, {cr, cr * 0.8f, cr}, 3, [crown](Vec3 p) { return 0.25f * fbm(crown, p * 2.5f, 3); },
+        s.add_material(random_material(rng, 0.1f, 0.35f)), st.smooth);
+  }
+  if (rng.below(2)) {  // four raised beds between the paths
+    const uint32_t bed = s.add_material(random_material(rng, 0.1f, 0.3f));
+    for (float sx : {-1.0f, 1.0f})
+      for (float sz : {-1.0f, 1.0f}) {
+        const Vec3 a(sx * (pw / 2 + 0.3f), 0, sz * (pw / 2 + 0.3f));
+        const Vec3 c(sx * (X - t / 2 - 0.6f), 0.35f, sz * (Z - t / 2 - 0.6f));
+        if ((c.x - a.x) * sx < 0.6f || (c.z - a.z) * sz < 0.6f) continue;
+        add_box(s, vmin(a, c), vmax(a, c), bed);
+      }
+  }
+}
 }  // namespace
 
 // A cloister: a garth open to the sky (a well or a tree, hedged beds, paths) ringed by
@@ -94,34 +129,7 @@ Scene make_cloister(uint64_t seed) {
         add_door(s, w, b, -span + b * (float(i) + 0.5f), float(rng.uniform(0.9, 1.4)), float(rng.uniform(2.1, 2.6)),
                  stone, wood);
   }
-  // The garth: paths crossing it, raised beds, a well or a tree in the middle.
-  const float pw = float(rng.uniform(0.8, 1.5));
-  add_box(s, {-X + t / 2, 0, -pw / 2}, {X - t / 2, 0.04f, pw / 2}, paving);
-  add_box(s, {-pw / 2, 0, -Z + t / 2}, {pw / 2, 0.04f, Z - t / 2}, paving);
-  if (rng.below(2)) {
-    const float R = float(rng.uniform(0.6, 1.0));
-    add_lathe(s, {0, 0, 0}, {0, 1, 0},
-              {{0, 0.05f}, {R - 0.15f, 0.05f}, {R - 0.15f, 0.8f}, {R - 0.15f, 0.8f}, {R, 0.8f}, {R, 0.8f}, {R, 0}},
-              st.segments(32), stone, st.smooth);
-  } else {
-    const float h = float(rng.uniform(2.0, 4.0));
-    add_round_cylinder(s, {0, 0, 0}, {0, h, 0}, 0.15f, st.segments(12), wood, st.smooth);
-    const uint64_t crown = rng.next_u64();
-    const float cr = float(rng.uniform(1.0, std::min(X, Z) * 0.5));
-    add_displaced_sphere(
-        s, {0, h + cr * 0.6f, 0}, {cr, cr * 0.8f, cr}, 3, [crown](Vec3 p) { return 0.25f * fbm(crown, p * 2.5f, 3); },
-        s.add_material(random_material(rng, 0.1f, 0.35f)), st.smooth);
-  }
-  if (rng.below(2)) {  // four raised beds between the paths
-    const uint32_t bed = s.add_material(random_material(rng, 0.1f, 0.3f));
-    for (float sx : {-1.0f, 1.0f})
-      for (float sz : {-1.0f, 1.0f}) {
-        const Vec3 a(sx * (pw / 2 + 0.3f), 0, sz * (pw / 2 + 0.3f));
-        const Vec3 c(sx * (X - t / 2 - 0.6f), 0.35f, sz * (Z - t / 2 - 0.6f));
-        if ((c.x - a.x) * sx < 0.6f || (c.z - a.z) * sz < 0.6f) continue;
-        add_box(s, vmin(a, c), vmax(a, c), bed);
-      }
-  }
+  add_garth(s, rng, X, Z, t, {stone, paving, wood}, st);
   outdoor_lighting(s, rng, 20, 65);
   if (rng.below(3) == 0) {  // a lantern hanging in one of the walks, now and then
     const int k = int(rng.below(4));
@@ -136,6 +144,44 @@ Scene make_cloister(uint64_t seed) {
   s.cameras = {vmin(a, c), vmax(a, c), -25, 35};
   return s;
 }
+
+namespace {
+
+// Over a basilica's nave (half-width N, half-length L, walls H high and t thick, bays
+// b long): a barrel vault springing from the clerestory's top, or a flat ceiling on
+// beams; a roof slab over everything at end_top.
+struct NaveSize {
+  float N, L, H, t, b, end_top;
+};
+struct NaveMaterials {
+  uint32_t stone, wood, roof;
+};
+void add_nave_cover(Scene& s, NaveSize n, int bays, bool vault, NaveMaterials m, const SceneStyle& st) {
+  const float N = n.N, L = n.L, H = n.H, t = n.t, b = n.b, end_top = n.end_top;
+  const uint32_t stone = m.stone, wood = m.wood, roof = m.roof;
+  if (vault) {
+    add_barrel_vault(s, {0, H, -L - 0.5f}, {0, 0, 1}, 2 * L + 1, N - t / 2, 0.25f, st.segments(32), stone, st);
+  } else {
+    add_box(s, {-N, H, -L - 0.5f}, {N, H + 0.3f, L + 0.5f}, wood);
+    for (int i = 0; i <= bays; ++i)
+      add_box(s, {-N, H - 0.35f, -L + b * float(i) - 0.15f}, {N, H, -L + b * float(i) + 0.15f}, wood);
+  }
+  add_box(s, {-N - t, end_top, -L - 0.5f}, {N + t, end_top + 0.3f, L + 0.5f}, roof);
+}
+
+// Pews in two blocks either side of the nave's middle passage (3 basilicas in 4).
+void add_pews(Scene& s, Rng& rng, float N, float L, float b, uint32_t wood) {
+  const float pew_start = -L + b * 1.2f, pew_end = L - 1.5f;
+  if (rng.below(4) != 0 && pew_end - pew_start > 2)
+    for (float z = pew_start; z < pew_end; z += 1.0f)
+      for (float sx : {-1.0f, 1.0f}) {
+        const float x0 = sx * 0.9f, x1 = sx * (N - 0.6f);
+        add_box(s, {std::min(x0, x1), 0.1f, z}, {std::max(x0, x1), 0.5f, z + 0.4f}, wood);
+        add_box(s, {std::min(x0, x1), 0.1f, z + 0.4f}, {std::max(x0, x1), 1.0f, z + 0.47f}, wood);
+      }
+}
+
+}  // namespace
 
 // A basilica: a nave between two arcades of columns or piers, side aisles behind them
 // under galleries that open onto the nave through their own arcade of paired arches,
@@ -227,26 +273,9 @@ Scene make_basilica(uint64_t seed) {
     }
     add_wall_band(s, false, sx * N, -L - 0.5f, L + 0.5f, clerestory + 0.3f, H, t, windows, wall);
   }
-  // Over the nave: a barrel vault springing from the clerestory's top, or a flat
-  // ceiling on beams; a roof slab over everything.
-  if (vault) {
-    add_barrel_vault(s, {0, H, -L - 0.5f}, {0, 0, 1}, 2 * L + 1, N - t / 2, 0.25f, st.segments(32), stone, st);
-  } else {
-    add_box(s, {-N, H, -L - 0.5f}, {N, H + 0.3f, L + 0.5f}, wood);
-    for (int i = 0; i <= bays; ++i)
-      add_box(s, {-N, H - 0.35f, -L + b * float(i) - 0.15f}, {N, H, -L + b * float(i) + 0.15f}, wood);
-  }
-  add_box(s, {-N - t, end_top, -L - 0.5f}, {N + t, end_top + 0.3f, L + 0.5f}, roof);
-  // Pews in two blocks either side of the middle passage, an altar block at the east end.
-  const float pew_start = -L + b * 1.2f, pew_end = L - 1.5f;
-  if (rng.below(4) != 0 && pew_end - pew_start > 2)
-    for (float z = pew_start; z < pew_end; z += 1.0f)
-      for (float sx : {-1.0f, 1.0f}) {
-        const float x0 = sx * 0.9f, x1 = sx * (N - 0.6f);
-        add_box(s, {std::min(x0, x1), 0.1f, z}, {std::max(x0, x1), 0.5f, z + 0.4f}, wood);
-        add_box(s, {std::min(x0, x1), 0.1f, z + 0.4f}, {std::max(x0, x1), 1.0f, z + 0.47f}, wood);
-      }
-  add_box(s, {-1.0f, 0.1f, -L + 0.8f}, {1.0f, 1.1f, -L + 1.8f}, stone);
+  add_nave_cover(s, {N, L, H, t, b, end_top}, bays, vault, {stone, wood, roof}, st);
+  add_pews(s, rng, N, L, b, wood);
+  add_box(s, {-1.0f, 0.1f, -L + 0.8f}, {1.0f, 1.1f, -L + 1.8f}, stone);  // the altar block, east end
   outdoor_lighting(s, rng, 20, 60);
   if (rng.below(2))  // hanging lamps down the nave
     for (int i = 0; i < bays; i += 2) s.points.push_back({{0, hc, -L + b * (float(i) + 0.5f)}, Vec3(3.0f, 2.6f, 2.0f)});
