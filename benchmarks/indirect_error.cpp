@@ -97,6 +97,118 @@ struct Stat {  // running sums over pixels x channels
   double se() const { return n > 1 ? std::sqrt(std::max(0.0, mean_sq() - mean() * mean()) / (n - 1)) : 0; }
 };
 
+// Per family ("all" too): per pixel (channel means) [0] ref, [1] A - B, [2] (A - B)^2 / 4,
+// then per EST the squared error, then per EST the error; and per EST the smoothed
+// squared error and its root (for the allocation bound).
+struct Sums {
+  std::map<std::string, std::vector<Stat>> fam, alloc;
+  std::map<std::string, int> frames;
+};
+
+// Per estimate, each pixel's squared error smoothed over its 5x5 geometry neighbours
+// (-1 on sky): a map of the estimator's variance, for the allocation bound.
+std::vector<std::vector<double>> smoothed_squared_error(const View& a, const View& b,
+                                                        const std::vector<const View*>& est,
+                                                        const std::string (&names)[3]) {
+  const auto& zf = a.channel("Z");
+  const int W = a.width, H = a.height;
+  std::vector<std::vector<double>> smooth(est.size(), std::vector<double>(zf.size(), -1.0));
+  for (size_t e = 0; e < est.size(); ++e) {
+    std::vector<double> sq(zf.size(), 0.0);
+    for (size_t i = 0; i < zf.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const std::string ch = names[c];
+        double ref = 0.5 * (double(a.channel(ch)[i]) + double(b.channel(ch)[i]));
+        double x = double(est[e]->channel(ch)[i]) - ref;
+        sq[i] += x * x / 3;
+      }
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        if (!std::isfinite(zf[size_t(y * W + x)])) continue;
+        double sum = 0;
+        int n = 0;
+        for (int qy = std::max(0, y - 2); qy <= std::min(H - 1, y + 2); ++qy)
+          for (int qx = std::max(0, x - 2); qx <= std::min(W - 1, x + 2); ++qx)
+            if (std::isfinite(zf[size_t(qy * W + qx)])) sum += sq[size_t(qy * W + qx)], ++n;
+        smooth[e][size_t(y * W + x)] = sum / n;
+      }
+  }
+  return smooth;
+}
+
+// One frame's pixels into its family's sums and into "all".
+void add_frame(Sums& sums, const Front& fa, const View& b, const std::vector<const View*>& est,
+               const std::string (&names)[3]) {
+  const size_t E = est.size();
+  const std::vector<std::vector<double>> smooth = smoothed_squared_error(fa.view, b, est, names);
+  for (const std::string& f : {fa.family, std::string("all")}) {
+    auto& al = sums.alloc[f];
+    al.resize(2 * E);
+    for (size_t e = 0; e < E; ++e)
+      for (double v : smooth[e])
+        if (v >= 0) al[2 * e].add(v), al[2 * e + 1].add(std::sqrt(v));
+    auto& st = sums.fam[f];
+    st.resize(3 + 2 * E);
+    ++sums.frames[f];
+    const auto& z = fa.view.channel("Z");
+    const std::vector<float>* a[3];
+    const std::vector<float>* bb[3];
+    std::vector<const std::vector<float>*> ec(3 * E);
+    for (int c = 0; c < 3; ++c) {
+      a[c] = &fa.view.channel(names[c]);
+      bb[c] = &b.channel(names[c]);
+      for (size_t e = 0; e < E; ++e) ec[e * 3 + size_t(c)] = &est[e]->channel(names[c]);
+    }
+    for (size_t i = 0; i < z.size(); ++i) {
+      if (!std::isfinite(z[i])) continue;
+      // Squared errors per channel; differences (bias) per pixel, averaged over
+      // the channels, since a pixel's three channels come from the same paths.
+      double dsum = 0;
+      std::vector<double> esum(E, 0.0), esq(E, 0.0);
+      double ref_sum = 0, var_sum = 0;
+      for (int c = 0; c < 3; ++c) {
+        double ref = 0.5 * (double((*a[c])[i]) + double((*bb[c])[i])), d = double((*a[c])[i]) - double((*bb[c])[i]);
+        ref_sum += ref, dsum += d, var_sum += d * d / 4;
+        for (size_t e = 0; e < E; ++e) {
+          double x = double((*ec[e * 3 + size_t(c)])[i]) - ref;
+          esum[e] += x, esq[e] += x * x;
+        }
+      }
+      st[0].add(ref_sum / 3);
+      st[1].add(dsum / 3);
+      st[2].add(var_sum / 3);
+      for (size_t e = 0; e < E; ++e) st[3 + E + e].add(esum[e] / 3), st[3 + e].add(esq[e] / 3);
+    }
+  }
+}
+
+void print_results(const Sums& sums, const std::vector<std::string>& dirs, const std::string& channel) {
+  const size_t E = dirs.size() - 2;
+  std::printf("channel %s; reference = mean of %s and %s\n", channel.c_str(), dirs[0].c_str(), dirs[1].c_str());
+  for (auto& [f, st] : sums.fam) {
+    double var_ref = st[2].mean();
+    std::printf("%-12s frames %d, pixels %.0f, ref mean %.5g; A-B %+.3g +- %.2g (%.2f se); ref variance %.4g\n",
+                f.c_str(), sums.frames.at(f), st[0].n, st[0].mean(), st[1].mean(), st[1].se(),
+                st[1].se() > 0 ? st[1].mean() / st[1].se() : 0.0, var_ref);
+    for (size_t e = 0; e < E; ++e) {
+      const Stat& sq = st[3 + e];     // per pixel: mean over channels of the squared error
+      const Stat& s = st[3 + E + e];  // per pixel: mean over channels of the error
+      double mse = sq.mean() - var_ref;
+      std::printf("    %-40s MSE %.5g (raw %.5g, rel %.4g)  bias %+.3g +- %.2g (%.2f se)\n", dirs[e + 2].c_str(), mse,
+                  sq.mean(), st[0].mean() != 0 ? mse / (st[0].mean() * st[0].mean()) : 0.0, s.mean(), s.se(),
+                  s.se() > 0 ? s.mean() / s.se() : 0.0);
+      // Paths spent per pixel in proportion to its sigma instead of evenly would
+      // divide the MSE by mean(V) / mean(sqrt V)^2 (V: the smoothed squared error);
+      // an optimistic bound for any adaptive allocation (the smoothing keeps some noise).
+      const Stat& v = sums.alloc.at(f)[2 * e];
+      const Stat& r = sums.alloc.at(f)[2 * e + 1];
+      if (r.mean() > 0)
+        std::printf("        allocation bound: an adaptive allocation could divide this MSE by at most ~%.2f\n",
+                    v.mean() / (r.mean() * r.mean()));
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -120,120 +232,25 @@ int main(int argc, char** argv) {
       if (face_name == kFaceNames[f]) face = f;
     if (face == kFaceNames.size()) throw std::runtime_error("--face: '" + face_name + "' is not a cube face name");
     for (auto& d : dirs) sets.push_back(fronts(d, face, block));
-    const auto& A = sets[0];
-    const auto& B = sets[1];
     // RGB channels, or a single one (AO) counted as three equal ones.
     std::string names[3];
     const bool single = sets[0].begin()->second.view.has(channel);
     const char* rgb[3] = {".R", ".G", ".B"};
     for (int c = 0; c < 3; ++c) names[c] = single ? channel : channel + rgb[c];
-    // family -> per pixel (channel means): [0] ref, [1] A - B, [2] (A - B)^2 / 4, then per
-    // EST the squared error, then per EST the error
-    std::map<std::string, std::vector<Stat>> fam;
-    std::map<std::string, int> frames;
-    std::map<std::string, std::vector<Stat>> alloc;  // family -> per EST: smoothed squared error, its root
-    const size_t E = sets.size() - 2;
-    for (auto& [key, fa] : A) {
-      auto b = B.find(key);
-      if (b == B.end()) throw std::runtime_error(dirs[1] + ": no frame " + key);
-      std::vector<const View*> est;
-      for (size_t e = 0; e < E; ++e) {
-        auto it = sets[e + 2].find(key);
-        if (it == sets[e + 2].end()) throw std::runtime_error(dirs[e + 2] + ": no frame " + key);
+    Sums sums;
+    for (auto& [key, fa] : sets[0]) {
+      // Every other set must hold the same view of this frame.
+      std::vector<const View*> others;
+      for (size_t k = 1; k < sets.size(); ++k) {
+        auto it = sets[k].find(key);
+        if (it == sets[k].end()) throw std::runtime_error(dirs[k] + ": no frame " + key);
         if (it->second.view.channel("Z") != fa.view.channel("Z"))
-          throw std::runtime_error(dirs[e + 2] + ": frame " + key + " is not the reference's view (Z differs)");
-        est.push_back(&it->second.view);
+          throw std::runtime_error(dirs[k] + ": frame " + key + " is not the reference's view (Z differs)");
+        others.push_back(&it->second.view);
       }
-      if (b->second.view.channel("Z") != fa.view.channel("Z"))
-        throw std::runtime_error(dirs[1] + ": frame " + key + " is not the reference's view (Z differs)");
-      // Per estimate, each pixel's squared error smoothed over its 5x5 geometry
-      // neighbours: a map of the estimator's variance, for the allocation bound below.
-      const auto& zf = fa.view.channel("Z");
-      const int W = fa.view.width, H = fa.view.height;
-      std::vector<std::vector<double>> smooth(E, std::vector<double>(zf.size(), -1.0));
-      for (size_t e = 0; e < E; ++e) {
-        std::vector<double> sq(zf.size(), 0.0);
-        for (size_t i = 0; i < zf.size(); ++i)
-          for (int c = 0; c < 3; ++c) {
-            const std::string ch = names[c];
-            double ref = 0.5 * (double(fa.view.channel(ch)[i]) + double(b->second.view.channel(ch)[i]));
-            double x = double(est[e]->channel(ch)[i]) - ref;
-            sq[i] += x * x / 3;
-          }
-        for (int y = 0; y < H; ++y)
-          for (int x = 0; x < W; ++x) {
-            if (!std::isfinite(zf[size_t(y * W + x)])) continue;
-            double sum = 0;
-            int n = 0;
-            for (int qy = std::max(0, y - 2); qy <= std::min(H - 1, y + 2); ++qy)
-              for (int qx = std::max(0, x - 2); qx <= std::min(W - 1, x + 2); ++qx)
-                if (std::isfinite(zf[size_t(qy * W + qx)])) sum += sq[size_t(qy * W + qx)], ++n;
-            smooth[e][size_t(y * W + x)] = sum / n;
-          }
-      }
-      for (const std::string& f : {fa.family, std::string("all")}) {
-        auto& al = alloc[f];
-        al.resize(2 * E);
-        for (size_t e = 0; e < E; ++e)
-          for (double v : smooth[e])
-            if (v >= 0) al[2 * e].add(v), al[2 * e + 1].add(std::sqrt(v));
-        auto& st = fam[f];
-        st.resize(3 + 2 * E);
-        ++frames[f];
-        const auto& z = fa.view.channel("Z");
-        const std::vector<float>* a[3];
-        const std::vector<float>* bb[3];
-        std::vector<const std::vector<float>*> ec(3 * E);
-        for (int c = 0; c < 3; ++c) {
-          a[c] = &fa.view.channel(names[c]);
-          bb[c] = &b->second.view.channel(names[c]);
-          for (size_t e = 0; e < E; ++e) ec[e * 3 + size_t(c)] = &est[e]->channel(names[c]);
-        }
-        for (size_t i = 0; i < z.size(); ++i) {
-          if (!std::isfinite(z[i])) continue;
-          // Squared errors per channel; differences (bias) per pixel, averaged over
-          // the channels, since a pixel's three channels come from the same paths.
-          double dsum = 0;
-          std::vector<double> esum(E, 0.0), esq(E, 0.0);
-          double ref_sum = 0, var_sum = 0;
-          for (int c = 0; c < 3; ++c) {
-            double ref = 0.5 * (double((*a[c])[i]) + double((*bb[c])[i])), d = double((*a[c])[i]) - double((*bb[c])[i]);
-            ref_sum += ref, dsum += d, var_sum += d * d / 4;
-            for (size_t e = 0; e < E; ++e) {
-              double x = double((*ec[e * 3 + size_t(c)])[i]) - ref;
-              esum[e] += x, esq[e] += x * x;
-            }
-          }
-          st[0].add(ref_sum / 3);
-          st[1].add(dsum / 3);
-          st[2].add(var_sum / 3);
-          for (size_t e = 0; e < E; ++e) st[3 + E + e].add(esum[e] / 3), st[3 + e].add(esq[e] / 3);
-        }
-      }
+      add_frame(sums, fa, *others[0], std::vector<const View*>(others.begin() + 1, others.end()), names);
     }
-    std::printf("channel %s; reference = mean of %s and %s\n", channel.c_str(), dirs[0].c_str(), dirs[1].c_str());
-    for (auto& [f, st] : fam) {
-      double var_ref = st[2].mean();
-      std::printf("%-12s frames %d, pixels %.0f, ref mean %.5g; A-B %+.3g +- %.2g (%.2f se); ref variance %.4g\n",
-                  f.c_str(), frames[f], st[0].n, st[0].mean(), st[1].mean(), st[1].se(),
-                  st[1].se() > 0 ? st[1].mean() / st[1].se() : 0.0, var_ref);
-      for (size_t e = 0; e < E; ++e) {
-        const Stat& sq = st[3 + e];     // per pixel: mean over channels of the squared error
-        const Stat& s = st[3 + E + e];  // per pixel: mean over channels of the error
-        double mse = sq.mean() - var_ref;
-        std::printf("    %-40s MSE %.5g (raw %.5g, rel %.4g)  bias %+.3g +- %.2g (%.2f se)\n", dirs[e + 2].c_str(), mse,
-                    sq.mean(), st[0].mean() != 0 ? mse / (st[0].mean() * st[0].mean()) : 0.0, s.mean(), s.se(),
-                    s.se() > 0 ? s.mean() / s.se() : 0.0);
-        // Paths spent per pixel in proportion to its sigma instead of evenly would
-        // divide the MSE by mean(V) / mean(sqrt V)^2 (V: the smoothed squared error);
-        // an optimistic bound for any adaptive allocation (the smoothing keeps some noise).
-        const Stat& v = alloc[f][2 * e];
-        const Stat& r = alloc[f][2 * e + 1];
-        if (r.mean() > 0)
-          std::printf("        allocation bound: an adaptive allocation could divide this MSE by at most ~%.2f\n",
-                      v.mean() / (r.mean() * r.mean()));
-      }
-    }
+    print_results(sums, dirs, channel);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "indirect_error: %s\n", e.what());
     return 1;
