@@ -75,83 +75,82 @@ std::vector<float> randn(size_t n, Rng& rng) {
   return v;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const int threads = argc > 1 ? std::atoi(argv[1]) : 2;
-  const int rounds = std::max(1, argc > 2 ? std::atoi(argv[2]) : 5);
-  const std::string what = argc > 3 ? argv[3] : "all";
-  set_num_threads(threads);
-  Rng rng(1);
-  std::vector<Item> items;
-  // Storage outlives the lambdas.
+// Random operands that outlive the items' lambdas.
+struct Buffers {
+  Rng rng{1};
   std::vector<std::vector<float>> keep;
-  auto buf = [&](size_t n) -> float* {
+  float* operator()(size_t n) {
     keep.push_back(randn(n, rng));
     return keep.back().data();
-  };
+  }
+};
 
-  if (what == "all" || what == "gemm") {
-    const std::vector<std::array<int64_t, 5>> shapes = {
-        {256, 256, 256, 0, 0},  {512, 512, 512, 0, 0},   {1024, 1024, 1024, 0, 0}, {2048, 2048, 2048, 0, 0},
-        {64, 16384, 48, 0, 0},  {128, 4096, 1024, 0, 0}, {256, 1024, 2048, 0, 0},  {512, 256, 4096, 0, 0},
-        {512, 64, 8192, 0, 0},  {2048, 1024, 512, 1, 0}, {1024, 4096, 256, 1, 0},  {128, 1024, 4096, 0, 1},
-        {256, 2048, 1024, 0, 1}};
-    for (auto [M, N, K, ta, tb] : shapes) {
-      const float* A = buf(size_t(M * K));
-      const float* B = buf(size_t(K * N));
-      float* C = buf(size_t(M * N));
-      items.push_back({"sgemm " + std::to_string(M) + "," + std::to_string(N) + "," + std::to_string(K) + "," +
-                           std::to_string(ta) + "," + std::to_string(tb),
-                       2.0 * double(M * N * K),
-                       [=] { gemm<float>(ta, tb, M, N, K, 1.0f, A, ta ? M : K, B, tb ? K : N, 0.0f, C, N); }, true});
-    }
+void add_gemm_items(std::vector<Item>& items, Buffers& buf) {
+  const std::vector<std::array<int64_t, 5>> shapes = {
+      {256, 256, 256, 0, 0},  {512, 512, 512, 0, 0},   {1024, 1024, 1024, 0, 0}, {2048, 2048, 2048, 0, 0},
+      {64, 16384, 48, 0, 0},  {128, 4096, 1024, 0, 0}, {256, 1024, 2048, 0, 0},  {512, 256, 4096, 0, 0},
+      {512, 64, 8192, 0, 0},  {2048, 1024, 512, 1, 0}, {1024, 4096, 256, 1, 0},  {128, 1024, 4096, 0, 1},
+      {256, 2048, 1024, 0, 1}};
+  for (auto [M, N, K, ta, tb] : shapes) {
+    const float* A = buf(size_t(M * K));
+    const float* B = buf(size_t(K * N));
+    float* C = buf(size_t(M * N));
+    items.push_back({"sgemm " + std::to_string(M) + "," + std::to_string(N) + "," + std::to_string(K) + "," +
+                         std::to_string(ta) + "," + std::to_string(tb),
+                     2.0 * double(M * N * K),
+                     [=] { gemm<float>(ta, tb, M, N, K, 1.0f, A, ta ? M : K, B, tb ? K : N, 0.0f, C, N); }, true});
   }
-  if (what == "all" || what == "conv") {
-    // {Cin, Cout, k, stride, pad, HW} of bench_conv (the rows with more than one output channel).
-    const std::vector<std::array<int64_t, 6>> shapes = {
-        {64, 128, 4, 2, 1, 128}, {16, 16, 3, 1, 1, 256},  {64, 64, 3, 1, 1, 128},
-        {256, 256, 3, 1, 1, 32}, {12, 64, 4, 2, 1, 256},  {128, 256, 4, 2, 1, 64},
-        {256, 512, 4, 2, 1, 32}, {512, 512, 4, 2, 1, 16}, {256, 512, 4, 1, 1, 32}};
-    for (auto [ci, co, k, s, p, hw] : shapes) {
-      const ConvGeometry g = conv2d_geometry(1, ci, hw, hw, co, k, k, s, s, p, p, 1, 1, 1);
-      const float* x = buf(size_t(g.N * g.C_in * g.H * g.W));
-      const float* w = buf(size_t(g.C_out * g.cin_g() * k * k));
-      const float* b = buf(size_t(g.C_out));
-      const float* dy = buf(size_t(g.N * g.C_out * g.H_out * g.W_out));
-      float* y = buf(size_t(g.N * g.C_out * g.H_out * g.W_out));
-      float* dx = buf(size_t(g.N * g.C_in * g.H * g.W));
-      float* dw = buf(size_t(g.C_out * g.cin_g() * k * k));
-      float* db = buf(size_t(g.C_out));
-      items.push_back({"conv2d " + std::to_string(ci) + "," + std::to_string(co) + "," + std::to_string(k) + "," +
-                           std::to_string(s) + "," + std::to_string(p) + "," + std::to_string(hw),
-                       6.0 * double(g.macs()),
-                       [=] {
-                         conv2d_forward(y, x, w, b, g);
-                         conv2d_backward(dx, dw, db, dy, x, w, g);
-                       },
-                       true});
-    }
+}
+
+void add_conv_items(std::vector<Item>& items, Buffers& buf) {
+  // {Cin, Cout, k, stride, pad, HW} of bench_conv (the rows with more than one output channel).
+  const std::vector<std::array<int64_t, 6>> shapes = {
+      {64, 128, 4, 2, 1, 128}, {16, 16, 3, 1, 1, 256},  {64, 64, 3, 1, 1, 128},
+      {256, 256, 3, 1, 1, 32}, {12, 64, 4, 2, 1, 256},  {128, 256, 4, 2, 1, 64},
+      {256, 512, 4, 2, 1, 32}, {512, 512, 4, 2, 1, 16}, {256, 512, 4, 1, 1, 32}};
+  for (auto [ci, co, k, s, p, hw] : shapes) {
+    const ConvGeometry g = conv2d_geometry(1, ci, hw, hw, co, k, k, s, s, p, p, 1, 1, 1);
+    const float* x = buf(size_t(g.N * g.C_in * g.H * g.W));
+    const float* w = buf(size_t(g.C_out * g.cin_g() * k * k));
+    const float* b = buf(size_t(g.C_out));
+    const float* dy = buf(size_t(g.N * g.C_out * g.H_out * g.W_out));
+    float* y = buf(size_t(g.N * g.C_out * g.H_out * g.W_out));
+    float* dx = buf(size_t(g.N * g.C_in * g.H * g.W));
+    float* dw = buf(size_t(g.C_out * g.cin_g() * k * k));
+    float* db = buf(size_t(g.C_out));
+    items.push_back({"conv2d " + std::to_string(ci) + "," + std::to_string(co) + "," + std::to_string(k) + "," +
+                         std::to_string(s) + "," + std::to_string(p) + "," + std::to_string(hw),
+                     6.0 * double(g.macs()),
+                     [=] {
+                       conv2d_forward(y, x, w, b, g);
+                       conv2d_backward(dx, dw, db, dy, x, w, g);
+                     },
+                     true});
   }
+}
+
+// The thesis configuration of bench_gan_iteration: a pix2pix 256, ngf 64 step.
+struct GanItem {
   std::unique_ptr<GanTrainer> trainer;
   GiSample sample;
-  if (what == "all" || what == "gan") {
-    const int64_t S = 256;
-    GanTrainConfig c;  // the thesis configuration of bench_gan_iteration
-    c.inputs.mode = GiMode::front;
-    c.inputs.size = int(S);
-    c.ngf = 64, c.levels = 8, c.ndf = 64, c.d_layers = 3;
-    trainer = std::make_unique<GanTrainer>(c);
-    sample.input = Tensor<float>({1, 12, S, S});
-    for (auto& v : sample.input) v = float(rng.uniform(-1, 1));
-    sample.target = Tensor<float>({1, 3, S, S});
-    for (auto& v : sample.target) v = float(rng.uniform(-1, 1));
-    sample.front = {0, 0, S, S};
-    items.push_back({"pix2pix 256,64,8", 0, [&] { trainer->train_step(sample); }, false});
-  }
+};
+void add_gan_item(std::vector<Item>& items, GanItem& gan, Rng& rng) {
+  const int64_t S = 256;
+  GanTrainConfig c;
+  c.inputs.mode = GiMode::front;
+  c.inputs.size = int(S);
+  c.ngf = 64, c.levels = 8, c.ndf = 64, c.d_layers = 3;
+  gan.trainer = std::make_unique<GanTrainer>(c);
+  gan.sample.input = Tensor<float>({1, 12, S, S});
+  for (auto& v : gan.sample.input) v = float(rng.uniform(-1, 1));
+  gan.sample.target = Tensor<float>({1, 3, S, S});
+  for (auto& v : gan.sample.target) v = float(rng.uniform(-1, 1));
+  gan.sample.front = {0, 0, S, S};
+  items.push_back({"pix2pix 256,64,8", 0, [&gan] { gan.trainer->train_step(gan.sample); }, false});
+}
 
-  std::printf("bf16_speedup: %d thread(s), %d rounds; bf16 GEMM on %s\n", threads, rounds,
-              bf16_isa_description().c_str());
+// Every item once in each precision per round, the order alternating between rounds.
+void time_rounds(std::vector<Item>& items, int rounds) {
   for (auto& it : items)  // warm-up: caches, allocator, pool, packing buffers
     for (Precision p : {Precision::fp32, Precision::bf16}) {
       const ScopedGemmPrecision mode(p);
@@ -166,6 +165,9 @@ int main(int argc, char** argv) {
         it.t[m].push_back(cpu);
         it.wall[m].push_back(wall);
       }
+}
+
+void print_table(const std::vector<Item>& items, int threads, int rounds) {
   std::printf("CPU time (all threads); wall-time ratio of the medians in the last column\n");
   std::printf(
       "| row | threads | fp32 | bf16 | fp32 / bf16 (median) | per-round range | wall fp32 / bf16 |\n"
@@ -185,5 +187,24 @@ int main(int argc, char** argv) {
                 *std::max_element(ratio.begin(), ratio.end()), median(it.wall[0]) / median(it.wall[1]));
     std::fflush(stdout);
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int threads = argc > 1 ? std::atoi(argv[1]) : 2;
+  const int rounds = std::max(1, argc > 2 ? std::atoi(argv[2]) : 5);
+  const std::string what = argc > 3 ? argv[3] : "all";
+  set_num_threads(threads);
+  Buffers buf;
+  std::vector<Item> items;
+  if (what == "all" || what == "gemm") add_gemm_items(items, buf);
+  if (what == "all" || what == "conv") add_conv_items(items, buf);
+  GanItem gan;
+  if (what == "all" || what == "gan") add_gan_item(items, gan, buf.rng);
+  std::printf("bf16_speedup: %d thread(s), %d rounds; bf16 GEMM on %s\n", threads, rounds,
+              bf16_isa_description().c_str());
+  time_rounds(items, rounds);
+  print_table(items, threads, rounds);
   return 0;
 }
