@@ -91,17 +91,9 @@ void blender_exr(const fs::path& p) {
   out.setFrameBuffer(fb);
   out.writePixels(h);
 }
-}  // namespace
 
-int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: make_seeds DIR\n");
-    return 2;
-  }
-  const fs::path dir = argv[1];
-  Rng rng(7);
-
-  // blob: a small weights file like save_weights writes.
+// blob: a small weights file like save_weights writes.
+void blob_seeds(const fs::path& dir) {
   Blob w("nnao");
   w.set_config("hidden", 4), w.set_config("lr", 1e-3), w.set_config("activation", "prelu");
   w.put("fc.weight", Tensor<float>::from({2, 3}, {1, -2, 3.5f, 0, 1e-30f, -0.0f}));
@@ -109,26 +101,28 @@ int main(int argc, char** argv) {
   w.put_i64("step", 3);
   put(dir / "blob" / "weights.blob", w.serialize());
   put(dir / "blob" / "empty.blob", Blob("x").serialize());
+}
 
-  // checkpoint: what the fuzz target restores into, saved by Checkpoint itself.
-  {
-    Linear<float> net(rng, 3, 2);
-    Adam<float> opt(net.parameters());
-    Rng data_rng(2);
-    int64_t epoch = 4, step = 40;
-    Checkpoint<float> ck;
-    ck.add_module("net", net)
-        .add_optimizer("adam", opt)
-        .add_rng("data", data_rng)
-        .add_counter("epoch", epoch)
-        .add_counter("step", step);
-    Blob meta("nnao-checkpoint");
-    meta.set_config("lr", 1e-3);
-    ck.fill(meta);
-    put(dir / "checkpoint" / "run.ckpt", meta.serialize());
-  }
+// checkpoint: what the fuzz target restores into, saved by Checkpoint itself.
+void checkpoint_seeds(const fs::path& dir, Rng& rng) {
+  Linear<float> net(rng, 3, 2);
+  Adam<float> opt(net.parameters());
+  Rng data_rng(2);
+  int64_t epoch = 4, step = 40;
+  Checkpoint<float> ck;
+  ck.add_module("net", net)
+      .add_optimizer("adam", opt)
+      .add_rng("data", data_rng)
+      .add_counter("epoch", epoch)
+      .add_counter("step", step);
+  Blob meta("nnao-checkpoint");
+  meta.set_config("lr", 1e-3);
+  ck.fill(meta);
+  put(dir / "checkpoint" / "run.ckpt", meta.serialize());
+}
 
-  // exr: the project's writer (FLOAT and HALF), then other layouts OpenEXR reads.
+// exr: the project's writer (FLOAT and HALF), then other layouts OpenEXR reads.
+void exr_seeds(const fs::path& dir) {
   fs::create_directories(dir / "exr");
   data::write_view((dir / "exr" / "float.exr").string(), view(6, 4));
   data::write_view((dir / "exr" / "half.exr").string(), view(5, 3), {.half = true});
@@ -139,8 +133,10 @@ int main(int argc, char** argv) {
   raw_exr(dir / "exr" / "b44.exr", Imf::B44_COMPRESSION, false, Imf::HALF);
   raw_exr(dir / "exr" / "dwaa.exr", Imf::DWAA_COMPRESSION, false, Imf::HALF);
   blender_exr(dir / "exr" / "blender.exr");
+}
 
-  // scene: first byte 0 = OBJ, 1 = glTF, 2 = GLB (fuzz_scene.cpp).
+// scene: first byte 0 = OBJ, 1 = glTF, 2 = GLB (fuzz_scene.cpp).
+void scene_seeds(const fs::path& dir) {
   put(dir / "scene" / "quad.obj", std::string(1, '\0') +
                                       "v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nv 0 1 0\nvn 0 1 0\nvt 0 0\n"
                                       "o q\ng quad\nusemtl none\nf 1 2 3 4\nf 1/1/1 2/1/1 5/1/1\nf -1 -2 -3\n");
@@ -155,15 +151,20 @@ int main(int argc, char** argv) {
           R"("bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],)"
           R"("buffers":[{"byteLength":42,"uri":"data:application/octet-stream;base64,)"
           R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/AAABAAIA"}]})");
+}
 
-  // metrics: two little-endian bytes of the checkpoint's step, then the file the run
-  // layer writes (runs/metrics_log.h), with a null and a torn last line.
+// metrics: two little-endian bytes of the checkpoint's step, then the file the run
+// layer writes (runs/metrics_log.h), with a null and a torn last line.
+void metrics_seeds(const fs::path& dir) {
   put(dir / "metrics" / "three.jsonl", std::string("\x14\x00", 2) +
                                            "{\"step\":10,\"epoch\":1,\"train_loss\":0.5,\"test_mse\":0.25}\n"
                                            "{\"step\":20,\"epoch\":2,\"train_loss\":0.125,\"test_mse\":null}\n"
                                            "{\"step\":30,\"epoch\":3,\"train_loss\":0.001,\"test_m");
-  // image: first byte 0 = PNG, 1 = TIFF, 2 = HDR, 3 = EXR (fuzz_image.cpp), the file by
-  // the one image writer: what --channel reads, in each type the formats store.
+}
+
+// image: first byte 0 = PNG, 1 = TIFF, 2 = HDR, 3 = EXR (fuzz_image.cpp), the file by
+// the one image writer: what --channel reads, in each type the formats store.
+void image_seeds(const fs::path& dir) {
   auto image = [&](const std::string& name, char format, std::vector<std::string> channels, report::PixelType t) {
     const std::string tmp = (dir / ("seed_tmp_" + name)).string();
     std::vector<float> px(size_t(6 * 4) * channels.size());
@@ -180,23 +181,44 @@ int main(int argc, char** argv) {
   image("light.hdr", 2, {"R", "G", "B"}, report::PixelType::f32);
   image("names.exr", 3, {"depth.V", "nrm.x", "nrm.y", "nrm.z"}, report::PixelType::f32);
   image("half.exr", 3, {"Z"}, report::PixelType::f16);
-  // classical_params: the file tune-classical-ao writes (classical_ao/params.h).
-  {
-    classical_ao::ClassicalParams p;
-    p.hbao.angle_bias = 0.2f, p.gtao.falloff = 0.5f;
-    put(dir / "classical_params" / "tuned.txt", classical_ao::format_classical_params(p, "seed") + "# a comment\n\n");
+}
+
+// classical_params: the file tune-classical-ao writes (classical_ao/params.h).
+void classical_params_seeds(const fs::path& dir) {
+  classical_ao::ClassicalParams p;
+  p.hbao.angle_bias = 0.2f, p.gtao.falloff = 0.5f;
+  put(dir / "classical_params" / "tuned.txt", classical_ao::format_classical_params(p, "seed") + "# a comment\n\n");
+}
+
+// blender_import: width 2, height 1, a capture note as tools/blender_capture.py writes
+// it, then the planes Depth.Z, Normal.X, Normal.Y, Normal.Z, AO.R (fuzz_blender_import.cpp).
+void blender_import_seeds(const fs::path& dir) {
+  std::string b =
+      std::string("\x01\x00", 2) +
+      "nnshade-camera 1\nfovY=40\nworldToCamera=1,0,0,5,0,0,1,-2,0,-1,0,7,0,0,0,1\naoRadius=0.75\nscene=room";
+  b += '\0';
+  for (float f : {3.0f, 1e10f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.5f, 0.0f})
+    b.append(reinterpret_cast<const char*>(&f), 4);
+  put(dir / "blender_import" / "two-pixels", b);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_seeds DIR\n");
+    return 2;
   }
-  // blender_import: width 2, height 1, a capture note as tools/blender_capture.py writes
-  // it, then the planes Depth.Z, Normal.X, Normal.Y, Normal.Z, AO.R (fuzz_blender_import.cpp).
-  {
-    std::string b =
-        std::string("\x01\x00", 2) +
-        "nnshade-camera 1\nfovY=40\nworldToCamera=1,0,0,5,0,0,1,-2,0,-1,0,7,0,0,0,1\naoRadius=0.75\nscene=room";
-    b += '\0';
-    for (float f : {3.0f, 1e10f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.5f, 0.0f})
-      b.append(reinterpret_cast<const char*>(&f), 4);
-    put(dir / "blender_import" / "two-pixels", b);
-  }
+  const fs::path dir = argv[1];
+  Rng rng(7);
+  blob_seeds(dir);
+  checkpoint_seeds(dir, rng);
+  exr_seeds(dir);
+  scene_seeds(dir);
+  metrics_seeds(dir);
+  image_seeds(dir);
+  classical_params_seeds(dir);
+  blender_import_seeds(dir);
   std::printf("make_seeds: wrote %s/{blob,checkpoint,exr,scene,metrics,image,classical_params,blender_import}\n",
               dir.c_str());
   return 0;
