@@ -151,17 +151,23 @@ inline bool unlit(const gi::GiSample& s) {
   return true;
 }
 
-// The mean indirect light (target - direct - env) per channel over training geometry.
-inline std::array<float, 3> fit_ambient(const std::vector<gi::GiSample>& train) {
+// The mean indirect light (target - direct - env) per channel over training geometry,
+// read a frame at a time: at face 128 the training split's samples take 10 GiB.
+inline std::array<float, 3> fit_ambient(const data::SplitListing& train, const GiItemReader& rd,
+                                        const gi::GiInputConfig& cfg, size_t max_items, bool quiet) {
   std::array<double, 3> s{0, 0, 0};
   int64_t count = 0;
-  for (auto& x : train) {
+  const size_t items = std::min(max_items, split_items(train, rd.mode));
+  Progress bar("eval-gi ambient fit", int64_t(items));
+  for (size_t k = 0; k < items; ++k) {
+    const gi::GiSample x = load_sample(train, rd, cfg, k);
     const int64_t n = int64_t(x.geometry.size());
     for (int64_t i = 0; i < n; ++i) {
       if (!x.geometry[size_t(i)]) continue;
       for (int c = 0; c < 3; ++c) s[size_t(c)] += x.target_linear[c * n + i] - x.direct_env[c * n + i];
       ++count;
     }
+    if (!quiet) bar.update(int64_t(k + 1));
   }
   std::array<float, 3> a{0, 0, 0};
   for (int c = 0; c < 3; ++c) a[size_t(c)] = count ? float(s[size_t(c)] / double(count)) : 0.0f;
@@ -342,9 +348,7 @@ inline size_t set_aside_unlit(std::vector<gi::GiSample>& frames, const EvalOptio
 inline void score_references(const EvalSplits& e, const GiItemReader& rd, const gi::GiInputConfig& cfg,
                              std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr, const EvalOptions& o,
                              std::vector<EvalRow>& rows, std::string& frames_csv) {
-  auto train = load_samples(e.fit, rd, cfg, o.max_frames, "eval-gi ambient fit", o.quiet);
-  const auto ambient = fit_ambient(train);
-  train.clear();
+  const auto ambient = fit_ambient(e.fit, rd, cfg, o.max_frames, o.quiet);
   rows.push_back(score(
       "direct+env", "-", frames, hdr, o, [](const gi::GiSample& s) { return s.direct_env.clone(); }, frames_csv));
   rows.push_back(score(
