@@ -22,4 +22,9 @@ inline double available_memory_gib() {
   return 0;
 }
 
+// What a trainer holds in memory by default before it streams or reads again: half of
+// what is available when the run starts, leaving the rest to the model, the page cache
+// and whatever else runs beside it.
+inline double default_memory_budget_gib() { return available_memory_gib() / 2; }
+
 }  // namespace nns::runs

@@ -412,7 +412,7 @@ inline NnaoData open_data(const TrainOptions& o) {
     data::require_valid_dataset(o.data_dir, data::Purpose::nnao);  // the check's full report first
     throw;
   }
-  d.kept = std::make_unique<data::KeptViews>(views_built_here(d.splits), available_memory_gib() / 2 * double(1 << 30));
+  d.kept = std::make_unique<data::KeptViews>(views_built_here(d.splits), default_memory_budget_gib() * double(1 << 30));
   data::require_valid_dataset(o.data_dir, data::Purpose::nnao, d.kept.get());
   if (o.validation_fraction > 0 && d.splits.validation.size() == 0)
     throw std::runtime_error(o.data_dir + ": cannot hold out validation scenes: the training split has a single scene");

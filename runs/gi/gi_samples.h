@@ -288,8 +288,7 @@ inline size_t sample_bytes(const gi::GiSample& s) {
   size_t b = 0;
   for (const Tensor<float>* t : {&s.input, &s.target, &s.albedo, &s.emission, &s.direct_env, &s.target_linear})
     if (t->defined()) b += size_t(t->numel()) * sizeof(float);
-  for (auto& [name, plane] : s.front_geometry.channels) b += plane.size() * sizeof(float);
-  return b + s.geometry.size();
+  return b + data::view_bytes(s.front_geometry) + s.geometry.size();
 }
 
 }  // namespace nns::runs

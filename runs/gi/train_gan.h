@@ -179,7 +179,7 @@ inline void require_unet_divisible(const TrainGanOptions& o, int height, int wid
 // GiB of training data a run may hold in memory: --memory-budget, or half of what the
 // machine has available when the run starts.
 inline double memory_budget_gib(const TrainGanOptions& o) {
-  return o.memory_budget_gib >= 0 ? o.memory_budget_gib : available_memory_gib() / 2;
+  return o.memory_budget_gib >= 0 ? o.memory_budget_gib : default_memory_budget_gib();
 }
 
 // The files of the first n items of a split as the reader takes them.
@@ -226,7 +226,12 @@ inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplit
                  n_train, inputs.mode == gi::GiMode::surround ? "frames" : "views", s.splits.validation.size(),
                  o.data_dir.c_str(), first.input.shape().str().c_str(), inputs.norm.depth_max, inputs.norm.hdr_scale,
                  inputs.norm.light_max, gib, streamed ? "streamed from disk" : "held in memory", budget);
-    if (rd.kept) std::fprintf(stderr, "train-gan: each training file decoded once, by the dataset check\n");
+    if (rd.kept && !streamed)
+      std::fprintf(stderr, "train-gan: each training file decoded once, by the dataset check\n");
+    else if (rd.kept)
+      std::fprintf(stderr,
+                   "train-gan: the dataset check's decoded files served the normalisation; streamed, each "
+                   "step reads its frame again\n");
     else
       std::fprintf(stderr, "train-gan: training files decoded again after the dataset check: %s\n",
                    o.stream == "on" ? "--stream on" : kept.reason().c_str());
