@@ -12,7 +12,7 @@
 // names as the file has them (case-sensitive: a PNG has R, G, B, A or Y; an EXR whatever
 // its writer chose). Without CH, a file with exactly the target's channel count is taken
 // whole (an RGBA file gives R, G, B for a 3-channel target, the alpha ignored); anything
-// else is an error listing the file's channels. Values (docs/nnao.md, "Your own images"):
+// else is an error listing the file's channels. Values (docs/your-own-images.md):
 //   depth   -> Z       planar view-space depth (distance along -z, the AO radius's units).
 //                      Float files as stored: > 0, sky +inf or >= 1e30; NaN, 0, negative
 //                      are errors. Integer files: code 0 = sky, else code/max * depth_scale
