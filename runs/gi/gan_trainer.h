@@ -5,7 +5,7 @@
 //   fake     = G(x)                              x: the 12 input channels (gi_inputs.h)
 //   D step:  L_D = 1/2 [BCE(D(x_f, y), 1) + BCE(D(x_f, fake_f), 0)]   fake detached
 //   G step:  L_G = BCE(D(x_f, fake_f), 1) + lambda * (|fake_f - y|_1 + w DSSIM(fake_f, y))
-//            (w = dssim_weight; 0 is pix2pix)
+//            (w = dssim_weight; 0 is pix2pix), plus gradient_weight x gradient_l1 when > 0
 //
 // `_f` is the front region: in surround mode G sees and predicts the whole global view
 // but only the front view has a ground truth, so the L1 term and the discriminator look
@@ -61,6 +61,9 @@ struct GanTrainConfig {
   // gan and l1 losses: reconstruction = L1 + dssim_weight * DSSIM (0: pix2pix's L1 alone).
   // SSIM is the metric L1 trains least for (docs/gan.md).
   double dssim_weight = 0;
+  // Adds this times the L1 of the images' finite differences (gi_losses.h): a candidate
+  // for the contact detail that per-pixel L1 leaves soft; 0 leaves the loss as it was.
+  double gradient_weight = 0;
   int epochs = 10, epochs_decay = 10;  // constant lr, then linear decay to 0
   uint64_t seed = 1;
 
@@ -229,6 +232,8 @@ class GanTrainer {
     Var<float> rec = config.loss == GiLoss::dssim ? gi::dssim_tanh(fake_f, y) : l1_loss(fake_f, y);
     if (config.loss != GiLoss::dssim && config.dssim_weight > 0)
       rec = rec + gi::dssim_tanh(fake_f, y) * float(config.dssim_weight);
+    if (config.loss != GiLoss::dssim && config.gradient_weight > 0)
+      rec = rec + gi::gradient_l1(fake_f, y) * float(config.gradient_weight);
     Var<float> g_loss = config.loss == GiLoss::gan ? rec * float(config.lambda) : rec;
     out.g_rec = rec.value()[0];
     if (D) {
@@ -301,6 +306,7 @@ class GanTrainer {
     b.set_config("d_layers", config.d_layers);
     b.set_config("lambda", config.lambda);
     if (config.dssim_weight > 0) b.set_config("dssim_weight", config.dssim_weight);
+    if (config.gradient_weight > 0) b.set_config("gradient_weight", config.gradient_weight);
     b.set_config("lr", config.lr);
     // Only when it differs: a blob of a run with one rate stays as it was.
     if (config.d_lr() != config.lr) b.set_config("lr_d", config.d_lr());

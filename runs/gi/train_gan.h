@@ -55,6 +55,7 @@ struct TrainGanOptions {
   // SSIM and linear MSE (docs/gan.md, final table).
   double dssim_weight = -1;
   double dssim_weight_used() const { return dssim_weight >= 0 ? dssim_weight : loss == "gan" ? 1 : 0; }
+  double gradient_weight = 0;  // + w x L1 of the finite differences (gan_trainer.h)
   double lr = 2e-4;
   // Data v4 (docs/gan.md, "Results (default data v4)"): the discriminator at a quarter of
   // the generator's rate (two time-scale updates) wins the validation split on MSE and
@@ -149,6 +150,7 @@ inline GanRunOptions run_options(const TrainGanOptions& o, const GanSplits& s) {
   c.g_batchnorm = o.g_norm == "batch";
   c.lambda = o.lambda, c.lr = o.lr, c.lr_d = o.lr_d, c.beta1 = o.beta1;
   c.dssim_weight = o.dssim_weight_used();
+  c.gradient_weight = o.gradient_weight;
   const int decay = o.decay_epochs >= 0 ? o.decay_epochs : o.epochs / 2;
   c.epochs = o.epochs - decay, c.epochs_decay = decay;
   c.seed = uint64_t(o.seed);

@@ -168,10 +168,13 @@ TEST_F(TrainGan, DeepShadingDssimBaselineRoundTripsThroughEvalGi) {
     EXPECT_EQ(line.substr(0, cut).find("nan"), std::string::npos) << line;
   }
 
-  // GAN with L1 + DSSIM reconstruction: trains, and the weight is part of the checkpoint.
+  // GAN with L1 + DSSIM + gradient reconstruction: trains, and the weights are part of
+  // the checkpoint.
   const std::string mixed = (root_ / "mixed").string();
-  ASSERT_EQ(run(train_cmd(mixed, "--epochs 1 --dssim-weight 1"), mixed + ".log"), 0) << read_all(mixed + ".log");
+  ASSERT_EQ(run(train_cmd(mixed, "--epochs 1 --dssim-weight 1 --gradient-weight 1"), mixed + ".log"), 0)
+      << read_all(mixed + ".log");
   EXPECT_NE(read_all(mixed + "/checkpoint.blob").find("dssim_weight"), std::string::npos);
+  EXPECT_NE(read_all(mixed + "/checkpoint.blob").find("gradient_weight"), std::string::npos);
   EXPECT_NE(read_all(mixed + "/summary.json").find("\"finished\":true"), std::string::npos);
 }
 
@@ -182,6 +185,7 @@ TEST_F(TrainGan, BadFlagsNameTheFlagAndWriteNothing) {
       {"--dssim-weight nan", "--dssim-weight: expected a finite number"},
       {"--lr inf", "--lr: expected a finite number"},
       {"--dssim-weight -2", "--dssim-weight must be >= 0"},
+      {"--gradient-weight -1", "--gradient-weight"},
       {"--arch foo", "--arch: expected one of"},
   };
   for (auto [flags, message] : cases) {
