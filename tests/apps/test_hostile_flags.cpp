@@ -219,6 +219,81 @@ std::vector<std::string> temporaries(const fs::path& dir) {
   return out;
 }
 
+// A run: one command and flag-value pairs. Every value --help allows runs alone (it
+// may do work, and must not crash); the values it does not allow are refused by the one
+// flag parser, which reports every problem before it exits, so a command takes them all
+// at once, one run per value: each flag must be named in that run's errors. A process
+// start of a command linked with OpenImageIO costs about 0.2 s of CPU (260 shared
+// libraries), so the ~1600 cases as single runs were 3 minutes.
+struct Case {
+  const Command* command;
+  std::vector<const Flag*> flags;
+  std::string value;
+  bool allowed;
+  Outcome outcome;
+  std::vector<std::string> temporaries, written;
+};
+
+std::vector<Case> plan_runs(const std::vector<Command>& commands, size_t& pairs) {
+  std::vector<Case> runs;
+  for (const Command& c : commands)
+    for (const std::string& v : kHostile) {
+      Case refused{&c, {}, v, false, {}, {}, {}};
+      for (const Flag& f : c.flags) {
+        ++pairs;
+        if (allowed(f, v)) runs.push_back({&c, {&f}, v, true, {}, {}, {}});
+        else refused.flags.push_back(&f);
+      }
+      if (!refused.flags.empty()) runs.push_back(refused);
+    }
+  return runs;
+}
+
+// Runs the case in `mine`/out and `mine`/cwd, given inputs that make an allowed value
+// fail fast instead of training or rendering, and records what it left behind.
+void run_case(Case& k, const fs::path& mine, const std::string& empty, const std::string& missing) {
+  const fs::path out = mine / "out", cwd = mine / "cwd";
+  const Command& c = *k.command;
+  std::vector<std::string> argv = {c.path};
+  for (auto& f : c.all_flags) {
+    if (f == "--data") argv.insert(argv.end(), {f, empty});
+    if (f == "--model" || f == "--in" || f == "--scene") argv.insert(argv.end(), {f, missing});
+    if (f == "--out") argv.insert(argv.end(), {f, (out / "o").string()});
+  }
+  if (!c.positional.empty()) argv.push_back(empty);
+  for (const Flag* f : k.flags) argv.insert(argv.end(), {f->name, k.value});
+  std::error_code ec;
+  fs::remove_all(out, ec);
+  fs::remove_all(cwd, ec);
+  fs::create_directories(cwd);
+  k.outcome = run(argv, cwd.string(), k.allowed ? 5 : 20);
+  k.temporaries = temporaries(out);
+  for (auto& t : temporaries(cwd)) k.temporaries.push_back(t);
+  k.written = leftovers(out);
+  for (auto& t : leftovers(cwd)) k.written.push_back(t);
+}
+
+void check_case(const Case& k) {
+  const Outcome& r = k.outcome;
+  std::string names;
+  for (const Flag* f : k.flags) names += (names.empty() ? "" : " ") + f->name;
+  const std::string what =
+      k.command->name + " " + names + " '" + k.value + "' (" + (k.allowed ? "allowed" : "not allowed") + " by --help)";
+  EXPECT_TRUE(r.started) << what;
+  EXPECT_FALSE(r.signalled) << what << ": killed by signal " << r.signal << "\n" << r.output;
+  // A run the harness stopped with SIGKILL may leave a temporary (the next run into the
+  // folder removes it); one that ended by itself may not.
+  if (!r.timed_out) EXPECT_TRUE(k.temporaries.empty()) << what << ": left " << k.temporaries.front();
+  if (k.allowed) return;  // it may run; it failed fast or was stopped, and did not crash
+  EXPECT_FALSE(r.timed_out) << what << ": still running after 20 s";
+  EXPECT_EQ(r.code, 2) << what << "\n" << r.output;
+  for (const Flag* f : k.flags)
+    EXPECT_NE(r.output.find("error: " + f->name), std::string::npos)
+        << k.command->name << " " << f->name << " '" << k.value << "': the flag is not named\n"
+        << r.output;
+  EXPECT_TRUE(k.written.empty()) << what << ": wrote " << k.written.front();
+}
+
 TEST(HostileFlags, EveryFlagOfEveryCommandRefusesWhatItsHelpDoesNotAllow) {
   const fs::path bin = fs::path(NNSHADE_BINARY_DIR) / "bin";
   const fs::path work_root = fs::temp_directory_path() / ("nns_hostile_flags_" + std::to_string(::getpid()));
@@ -237,86 +312,20 @@ TEST(HostileFlags, EveryFlagOfEveryCommandRefusesWhatItsHelpDoesNotAllow) {
   std::sort(commands.begin(), commands.end(), [](auto& a, auto& b) { return a.name < b.name; });
   ASSERT_GE(commands.size(), 10u);
 
-  // A run: one command and flag-value pairs. Every value --help allows runs alone (it
-  // may do work, and must not crash); the values it does not allow are refused by the one
-  // flag parser, which reports every problem before it exits, so a command takes them all
-  // at once, one run per value: each flag must be named in that run's errors. A process
-  // start of a command linked with OpenImageIO costs about 0.2 s of CPU (260 shared
-  // libraries), so the ~1600 cases as single runs were 3 minutes.
-  struct Case {
-    const Command* command;
-    std::vector<const Flag*> flags;
-    std::string value;
-    bool allowed;
-    Outcome outcome;
-    std::vector<std::string> temporaries, written;
-  };
-  std::vector<Case> runs;
   size_t pairs = 0;
-  for (const Command& c : commands)
-    for (const std::string& v : kHostile) {
-      Case refused{&c, {}, v, false, {}, {}, {}};
-      for (const Flag& f : c.flags) {
-        ++pairs;
-        if (allowed(f, v)) runs.push_back({&c, {&f}, v, true, {}, {}, {}});
-        else refused.flags.push_back(&f);
-      }
-      if (!refused.flags.empty()) runs.push_back(refused);
-    }
-
+  std::vector<Case> runs = plan_runs(commands, pairs);
   const unsigned workers = std::max(2u, std::min(8u, std::thread::hardware_concurrency()));
   std::atomic<size_t> next{0};
   const auto t0 = std::chrono::steady_clock::now();
-  auto work = [&](unsigned w) {
-    const fs::path mine = work_root / ("w" + std::to_string(w));
-    const fs::path out = mine / "out", cwd = mine / "cwd";
-    for (size_t i; (i = next.fetch_add(1)) < runs.size();) {
-      Case& k = runs[i];
-      const Command& c = *k.command;
-      // Inputs that make an allowed value fail fast instead of training or rendering.
-      std::vector<std::string> argv = {c.path};
-      for (auto& f : c.all_flags) {
-        if (f == "--data") argv.insert(argv.end(), {f, empty});
-        if (f == "--model" || f == "--in" || f == "--scene") argv.insert(argv.end(), {f, missing});
-        if (f == "--out") argv.insert(argv.end(), {f, (out / "o").string()});
-      }
-      if (!c.positional.empty()) argv.push_back(empty);
-      for (const Flag* f : k.flags) argv.insert(argv.end(), {f->name, k.value});
-      std::error_code ec;
-      fs::remove_all(out, ec);
-      fs::remove_all(cwd, ec);
-      fs::create_directories(cwd);
-      k.outcome = run(argv, cwd.string(), k.allowed ? 5 : 20);
-      k.temporaries = temporaries(out);
-      for (auto& t : temporaries(cwd)) k.temporaries.push_back(t);
-      k.written = leftovers(out);
-      for (auto& t : leftovers(cwd)) k.written.push_back(t);
-    }
-  };
   std::vector<std::thread> pool;
-  for (unsigned w = 0; w < workers; ++w) pool.emplace_back(work, w);
+  for (unsigned w = 0; w < workers; ++w)
+    pool.emplace_back([&, w] {
+      for (size_t i; (i = next.fetch_add(1)) < runs.size();)
+        run_case(runs[i], work_root / ("w" + std::to_string(w)), empty, missing);
+    });
   for (auto& t : pool) t.join();
 
-  for (const Case& k : runs) {
-    const Outcome& r = k.outcome;
-    std::string names;
-    for (const Flag* f : k.flags) names += (names.empty() ? "" : " ") + f->name;
-    const std::string what = k.command->name + " " + names + " '" + k.value + "' (" +
-                             (k.allowed ? "allowed" : "not allowed") + " by --help)";
-    EXPECT_TRUE(r.started) << what;
-    EXPECT_FALSE(r.signalled) << what << ": killed by signal " << r.signal << "\n" << r.output;
-    // A run the harness stopped with SIGKILL may leave a temporary (the next run into the
-    // folder removes it); one that ended by itself may not.
-    if (!r.timed_out) EXPECT_TRUE(k.temporaries.empty()) << what << ": left " << k.temporaries.front();
-    if (k.allowed) continue;  // it may run; it failed fast or was stopped, and did not crash
-    EXPECT_FALSE(r.timed_out) << what << ": still running after 20 s";
-    EXPECT_EQ(r.code, 2) << what << "\n" << r.output;
-    for (const Flag* f : k.flags)
-      EXPECT_NE(r.output.find("error: " + f->name), std::string::npos)
-          << k.command->name << " " << f->name << " '" << k.value << "': the flag is not named\n"
-          << r.output;
-    EXPECT_TRUE(k.written.empty()) << what << ": wrote " << k.written.front();
-  }
+  for (const Case& k : runs) check_case(k);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("hostile flags: %zu cases (flag and value) over %zu commands in %zu runs, %.1f s (%u at a time)\n", pairs,
               commands.size(), runs.size(), seconds, workers);
