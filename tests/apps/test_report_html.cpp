@@ -157,6 +157,14 @@ class ReportHtml : public ::testing::Test {
     EXPECT_EQ(w, 1280);
     EXPECT_GT(colours.size(), 50u) << shot << ": a blank page";
     EXPECT_GT(pixels - most, pixels / 50) << shot << ": under 2% of the screenshot differs from its background";
+    // NNSHADE_REPORT_SHOTS=DIR keeps each page's screenshot as DIR/<run folder>.png, to
+    // look at (the runs' folders are removed with the suite).
+    if (const char* keep = std::getenv("NNSHADE_REPORT_SHOTS")) {
+      const fs::path kept = fs::path(keep) / (dir.filename().string() + ".png");
+      fs::create_directories(keep);
+      fs::copy_file(shot, kept, fs::copy_options::overwrite_existing);
+      std::printf("screenshot: %s\n", kept.c_str());
+    }
     return comparisons;
   }
 
