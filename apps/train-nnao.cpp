@@ -168,8 +168,6 @@ int main(int argc, char** argv) {
     }
     if (c.sweep) {
       o.epochs = c.sweep_epochs;
-      // Choose on validation, never test.
-      if (o.validation_fraction == 0 && o.validation_families.empty()) o.validation_fraction = 0.2;
       runs::run_sweep(o);
       return 0;
     }

@@ -36,9 +36,16 @@ struct SweepEntry {
   double val_mse, test_mse, ms_per_frame;  // MSE: mean over the last 5 epochs
 };
 
-inline std::vector<SweepEntry> run_sweep(const TrainOptions& base, std::vector<int> sizes = {},
+// The validation share of train/'s scenes when the run names none.
+inline constexpr double kSweepValidationFraction = 0.2;
+
+inline std::vector<SweepEntry> run_sweep(const TrainOptions& requested, std::vector<int> sizes = {},
                                          std::vector<int> hiddens = {}) {
   namespace fs = std::filesystem;
+  // Chosen on validation, never test: a share of the scenes when the run names no split.
+  TrainOptions base = requested;
+  if (base.validation_fraction == 0 && base.validation_families.empty())
+    base.validation_fraction = kSweepValidationFraction;
   const bool horizon = base.net.input().is_horizon();
   if (sizes.empty()) sizes = horizon ? std::vector<int>{8, 16, 32} : std::vector<int>{7, 15, 23, 31};
   if (hiddens.empty()) hiddens = horizon ? std::vector<int>{8, 16, 32} : std::vector<int>{4, 8, 16};
