@@ -122,6 +122,24 @@ void BM_GanIteration(benchmark::State& state) { gan_iteration(state, Precision::
 // Mixed precision (train-gan --precision bf16): bf16 GEMM/conv inputs, the rest fp32.
 void BM_GanIterationBf16(benchmark::State& state) { gan_iteration(state, Precision::bf16); }
 
+// What the reconstruction terms cost at the default's size (face 64, ngf and ndf 16, 5
+// levels, front mode): args size, gradient weight (0: L1 + DSSIM alone; else + that times
+// gradient_l1), threads. Run with --benchmark_enable_random_interleaving and repetitions
+// so that both see the same machine.
+void BM_GanIterationLosses(benchmark::State& state) {
+  const int64_t S = state.range(0);
+  const int threads = int(state.range(2));
+  set_num_threads(threads);
+  GanTrainConfig c = thesis_config(S, 16, 5);
+  c.ndf = 16, c.dssim_weight = 1, c.gradient_weight = double(state.range(1));
+  GanTrainer t(c);
+  Rng rng(4);
+  GiSample s = synthetic_sample(S, 12, rng);
+  t.train_step(s);
+  for (auto _ : state) benchmark::DoNotOptimize(t.train_step(s));
+  set_counters(state, 3 * unet_flops(c.unet(), S) + 8 * patchgan_flops(c.patchgan(), S), threads);
+}
+
 // The generator alone: forward, L1 backward, Adam (the --loss l1 baseline's iteration).
 void BM_UnetStep(benchmark::State& state) {
   const int64_t S = state.range(0);
@@ -164,6 +182,12 @@ BENCHMARK(BM_GanIteration)
     ->Args({256, 64, 8, 1})
     ->Args({128, 16, 5, 2})
     ->Unit(benchmark::kSecond)
+    ->MinTime(1.0)
+    ->UseRealTime();
+BENCHMARK(BM_GanIterationLosses)
+    ->Args({64, 0, 2})
+    ->Args({64, 1, 2})
+    ->Unit(benchmark::kMillisecond)
     ->MinTime(1.0)
     ->UseRealTime();
 BENCHMARK(BM_GanIterationBf16)
