@@ -102,20 +102,26 @@ void set_counters(benchmark::State& state, double flops, int threads) {
   state.counters["peak_RSS_MiB"] = peak_rss_mib();
 }
 
+// Times full iterations of a trainer built from `c` on one synthetic sample (drawn with
+// `seed`) after a warm-up step that also checks the losses are finite.
+void time_gan_iterations(benchmark::State& state, const GanTrainConfig& c, int threads, uint64_t seed) {
+  set_num_threads(threads);
+  const int64_t S = c.inputs.size;
+  GanTrainer t(c);
+  Rng rng(seed);
+  GiSample s = synthetic_sample(S, 12, rng);
+  StepLosses l = t.train_step(s);
+  if (!std::isfinite(l.g) || !std::isfinite(l.d)) state.SkipWithError("non-finite loss");
+  for (auto _ : state) benchmark::DoNotOptimize(t.train_step(s));
+  set_counters(state, 3 * unet_flops(c.unet(), S) + 8 * patchgan_flops(c.patchgan(), S), threads);
+}
+
 // args: size, ngf, levels, threads
 void gan_iteration(benchmark::State& state, Precision precision) {
   const ScopedGemmPrecision mode(precision);
   if (precision == Precision::bf16) state.SetLabel(bf16_isa_description());
-  const int64_t S = state.range(0);
-  const int threads = int(state.range(3));
-  set_num_threads(threads);
-  GanTrainer t(thesis_config(S, int(state.range(1)), int(state.range(2))));
-  Rng rng(1);
-  GiSample s = synthetic_sample(S, 12, rng);
-  StepLosses l = t.train_step(s);  // warm-up; also checks the losses are finite
-  if (!std::isfinite(l.g) || !std::isfinite(l.d)) state.SkipWithError("non-finite loss");
-  for (auto _ : state) benchmark::DoNotOptimize(t.train_step(s));
-  set_counters(state, 3 * unet_flops(t.config.unet(), S) + 8 * patchgan_flops(t.config.patchgan(), S), threads);
+  time_gan_iterations(state, thesis_config(state.range(0), int(state.range(1)), int(state.range(2))),
+                      int(state.range(3)), 1);
 }
 
 void BM_GanIteration(benchmark::State& state) { gan_iteration(state, Precision::fp32); }
@@ -127,17 +133,9 @@ void BM_GanIterationBf16(benchmark::State& state) { gan_iteration(state, Precisi
 // gradient_l1), threads. Run with --benchmark_enable_random_interleaving and repetitions
 // so that both see the same machine.
 void BM_GanIterationLosses(benchmark::State& state) {
-  const int64_t S = state.range(0);
-  const int threads = int(state.range(2));
-  set_num_threads(threads);
-  GanTrainConfig c = thesis_config(S, 16, 5);
+  GanTrainConfig c = thesis_config(state.range(0), 16, 5);
   c.ndf = 16, c.dssim_weight = 1, c.gradient_weight = double(state.range(1));
-  GanTrainer t(c);
-  Rng rng(4);
-  GiSample s = synthetic_sample(S, 12, rng);
-  t.train_step(s);
-  for (auto _ : state) benchmark::DoNotOptimize(t.train_step(s));
-  set_counters(state, 3 * unet_flops(c.unet(), S) + 8 * patchgan_flops(c.patchgan(), S), threads);
+  time_gan_iterations(state, c, int(state.range(2)), 4);
 }
 
 // The generator alone: forward, L1 backward, Adam (the --loss l1 baseline's iteration).
