@@ -26,6 +26,9 @@
 #include "screen_space/simd16_lanes.h"
 
 #if defined(__AVX512F__) && !NNSHADE_SIMD16_GENERIC
+// Code with its own AVX-512 paths over VF and VI (models/nnao/nnao_inference.h) tests
+// this, not __AVX512F__: a build forcing the generic backend has __AVX512F__ as well.
+#define NNSHADE_SIMD16_AVX512 1
 #include "screen_space/simd16_avx512.h"
 #elif defined(__AVX2__) && defined(__FMA__) && !NNSHADE_SIMD16_GENERIC
 #include "screen_space/simd16_avx2.h"

@@ -68,7 +68,7 @@ inline std::vector<float> pack_normal_depth(const screen_space::GBuffer& g) {
   return p;
 }
 
-#if defined(__AVX512F__)
+#if NNSHADE_SIMD16_AVX512
 // Per 128-bit chunk i: v[r] holds lane 4i + r's four values (a, b, c, d); returns the
 // four planes a, b, c, d in lane order (a 4x4 transpose inside each chunk).
 inline void transpose_chunks(const __m512 v[4], __m512 out[4]) {
@@ -106,7 +106,7 @@ struct CentreBlock {
     VI ix, iy;
     clamped_pixel(g, sx, sy, ix, iy);
     const VI s = pixel_index(g, ix, iy);
-#if defined(__AVX512F__)
+#if NNSHADE_SIMD16_AVX512
     // Every lane's index is a clamped on-screen pixel, so all 16 loads are safe; lanes
     // outside m are zeroed below.
     alignas(64) int32_t idx[kLanes];
@@ -313,7 +313,7 @@ inline void infer_shader_style(const NnaoWeights& m, const screen_space::GBuffer
         }
       }
     };
-#if defined(__AVX512F__)
+#if NNSHADE_SIMD16_AVX512
     // H = 4: a grid point's 16 weights (4 filters x 4 channels) are one 64-byte row of
     // `taps`, so each lane multiplies its own row by its 4 features repeated 4 times and
     // keeps 16 partial sums; summed per filter at the end. 16 row loads per sample
