@@ -26,7 +26,9 @@ int main(int argc, char** argv) {
                  "no indirect.*. Or the frame as your own images, --channel (below): TARGET=FILE for a\n"
                  "front-mode model, FACE.TARGET=FILE on each of the six faces for a surround model.\n"
                  "Views larger than the model's face size are box-filtered down by an integer\n"
-                 "factor. Writes OUT.exr (light.*, indirect.* = light - direct - env, signed; shaded.* =\n"
+                 "factor for the network, and its indirect light is brought back up to their size by an\n"
+                 "upsample guided by their depth and normals (--output-size). Writes OUT.exr (light.*, indirect.* = "
+                 "light - direct - env, signed; shaded.* =\n"
                  "albedo * light + emission; Z), OUT_shaded.png and OUT_indirect.png; on error, nothing.");
     runs::InferOptions o;
     o.model = a.get_string("--model", "", "generator blob (G.blob) from train-gan");
@@ -39,6 +41,8 @@ int main(int argc, char** argv) {
     o.out = a.get_path("--out", "", "output .exr (default: <input name>_gi.exr in the current folder)");
     std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics, as eval-gi");
     std::string drop = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time, as eval-gi");
+    std::string out_size = a.get_choice("--output-size", "input", {"input", "model"},
+                                        "output at the input's size (guided upsample) or at the model's face size");
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);
     if (o.model.empty()) a.error("--model is required");
     if (o.in.empty() && o.channels.empty()) a.error("--in (or --channel) is required");
@@ -46,11 +50,14 @@ int main(int argc, char** argv) {
     a.done();
     o.bn_batch_stats = bn == "batch";
     o.dropout_on = drop == "on";
+    o.output_at_input_size = out_size == "input";
     set_num_threads(threads);
     runs::InferResult r = runs::infer_gi(o);
     for (auto& note : r.notes) std::printf("gi-infer: %s\n", note.c_str());
-    std::printf("gi-infer: %s model, %s %dx%d -> %dx%d (box filter %d), network %.1f ms\n", r.mode.c_str(),
-                r.front_file.c_str(), r.in_width, r.in_height, r.width, r.height, r.reduction, r.ms);
+    std::printf("gi-infer: %s model, %s %dx%d, box filter %d for the network (%.1f ms)", r.mode.c_str(),
+                r.front_file.c_str(), r.in_width, r.in_height, r.reduction, r.ms);
+    if (r.upsampled) std::printf(", guided upsample back to %dx%d (%.1f ms)", r.width, r.height, r.upsample_ms);
+    std::printf("; output %dx%d\n", r.width, r.height);
     std::printf(
         "gi-infer: predicted light below direct+env (negative indirect, kept signed in the EXR) on "
         "%lld of %lld geometry pixels, minimum %.4g\n",

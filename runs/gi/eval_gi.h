@@ -27,7 +27,7 @@
 #include "runs/gi/gi_samples.h"
 #include "runs/gi/gi_scores.h"
 #include "models/gi/gi_model_io.h"
-#include "models/gi/guided_upsample.h"
+#include "models/gi/upsampled_light.h"
 #include "runs/gi/gi_previews.h"
 
 namespace nns::runs {
@@ -384,11 +384,7 @@ inline EvalRow score_model(const std::string& path, gi::LoadedGenerator& g, cons
       label, gi::mode_name(cfg.mode), frames, hdr, o,
       [&](const gi::GiSample& s) {
         const gi::GiSample& l = low.at(low_of.at(s.name));
-        Tensor<float> indirect = gi::predict_linear(g, l, o.bn_batch_stats, o.dropout_on);
-        for (int64_t i = 0; i < indirect.numel(); ++i) indirect[i] -= l.direct_env[i];
-        Tensor<float> p = gi::guided_upsample(indirect, l.front_geometry, s.front_geometry);
-        for (int64_t i = 0; i < p.numel(); ++i) p[i] += s.direct_env[i];
-        return p;
+        return gi::upsampled_light(gi::predict_linear(g, l, o.bn_batch_stats, o.dropout_on), l, s);
       },
       frames_csv);
 }

@@ -9,19 +9,22 @@
 // surround face (docs/dataset-format.md: Z, N.*, albedo.*, direct.*, emission/env
 // optional, no ground truth needed) and is box-filtered to the model's face size by an
 // integer factor exactly as training and eval-gi do (gi_samples.h), so the prediction is
-// eval-gi's prediction for the same frame. Instead of view EXRs, the frame can be a
-// user's own images (--channel), one file per input or several inputs from one file: for
-// a front-mode model one view (data/image_read.h: depth=FILE ...), for a surround model
-// six faces (data/frame_images.h: front.depth=FILE, back.normal=FILE, ...; 90 degrees).
-// The faces from images take the very path of the folder's faces (sizes, check_input,
-// downsample_view, assemble_surround), so the prediction is the same for the same data.
+// eval-gi's prediction for the same frame. The output is at the input's size: a frame
+// larger than the model's faces gets the prediction's indirect light brought up by the
+// guided upsample (models/gi/upsampled_light.h, eval-gi's --upsample-from), the way an
+// engine brings up half-resolution GI; --output-size model keeps the model's size. Instead of view EXRs, the frame can
+// be a user's own images (--channel), one file per input or several inputs from one file: for a front-mode model one
+// view (data/image_read.h: depth=FILE ...), for a surround model six faces (data/frame_images.h: front.depth=FILE,
+// back.normal=FILE, ...; 90 degrees). The faces from images take the very path of the folder's faces (sizes,
+// check_input, downsample_view, assemble_surround), so the prediction is the same for the same data.
 //
 // Output, all written to temporary names and renamed only once everything succeeded
 // (an error leaves no output at all):
 //   OUT.exr           light.R/G/B     predicted total diffuse light (direct + env + indirect)
 //                     indirect.R/G/B  light - (direct + env), signed (see below)
 //                     shaded.R/G/B    albedo * light + emission, the lit image
-//                     Z               the input's depth at the output size
+//                     Z               the input's depth at the output size (the input's, or
+//                                     the model's with --output-size model)
 //                     header: fovY, scene (and worldToCamera) of the input's front view
 //   OUT_shaded.png, OUT_indirect.png  previews (exposure 1/k, the model's HDR scale)
 // Negative indirect light: the true indirect light is >= 0, but the network predicts the
@@ -44,6 +47,7 @@
 #include "data/image_read.h"
 #include "data/validate.h"
 #include "models/gi/gi_model_io.h"
+#include "models/gi/upsampled_light.h"
 #include "runs/gi/gi_samples.h"
 #include "runs/gi/gi_previews.h"
 
@@ -58,19 +62,24 @@ struct InferOptions {
   std::string out;             // "": <name of the input>_gi.exr in the current folder
   bool bn_batch_stats = true;  // test-time BatchNorm, as eval-gi (docs/gan.md)
   bool dropout_on = false;
+  // Faces larger than the model's: true, the output at their size (guided upsample of the
+  // indirect light); false, at the model's face size.
+  bool output_at_input_size = true;
 };
 
 struct InferResult {
   std::string exr, shaded_png, indirect_png;
-  std::string mode;                 // the model's: front | surround
-  std::string front_file;           // the view whose light was predicted
-  int in_width = 0, in_height = 0;  // the front view as stored
-  int width = 0, height = 0, reduction = 1;
-  std::vector<std::string> notes;  // e.g. the front.exr a front-mode model used
+  std::string mode;                          // the model's: front | surround
+  std::string front_file;                    // the view whose light was predicted
+  int in_width = 0, in_height = 0;           // the front view as stored
+  int width = 0, height = 0, reduction = 1;  // the output's size; the input's box filter
+  bool upsampled = false;                    // the indirect light brought up to the input's size
+  std::vector<std::string> notes;            // e.g. the front.exr a front-mode model used
   int64_t geometry_pixels = 0;
   int64_t negative_indirect_pixels = 0;  // geometry pixels with some indirect channel < 0
   float min_indirect = 0;
-  double ms = 0;  // the network alone
+  double ms = 0;           // the network alone
+  double upsample_ms = 0;  // the guided upsample (0 without)
 };
 
 namespace infer_detail {
@@ -161,10 +170,11 @@ inline gi::LoadedGenerator load_named_generator(const std::string& model) {
 }
 
 // The network's input and the front view the output is aligned with; `inputs`: every
-// file read, so the output cannot overwrite one.
+// file read, so the output cannot overwrite one; `full_front`: the front view as read,
+// before the box filter.
 struct FrameInput {
   gi::GiSample sample;
-  data::View front;
+  data::View front, full_front;
   std::vector<std::string> inputs;
 };
 
@@ -200,6 +210,7 @@ inline FrameInput read_surround_input(const InferOptions& o, const gi::GiInputCo
   for (auto& f : faces) check_input(f);
   r.in_width = faces[0].width, r.in_height = faces[0].height;
   r.reduction = reduction_to_model(faces[0], cfg.size, o.model);
+  in.full_front = faces[0];
   for (auto& f : faces) f = downsample_view(f, r.reduction);
   in.sample = assemble_surround(faces, cfg, frame_name, /*targets=*/false);
   in.front = faces[0];
@@ -232,6 +243,7 @@ inline FrameInput read_front_input(const InferOptions& o, const gi::GiInputConfi
   r.reduction = reduction_to_model(v, cfg.size, o.model);
   FrameInput in;
   in.front = downsample_view(v, r.reduction);
+  in.full_front = std::move(v);
   in.sample = assemble_front(in.front, cfg, /*targets=*/false);
   in.sample.name = path;
   if (from_images)
@@ -264,6 +276,23 @@ inline Tensor<float> predict_light(const InferOptions& o, gi::LoadedGenerator& g
   }
   r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return light;
+}
+
+// The frame at the input's size, `light` (predicted at the model's) brought up to it by the
+// guided upsample; the shading planes (albedo, emission, direct + env) become the input's own.
+inline Tensor<float> upsample_to_input(FrameInput& in, const Tensor<float>& light, InferResult& r) {
+  auto t0 = std::chrono::steady_clock::now();
+  gi::GiSample full;
+  full.name = in.sample.name;
+  full.scene = in.sample.scene;
+  full.front_geometry = gi::geometry_of(in.full_front);
+  gi::fill_front_shading(full, in.full_front);
+  Tensor<float> up = gi::upsampled_light(light, in.sample, full);
+  in.sample = std::move(full);
+  in.front = std::move(in.full_front);
+  r.upsampled = true;
+  r.upsample_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return up;
 }
 
 // The output view (light, signed indirect, shaded, Z) and the two previews' planes.
@@ -353,10 +382,11 @@ inline InferResult infer_gi(const InferOptions& o) {
   std::error_code ec;
   if (!from_images && !fs::exists(o.in, ec)) throw std::runtime_error(o.in + ": no such file or folder");
   const bool folder = !from_images && fs::is_directory(o.in, ec);
-  const FrameInput in = g.inputs.mode == gi::GiMode::surround ? read_surround_input(o, g.inputs, folder, r)
-                                                              : read_front_input(o, g.inputs, folder, r);
+  FrameInput in = g.inputs.mode == gi::GiMode::surround ? read_surround_input(o, g.inputs, folder, r)
+                                                        : read_front_input(o, g.inputs, folder, r);
   refuse_overwriting_inputs(in.inputs, r);
-  const Tensor<float> light = predict_light(o, g, in.sample, r);
+  Tensor<float> light = predict_light(o, g, in.sample, r);
+  if (r.reduction > 1 && o.output_at_input_size) light = upsample_to_input(in, light, r);
   write_outputs_together(light_outputs(o, light, in, r), g.inputs.norm.hdr_scale, r);
   return r;
 }

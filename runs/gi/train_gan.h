@@ -241,8 +241,20 @@ inline GiTrainData load_training_frames(const TrainGanOptions& o, const GanSplit
   return train;
 }
 
+// The face size the test frames are stored at (the front view's width; 0 if unknown).
+inline int stored_face_size(const data::SplitListing& test, gi::GiMode mode) {
+  const std::vector<std::string> files = item_files(test, mode, std::min<size_t>(1, split_items(test, mode)));
+  if (files.empty()) return 0;
+  data::ReadOptions header;
+  header.header_only = true;
+  const data::View v = data::read_view(files[0], header);
+  return v.width == v.height ? v.width : 0;
+}
+
 // G.blob on the test split, and on the held-out families when the data has them
-// (eval-ao's layout).
+// (eval-ao's layout). Frames stored larger than the training --size are scored at their
+// own size, the model's indirect light brought up by the guided upsample (eval-gi's
+// --upsample-from, gi-infer's default): the resolution the light is delivered at.
 inline void evaluate_trained(const TrainGanOptions& o, const GanSplits& s) {
   const GanRunFiles files{o.out};
   EvalOptions e;
@@ -252,6 +264,8 @@ inline void evaluate_trained(const TrainGanOptions& o, const GanSplits& s) {
   e.bn_batch_stats = o.test_bn_batch;
   e.dropout_on = o.test_dropout;
   e.max_frames = max_items(o);
+  const int stored = o.size > 0 ? stored_face_size(s.splits.listing.test, gi::parse_mode(o.mode)) : 0;
+  if (stored > o.size && stored % o.size == 0) e.size = stored, e.upsample_from = o.size;
   evaluate_gi(e);
   std::printf(
       "train-gan: training %s/report.html; evaluation %s/report.html, chart %s/speed_vs_ssim.png "

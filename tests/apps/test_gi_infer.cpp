@@ -1,9 +1,10 @@
 // gi-infer, run as the user runs it, on frames of a tiny synthetic surround dataset and of
 // a tiny rendered one (render-dataset), both with 32x32 faces (the models take 16x16:
-// every run box-filters by 2). Its light equals the prediction eval-gi's path computes
-// for the same frame (load_samples + predict_linear, with the ground truth present), bit
-// for bit; and it refuses what it must, naming the file and the problem, leaving no
-// output behind.
+// every run box-filters by 2, and by default brings the light back up to 32x32). Its
+// light equals the prediction eval-gi's path computes for the same frame (load_samples +
+// predict_linear, and with --upsample-from its upsampled_light, with the ground truth
+// present), bit for bit; and it refuses what it must, naming the file and the problem,
+// leaving no output behind.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "models/gi/gi_model_io.h"
+#include "models/gi/upsampled_light.h"
 #include "report/image_write.h"
 #include "runs/gi/gi_samples.h"
 #include "tests/support/run_command.h"
@@ -90,9 +92,11 @@ class GiInfer : public ::testing::Test {
   static std::string model(const std::string& mode) { return (root_ / mode / "G.blob").string(); }
   static std::string path(const std::string& name) { return (root_ / name).string(); }
 
-  // What eval-gi predicts for test item `index` (with its ground truth on disk).
+  // What eval-gi predicts for test item `index` (with its ground truth on disk): at the
+  // model's face size, or with `upsampled` as `eval-gi --size 32 --upsample-from 16` does
+  // (score_model: the prediction at 16, upsampled_light to the frame as stored).
   static nns::Tensor<float> eval_gi_prediction(const std::string& blob, size_t index, nns::gi::GiSample* out,
-                                               const std::string& dataset = data()) {
+                                               const std::string& dataset = data(), bool upsampled = false) {
     using namespace nns::gi;
     using namespace nns::runs;
     LoadedGenerator g = load_generator(blob);
@@ -100,16 +104,21 @@ class GiInfer : public ::testing::Test {
     GiItemReader rd{g.inputs.mode, g.inputs.size};
     auto samples = load_samples(listing.test, rd, g.inputs, index + 1, "test", /*quiet=*/true);
     *out = samples[index];
-    return predict_linear(g, samples[index], /*bn_batch_stats=*/true, /*dropout_on=*/false);
+    nns::Tensor<float> light = predict_linear(g, samples[index], /*bn_batch_stats=*/true, /*dropout_on=*/false);
+    if (!upsampled) return light;
+    auto full = load_samples(listing.test, GiItemReader{g.inputs.mode, 0}, g.inputs, index + 1, "test", true);
+    *out = full[index];
+    return upsampled_light(light, samples[index], full[index]);
   }
 
   // Bitwise: gi-infer runs the same code on the same numbers (the EXR stores FLOAT).
   static void expect_output_matches(const std::string& exr, const nns::Tensor<float>& light,
                                     const nns::gi::GiSample& s) {
     View o = nns::data::read_view(exr);
-    ASSERT_EQ(o.width, 16);
-    ASSERT_EQ(o.height, 16);
-    const int64_t n = 256;
+    const int size = int(light.size(1));
+    ASSERT_EQ(o.width, size);
+    ASSERT_EQ(o.height, size);
+    const int64_t n = int64_t(size) * size;
     double max_diff = 0, max_light_vs_direct = 0;
     for (int c = 0; c < 3; ++c) {
       const std::string ch(1, "RGB"[c]);
@@ -150,7 +159,7 @@ class GiInfer : public ::testing::Test {
 
 TEST_F(GiInfer, SurroundFrameWithoutTruthGivesEvalGisPrediction) {
   nns::gi::GiSample s;
-  nns::Tensor<float> light = eval_gi_prediction(model("surround"), 1, &s);
+  nns::Tensor<float> light = eval_gi_prediction(model("surround"), 1, &s, data(), /*upsampled=*/true);
   const std::string frame = path("bare_frame1");
   copy_without_truth(data() + "/test/frame1", frame);
   ASSERT_FALSE(nns::data::read_view(frame + "/front.exr").has("indirect.R"));
@@ -158,11 +167,21 @@ TEST_F(GiInfer, SurroundFrameWithoutTruthGivesEvalGisPrediction) {
   const std::string exr = path("out_s") + "/f1.exr";
   auto r = run_app("gi-infer", "--model " + model("surround") + " --in " + frame + " --out " + exr);
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("32x32 -> 16x16 (box filter 2)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("32x32, box filter 2"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("guided upsample back to 32x32"), std::string::npos) << r.output;
   expect_output_matches(exr, light, s);
   auto files = files_in(path("out_s"));
   std::sort(files.begin(), files.end());
   EXPECT_EQ(files, (std::vector<std::string>{"f1.exr", "f1_indirect.png", "f1_shaded.png"}));
+
+  // --output-size model: the network's own 16x16, eval-gi's prediction without the upsample.
+  nns::gi::GiSample s16;
+  nns::Tensor<float> light16 = eval_gi_prediction(model("surround"), 1, &s16);
+  auto rm = run_app("gi-infer", "--model " + model("surround") + " --in " + frame + " --out " + path("out_s16") +
+                                    "/f1.exr --output-size model");
+  ASSERT_EQ(rm.code, 0) << rm.output;
+  EXPECT_EQ(rm.output.find("guided upsample"), std::string::npos) << rm.output;
+  expect_output_matches(path("out_s16") + "/f1.exr", light16, s16);
 
   // One thread gives the same bytes (the determinism contract reaches the app).
   auto r1 = run_app("gi-infer", "--model " + model("surround") + " --in " + frame + " --out " + path("out_s") +
@@ -175,7 +194,7 @@ TEST_F(GiInfer, RenderedSurroundFrameGivesEvalGisPrediction) {
   auto listing = nns::data::list_dataset(rendered());
   ASSERT_EQ(listing.test.frames.size(), 1u);
   nns::gi::GiSample s;
-  nns::Tensor<float> light = eval_gi_prediction(model("rendered"), 0, &s, rendered());
+  nns::Tensor<float> light = eval_gi_prediction(model("rendered"), 0, &s, rendered(), /*upsampled=*/true);
   const std::string frame = path("bare_rendered");
   copy_without_truth(listing.test.frames[0].dir, frame);
   const std::string exr = path("out_r") + "/r.exr";
@@ -186,7 +205,7 @@ TEST_F(GiInfer, RenderedSurroundFrameGivesEvalGisPrediction) {
 
 TEST_F(GiInfer, FrontModelOnASingleViewAndOnAFolder) {
   nns::gi::GiSample s;
-  nns::Tensor<float> light = eval_gi_prediction(model("front"), 0, &s);
+  nns::Tensor<float> light = eval_gi_prediction(model("front"), 0, &s, data(), /*upsampled=*/true);
   const std::string view = path("bare_view0.exr");
   copy_without_truth(data() + "/test/frame0/front.exr", view);
   fs::create_directories(path("out_f"));
