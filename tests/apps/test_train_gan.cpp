@@ -497,8 +497,10 @@ TEST_F(TrainGan, EvalGiScoresAModelAtAnotherSizeAndThroughTheGuidedUpsample) {
   const std::string data = (root_ / "data32").string();
   write_dataset(data, 3, 2, false, 32);
   const std::string run_dir = (root_ / "small").string();
+  // With its evaluation: frames stored at 32, trained at 16, are scored at 32 through the
+  // guided upsample, as `eval-gi --size 32 --upsample-from 16` scores them (below).
   ASSERT_EQ(run(kBin + "train-gan --data " + data + " --out " + run_dir +
-                    " --size 16 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 1 --sample-every 0 --no-eval"
+                    " --size 16 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 1 --sample-every 0"
                     " --validation-fraction 0",
                 run_dir + ".log"),
             0)
@@ -523,6 +525,7 @@ TEST_F(TrainGan, EvalGiScoresAModelAtAnotherSizeAndThroughTheGuidedUpsample) {
   EXPECT_EQ(a[2], b[2]);  // direct+env+ambient
   EXPECT_NE(a[3], b[3]);
   EXPECT_NE(b[3].find("small/G @16 guided"), std::string::npos) << b[3];
+  EXPECT_EQ(lines(read_all(run_dir + "/eval/results.csv")), b) << "train-gan's evaluation is not eval-gi's upsample";
   EXPECT_NE(read_all(guided + "/report.md").find("scored at face 32"), std::string::npos);
   // Flags that cannot work are refused, naming the flag.
   const std::string bad = (root_ / "bad16").string();
