@@ -42,26 +42,28 @@ DatasetJob default_dataset_job(const std::string& preset) {
     job.fov_y_deg = 60;
     job.settings.ao_spp = 256;
   } else if (preset == "surround") {
-    // Cube frames for the surround-aware GAN (version 4): all 22 families (surround-v3:
-    // surround-v2's per-scene albedos, light colours, exposure, sun and extra lamps, plus
-    // the third generation: corridor, courtyard, multiroom), one 4-frame camera path per
-    // scene, so the 2,400 frames come from 600 scenes. Version 3 had 1,200 frames of 300
-    // scenes of 19 families and its data-size curve had not flattened (docs/gan.md); the
-    // renderer's one-light NEE, roulette and stratified first bounce (docs/renderer.md)
-    // made a frame ~1.8x cheaper, so twice the frames cost what version 3 did. cave,
-    // pipes and round are held out (holdout/, as the AO data); 15% of the rest is test/.
-    // train-gan carves its validation scenes out of train/. 64x64 faces, GI target on
-    // front with 256 paths. ~0.82 CPU-s per frame: about 17 minutes on 2 idle cores.
-    job.preset = "surround-v3";
+    // Cube frames for the surround-aware GAN (version 5): all 24 families with textured
+    // materials (surround-v5: surround-v4's procedural textures in the albedo and in the
+    // light alike, 32 side-face AO and env rays per pixel at face 128), one 4-frame camera
+    // path per scene, so the 2,400 frames come from 600 scenes; cave, pipes and round are
+    // held out (holdout/, as the AO data), 15% of the rest is test/, and train-gan carves
+    // its validation scenes out of train/. 128x128 faces, the size the light is delivered
+    // at: train-gan trains at face 64 (box-filtered) and brings the indirect light back up
+    // with the guided upsample, which beat a face-128 network of the same arithmetic on the
+    // validation scenes (docs/results/2026-12-05-gi-face128-network-vs-upsample.md). GI
+    // target on front with 128 paths: per area of a face-64 pixel 0.61x the noise of
+    // version 4's 256 paths at face 64 (docs/results/2026-12-05-surround-speed.md).
+    // 2.7 CPU-s per frame on a Zen 2: about 54 minutes on 2 idle cores.
+    job.preset = "surround-v5";
     job.views = 2400;
     job.views_per_scene = 4;
     job.path_frames = 4;
     job.test_fraction = 0.15;
     job.holdout_families = {"cave", "pipes", "round"};
     job.holdout_fraction = 0.15;
-    job.width = job.height = 64;
+    job.width = job.height = 128;
     job.settings.ao_spp = 64;
-    job.settings.gi_spp = 256;
+    job.settings.gi_spp = 128;
     job.settings.light_spp = 4;
     job.settings.bounces = 3;
   } else if (preset == "gi") {

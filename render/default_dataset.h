@@ -16,11 +16,12 @@ namespace nns::render {
 
 // Bumped whenever the renderer, the scenes or the sizes below change the pixels; the
 // cache folder is default-<preset>-v<version>. nnao is at 4 (nnao-v2 families, holdout/,
-// camera paths, three test scenes per family); surround is at 4 (surround-v3: all 22
-// families, materials and lights varied, holdout/, 2,400 frames); gi is at 3 (the
+// camera paths, three test scenes per family); surround is at 5 (surround-v5: all 22
+// families, textured materials, lights varied, holdout/, 2,400 frames, 128x128 faces);
+// gi is at 3 (the
 // renderer's faster estimator changed its noise).
 inline int default_dataset_version(const std::string& preset) {
-  return preset == "nnao" ? 4 : preset == "surround" ? 4 : 3;
+  return preset == "nnao" ? 4 : preset == "surround" ? 5 : 3;
 }
 
 // The job that renders the default dataset of `preset` ("nnao", "surround", "gi"):
