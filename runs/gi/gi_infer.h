@@ -12,11 +12,13 @@
 // eval-gi's prediction for the same frame. The output is at the input's size: a frame
 // larger than the model's faces gets the prediction's indirect light brought up by the
 // guided upsample (models/gi/upsampled_light.h, eval-gi's --upsample-from), the way an
-// engine brings up half-resolution GI; --output-size model keeps the model's size. Instead of view EXRs, the frame can
-// be a user's own images (--channel), one file per input or several inputs from one file: for a front-mode model one
-// view (data/image_read.h: depth=FILE ...), for a surround model six faces (data/frame_images.h: front.depth=FILE,
-// back.normal=FILE, ...; 90 degrees). The faces from images take the very path of the folder's faces (sizes,
-// check_input, downsample_view, assemble_surround), so the prediction is the same for the same data.
+// engine brings up half-resolution GI; --output-size model keeps the model's size.
+// Instead of view EXRs, the frame can be a user's own images (--channel), one file per
+// input or several inputs from one file: for a front-mode model one view
+// (data/image_read.h: depth=FILE ...), for a surround model six faces
+// (data/frame_images.h: front.depth=FILE, back.normal=FILE, ...; 90 degrees). The faces
+// from images take the very path of the folder's faces (sizes, check_input,
+// downsample_view, assemble_surround), so the prediction is the same for the same data.
 //
 // Output, all written to temporary names and renamed only once everything succeeded
 // (an error leaves no output at all):
