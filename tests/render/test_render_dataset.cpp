@@ -140,9 +140,11 @@ TEST(DefaultDataset, CacheRootAndSizes) {
   for (std::string p : {"nnao", "surround", "gi"}) {
     DatasetJob j = default_dataset_job(p);
     EXPECT_GE(j.views, 100) << p;
-    // nnao v3+: generations 1-2; surround v4: all three generations, lighting varied
-    EXPECT_EQ(j.preset, p == "nnao" ? std::string("nnao-v2") : p == "surround" ? std::string("surround-v3") : p);
+    // nnao v3+: generations 1-2; surround v5: all four generations, textured, face 128
+    EXPECT_EQ(j.preset, p == "nnao" ? std::string("nnao-v2") : p == "surround" ? std::string("surround-v5") : p);
   }
+  EXPECT_EQ(default_dataset_job("surround").width, 128);
+  EXPECT_EQ(default_dataset_version("surround"), 5);
   EXPECT_FALSE(default_dataset_job("surround").holdout_families.empty());
   EXPECT_FALSE(default_dataset_job("nnao").holdout_families.empty());
   EXPECT_GT(default_dataset_job("nnao").path_frames, 1);  // flicker on the default data

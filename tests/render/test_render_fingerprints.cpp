@@ -14,6 +14,9 @@
 // a channel's values (surround-v2's indirect light, where a few paths take another branch),
 // while one more AO and path sample, which only moves the random streams, changes 12-57% of
 // every stochastic channel's values (the rest are exact: sky, unoccluded, unlit).
+// The albedo channels are among them: surround-v4's textures must not reach the presets
+// before it (a texture changes most of a face's albedo values; an AVX-512 build changes
+// some albedo values in their last bits only, none at 10 mantissa bits).
 // NNSHADE_RECORD_RENDER_REFERENCES=1 writes the references anew.
 #include <gtest/gtest.h>
 #include <unistd.h>
