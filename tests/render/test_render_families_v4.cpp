@@ -157,4 +157,3 @@ TEST(RenderDatasetV4, SurroundV4IsSurroundV3WithTexturesAndTheFourthGeneration) 
   EXPECT_GT(albedo_differs, int(a.size()) / 2) << albedo_differs << " of " << a.size() << " faces textured";
   fs::remove_all(root);
 }
-
