@@ -51,10 +51,15 @@ struct EvalOptions {
   // its indirect light is brought up to the scored face by the guided upsample
   // (models/gi/guided_upsample.h), as engines bring up half-resolution GI.
   int size = 0, upsample_from = 0;
+  // With upsample_from: an NNAO blob whose full-resolution AO detail multiplies the
+  // upsampled indirect light (models/gi/ao_detail.h), a row beside the plain upsample's.
+  std::string ao_model;
+  float ao_power = 1, ao_max_gain = 2;
 };
 
 struct EvalRow {
   std::string model, mode;
+  bool ceiling = false;  // the upsampled truth: no method one could run, left out of the speed charts
   double ms_per_frame = 0;
   LightMetrics all, offscreen;
   int64_t frames = 0, offscreen_frames = 0;
@@ -280,6 +285,7 @@ inline void write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptio
   for (const Axis& axis : axes) {
     std::vector<report::ChartSeries> series;
     for (auto& r : rows) {
+      if (r.ceiling) continue;
       report::ChartSeries c;
       c.name = r.model;
       c.x = {std::max(r.ms_per_frame, 1e-3)};
@@ -363,30 +369,64 @@ inline void score_references(const EvalSplits& e, const GiItemReader& rd, const 
       frames_csv));
 }
 
-// One model's row. With --upsample-from, the model sees the frames box-filtered to that
-// face, and its indirect light (prediction - direct - env) is brought up to the scored
-// frames by the guided upsample; the direct and env light are the scored frames' own.
-inline EvalRow score_model(const std::string& path, gi::LoadedGenerator& g, const EvalSplits& e,
-                           std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr, const EvalOptions& o,
-                           std::string& frames_csv) {
-  const gi::GiInputConfig& cfg = g.inputs;
-  NoGradGuard ng;
-  if (o.upsample_from <= 0)
-    return score(
-        detail::label_of(path), gi::mode_name(cfg.mode), frames, hdr, o,
-        [&](const gi::GiSample& s) { return gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on); }, frames_csv);
-  const GiItemReader low_rd{cfg.mode, o.upsample_from};
-  std::vector<gi::GiSample> low = load_samples(*e.scored, low_rd, cfg, o.max_frames, "eval-gi low", o.quiet);
-  std::map<std::string, size_t> low_of;
-  for (size_t i = 0; i < low.size(); ++i) low_of[low[i].name] = i;
-  const std::string label = detail::label_of(path) + " @" + std::to_string(o.upsample_from) + " guided";
-  return score(
-      label, gi::mode_name(cfg.mode), frames, hdr, o,
+// The frames box-filtered to the face the models run at (--upsample-from), by name.
+struct LowFrames {
+  std::vector<gi::GiSample> samples;
+  std::map<std::string, size_t> index;
+  const gi::GiSample& of(const gi::GiSample& full) const { return samples.at(index.at(full.name)); }
+};
+
+inline LowFrames load_low_frames(const EvalSplits& e, const gi::GiInputConfig& cfg, const EvalOptions& o) {
+  LowFrames low;
+  low.samples =
+      load_samples(*e.scored, GiItemReader{cfg.mode, o.upsample_from}, cfg, o.max_frames, "eval-gi low", o.quiet);
+  for (size_t i = 0; i < low.samples.size(); ++i) low.index[low.samples[i].name] = i;
+  return low;
+}
+
+// What a model run at the low face would score if it predicted the reduced frame's light
+// exactly: the true light box-filtered to that face and brought up by the same guided
+// upsample. Its error is the resolution's share; the rest of a model's is the network's.
+inline EvalRow score_upsampled_truth(const LowFrames& low, std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr,
+                                     const EvalOptions& o, std::string& frames_csv) {
+  EvalRow row = score(
+      "truth @" + std::to_string(o.upsample_from) + " guided", "-", frames, hdr, o,
       [&](const gi::GiSample& s) {
-        const gi::GiSample& l = low.at(low_of.at(s.name));
-        return gi::upsampled_light(gi::predict_linear(g, l, o.bn_batch_stats, o.dropout_on), l, s);
+        const gi::GiSample& l = low.of(s);
+        return gi::upsampled_light(l.target_linear.clone(), l, s);
       },
       frames_csv);
+  row.ceiling = true;
+  return row;
+}
+
+// One model's rows. With --upsample-from (`low` given), the model sees the frames
+// box-filtered to that face, and its indirect light (prediction - direct - env) is
+// brought up to the scored frames by the guided upsample; the direct and env light are
+// the scored frames' own. With an AO model, a second row with the AO detail.
+inline std::vector<EvalRow> score_model(const std::string& path, gi::LoadedGenerator& g, const LowFrames* low,
+                                        std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr,
+                                        const EvalOptions& o, const nnao::NnaoWeights* ao_model,
+                                        std::string& frames_csv) {
+  const gi::GiInputConfig& cfg = g.inputs;
+  NoGradGuard ng;
+  if (!low)
+    return {score(
+        detail::label_of(path), gi::mode_name(cfg.mode), frames, hdr, o,
+        [&](const gi::GiSample& s) { return gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on); }, frames_csv)};
+  const std::string label = detail::label_of(path) + " @" + std::to_string(o.upsample_from) + " guided";
+  std::vector<gi::AoDetail> details = {{}};
+  if (ao_model) details.push_back({ao_model, o.ao_power, o.ao_max_gain});
+  std::vector<EvalRow> rows;
+  for (const gi::AoDetail& d : details)
+    rows.push_back(score(
+        label + (d.model ? " + AO^" + detail::fmt(d.power, "%g") : ""), gi::mode_name(cfg.mode), frames, hdr, o,
+        [&](const gi::GiSample& s) {
+          const gi::GiSample& l = low->of(s);
+          return gi::upsampled_light(gi::predict_linear(g, l, o.bn_batch_stats, o.dropout_on), l, s, d);
+        },
+        frames_csv));
+  return rows;
 }
 
 inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOptions& o, size_t scored_frames,
@@ -403,7 +443,10 @@ inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOption
       (o.bn_batch_stats ? "batch statistics" : "running statistics") + ", dropout: " + (o.dropout_on ? "on" : "off") +
       (o.size > 0 ? ", scored at face " + std::to_string(o.size) : std::string()) +
       (o.upsample_from > 0 ? ", models run at face " + std::to_string(o.upsample_from) +
-                                 " and their indirect light upsampled, guided by depth and normals"
+                                 " and their indirect light upsampled, guided by depth and normals (the row `truth @" +
+                                 std::to_string(o.upsample_from) +
+                                 " guided` is the true light put through the same reduction and upsample: the score "
+                                 "of a model that predicted the reduced frames' light exactly)"
                            : std::string()) +
       ". Metrics in mapped space (Reinhard x/(x+k), [0,1]) over geometry pixels of the "
       "front view; MSE (linear) in HDR units. Flicker: on camera paths, each frame reprojected onto the one before "
@@ -442,6 +485,8 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   // Every model read once, before any frame: a bad blob stops the run at once.
   std::vector<gi::LoadedGenerator> generators;
   for (const auto& path : o.models) generators.push_back(gi::load_generator(path));
+  std::optional<nnao::NnaoWeights> ao_model;
+  if (!o.ao_model.empty()) ao_model = nnao::NnaoWeights::load(o.ao_model);
   // The ambient term is fitted on the scenes the models trained on: train/ without the
   // validation scenes the first model's run carved out (the models of one table are
   // trained on the same data, so they share them).
@@ -460,8 +505,15 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
     auto frames = load_samples(*e.scored, rd, cfg, o.max_frames, "eval-gi " + detail::label_of(o.models[m]), o.quiet);
     unlit_frames = set_aside_unlit(frames, o);
     // The references use the first model's data (same frames and size).
-    if (m == 0) score_references(e, rd, cfg, frames, hdr, o, rows, frames_csv);
-    rows.push_back(score_model(o.models[m], generators[m], e, frames, hdr, o, frames_csv));
+    std::optional<LowFrames> low;
+    if (o.upsample_from > 0) low = load_low_frames(e, cfg, o);
+    if (m == 0) {
+      score_references(e, rd, cfg, frames, hdr, o, rows, frames_csv);
+      if (low) rows.push_back(score_upsampled_truth(*low, frames, hdr, o, frames_csv));
+    }
+    for (EvalRow& r : score_model(o.models[m], generators[m], low ? &*low : nullptr, frames, hdr, o,
+                                  ao_model ? &*ao_model : nullptr, frames_csv))
+      rows.push_back(std::move(r));
   }
   write_eval_report(rows, o, e.scored->size(), unlit_frames, frames_csv);
   return rows;
