@@ -42,13 +42,6 @@ int main(int argc, char** argv) {
                                 "run each model at this face size and bring its indirect light up "
                                 "to the scored size with an upsample guided by depth and normals (0: off)",
                                 0, 16384);
-    o.ao_model = a.get_path("--ao-detail", "",
-                            "with --upsample-from: an NNAO blob (train-nnao's nnao.blob); each model gets a second row "
-                            "with the upsampled indirect light times the full-resolution AO's finer detail");
-    o.ao_power = float(a.get_double("--ao-detail-power", 1, "exponent of the AO detail ratio", 0, 8));
-    o.ao_max_gain =
-        float(a.get_double("--ao-detail-max-gain", 2, "cap of the AO detail ratio (AO over its local mean)", 1, 16));
-    if (!o.ao_model.empty() && o.upsample_from == 0) a.error("--ao-detail needs --upsample-from");
     if (o.upsample_from > 0 && o.size == 0)
       a.error("--upsample-from needs --size (the face the light is brought up to)");
     if (o.upsample_from > 0 && o.size > 0 && (o.upsample_from >= o.size || o.size % o.upsample_from))

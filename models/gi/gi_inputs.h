@@ -79,7 +79,7 @@ struct GiSample {
 inline data::View geometry_of(const data::View& v) {
   data::View g;
   g.source = v.source, g.scene = v.scene, g.width = v.width, g.height = v.height;
-  g.fov_y_deg = v.fov_y_deg, g.world_to_camera = v.world_to_camera, g.ao_radius = v.ao_radius;
+  g.fov_y_deg = v.fov_y_deg, g.world_to_camera = v.world_to_camera;
   for (const char* c : {"Z", "N.X", "N.Y", "N.Z"})
     if (v.has(c)) g.add_channel(c) = v.channel(c);
   return g;

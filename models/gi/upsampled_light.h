@@ -5,9 +5,7 @@
 // which the renderer gives at full resolution, so their shadow edges stay sharp:
 //     light_full = direct_env_full + upsample(light_low - direct_env_low).
 // eval-gi (--upsample-from) and gi-infer (faces larger than the model's) both call it, so
-// what eval-gi scores is what gi-infer writes. With an AO model (ao_detail.h) the
-// upsampled indirect light is multiplied by the full-resolution AO's finer detail.
-#include "models/gi/ao_detail.h"
+// what eval-gi scores is what gi-infer writes.
 #include "models/gi/gi_inputs.h"
 #include "models/gi/guided_upsample.h"
 
@@ -15,16 +13,9 @@ namespace nns::gi {
 
 // low_light: (3, h, w) linear light predicted for `low`; `full`: the same frame at k times
 // the size (direct_env and front_geometry are read). Returns (3, H, W).
-inline Tensor<float> upsampled_light(Tensor<float> low_light, const GiSample& low, const GiSample& full,
-                                     const AoDetail& detail = {}) {
+inline Tensor<float> upsampled_light(Tensor<float> low_light, const GiSample& low, const GiSample& full) {
   for (int64_t i = 0; i < low_light.numel(); ++i) low_light[i] -= low.direct_env[i];
   Tensor<float> light = guided_upsample(low_light, low.front_geometry, full.front_geometry);
-  if (detail.model && detail.power != 0) {
-    const std::vector<float> f = ao_detail_factor(detail, low.front_geometry, full.front_geometry);
-    const int64_t n = int64_t(f.size());
-    for (int64_t c = 0; c < light.size(0); ++c)
-      for (int64_t i = 0; i < n; ++i) light[c * n + i] *= f[size_t(i)];
-  }
   for (int64_t i = 0; i < light.numel(); ++i) light[i] += full.direct_env[i];
   return light;
 }

@@ -51,10 +51,6 @@ struct EvalOptions {
   // its indirect light is brought up to the scored face by the guided upsample
   // (models/gi/guided_upsample.h), as engines bring up half-resolution GI.
   int size = 0, upsample_from = 0;
-  // With upsample_from: an NNAO blob whose full-resolution AO detail multiplies the
-  // upsampled indirect light (models/gi/ao_detail.h), a row beside the plain upsample's.
-  std::string ao_model;
-  float ao_power = 1, ao_max_gain = 2;
 };
 
 struct EvalRow {
@@ -400,33 +396,27 @@ inline EvalRow score_upsampled_truth(const LowFrames& low, std::vector<gi::GiSam
   return row;
 }
 
-// One model's rows. With --upsample-from (`low` given), the model sees the frames
+// One model's row. With --upsample-from (`low` given), the model sees the frames
 // box-filtered to that face, and its indirect light (prediction - direct - env) is
 // brought up to the scored frames by the guided upsample; the direct and env light are
-// the scored frames' own. With an AO model, a second row with the AO detail.
-inline std::vector<EvalRow> score_model(const std::string& path, gi::LoadedGenerator& g, const LowFrames* low,
-                                        std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr,
-                                        const EvalOptions& o, const nnao::NnaoWeights* ao_model,
-                                        std::string& frames_csv) {
+// the scored frames' own.
+inline EvalRow score_model(const std::string& path, gi::LoadedGenerator& g, const LowFrames* low,
+                           std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr, const EvalOptions& o,
+                           std::string& frames_csv) {
   const gi::GiInputConfig& cfg = g.inputs;
   NoGradGuard ng;
   if (!low)
-    return {score(
+    return score(
         detail::label_of(path), gi::mode_name(cfg.mode), frames, hdr, o,
-        [&](const gi::GiSample& s) { return gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on); }, frames_csv)};
-  const std::string label = detail::label_of(path) + " @" + std::to_string(o.upsample_from) + " guided";
-  std::vector<gi::AoDetail> details = {{}};
-  if (ao_model) details.push_back({ao_model, o.ao_power, o.ao_max_gain});
-  std::vector<EvalRow> rows;
-  for (const gi::AoDetail& d : details)
-    rows.push_back(score(
-        label + (d.model ? " + AO^" + detail::fmt(d.power, "%g") : ""), gi::mode_name(cfg.mode), frames, hdr, o,
-        [&](const gi::GiSample& s) {
-          const gi::GiSample& l = low->of(s);
-          return gi::upsampled_light(gi::predict_linear(g, l, o.bn_batch_stats, o.dropout_on), l, s, d);
-        },
-        frames_csv));
-  return rows;
+        [&](const gi::GiSample& s) { return gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on); }, frames_csv);
+  return score(
+      detail::label_of(path) + " @" + std::to_string(o.upsample_from) + " guided", gi::mode_name(cfg.mode), frames, hdr,
+      o,
+      [&](const gi::GiSample& s) {
+        const gi::GiSample& l = low->of(s);
+        return gi::upsampled_light(gi::predict_linear(g, l, o.bn_batch_stats, o.dropout_on), l, s);
+      },
+      frames_csv);
 }
 
 inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOptions& o, size_t scored_frames,
@@ -485,8 +475,6 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   // Every model read once, before any frame: a bad blob stops the run at once.
   std::vector<gi::LoadedGenerator> generators;
   for (const auto& path : o.models) generators.push_back(gi::load_generator(path));
-  std::optional<nnao::NnaoWeights> ao_model;
-  if (!o.ao_model.empty()) ao_model = nnao::NnaoWeights::load(o.ao_model);
   // The ambient term is fitted on the scenes the models trained on: train/ without the
   // validation scenes the first model's run carved out (the models of one table are
   // trained on the same data, so they share them).
@@ -511,9 +499,7 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
       score_references(e, rd, cfg, frames, hdr, o, rows, frames_csv);
       if (low) rows.push_back(score_upsampled_truth(*low, frames, hdr, o, frames_csv));
     }
-    for (EvalRow& r : score_model(o.models[m], generators[m], low ? &*low : nullptr, frames, hdr, o,
-                                  ao_model ? &*ao_model : nullptr, frames_csv))
-      rows.push_back(std::move(r));
+    rows.push_back(score_model(o.models[m], generators[m], low ? &*low : nullptr, frames, hdr, o, frames_csv));
   }
   write_eval_report(rows, o, e.scored->size(), unlit_frames, frames_csv);
   return rows;
