@@ -18,11 +18,20 @@ using namespace nns::render;
 namespace fs = std::filesystem;
 
 namespace {
+fs::path temp_root() { return fs::temp_directory_path() / ("nnshade-split-counts-" + std::to_string(::getpid())); }
+
 fs::path temp_dir(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("nnshade-split-counts-" + std::to_string(::getpid())) / name;
+  fs::path d = temp_root() / name;
   fs::remove_all(d);
   return d;
 }
+
+// Each test removes its own dataset; their common folder goes when the tests end (it
+// was left behind, one empty folder in /tmp per run).
+struct RemoveTempRoot : ::testing::Environment {
+  void TearDown() override { fs::remove_all(temp_root()); }
+};
+const ::testing::Environment* const kRemoveTempRoot = ::testing::AddGlobalTestEnvironment(new RemoveTempRoot);
 
 // 3 train + 1 test (+ 2 holdout with `holdout`) frames or views of 8x8 pixels.
 std::string render_small(const std::string& preset, const std::string& name, bool holdout = false) {
