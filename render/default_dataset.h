@@ -16,10 +16,9 @@ namespace nns::render {
 
 // Bumped whenever the renderer, the scenes or the sizes below change the pixels; the
 // cache folder is default-<preset>-v<version>. nnao is at 4 (nnao-v2 families, holdout/,
-// camera paths, three test scenes per family); surround is at 5 (surround-v5: all 22
+// camera paths, three test scenes per family); surround is at 5 (surround-v5: all 24
 // families, textured materials, lights varied, holdout/, 2,400 frames, 128x128 faces);
-// gi is at 3 (the
-// renderer's faster estimator changed its noise).
+// gi is at 3 (the renderer's faster estimator changed its noise).
 inline int default_dataset_version(const std::string& preset) {
   return preset == "nnao" ? 4 : preset == "surround" ? 5 : 3;
 }
