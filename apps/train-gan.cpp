@@ -57,6 +57,10 @@ void read_training_flags(apps::Args& a, TrainGanOptions& o) {
       "add this times DSSIM to the L1 term (default: 1 with --loss gan, 0 with l1; 0 is pix2pix's L1 alone)");
   o.gradient_weight = a.get_double("--gradient-weight", o.gradient_weight,
                                    "add this times the L1 of the images' finite differences (edges)", 0, HUGE_VAL);
+  o.ema = a.get_double("--ema", o.ema,
+                       "G.blob holds the moving average of G's weights with this decay, e.g. 0.999 (0: the last "
+                       "step's weights)",
+                       0, 0.999999);
   o.lr = a.get_double("--lr", o.lr, "Adam learning rate", 1e-12, 1e9);
   o.lr_d = a.get_double("--lr-d", o.lr_d,
                         "the discriminator's learning rate (0: --lr, as pix2pix; the default, a quarter of the "

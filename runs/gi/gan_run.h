@@ -69,12 +69,13 @@ struct GanRunOptions {
 
 // The augmentation's part of a run's configuration (a resume must match it); checkpoints
 // from before augmentation existed were made without it (RunSpec::unrecorded_means).
+inline std::string config_number(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", x);
+  return b;
+}
 inline void add_augment_config(runs::RunSpec& spec, const GiAugment& a) {
-  auto num = [](double x) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", x);
-    return std::string(b);
-  };
+  auto num = config_number;
   spec.config.emplace_back("aug_mirror", a.mirror ? "on" : "off");
   spec.config.emplace_back("aug_exposure", num(a.exposure));
   spec.config.emplace_back("aug_tint", num(a.tint));
@@ -107,6 +108,10 @@ inline runs::RunSpec run_spec(const GanRunOptions& o, const GanTrainer& t) {
   // It changes the rounding; checkpoints older than --accumulate lack it (RunSpec::unrecorded_means).
   spec.config.emplace_back("accumulate", std::to_string(o.accumulate));
   add_augment_config(spec, o.augment);
+  // Recorded always, so a resume that adds or drops the average is refused; checkpoints
+  // older than --ema were made without one.
+  spec.config.emplace_back("ema", config_number(o.train.ema));
+  spec.unrecorded_means.emplace_back("ema", "0");
   return spec;
 }
 

@@ -33,6 +33,7 @@
 #include "optim/adam.h"
 #include "optim/lr_schedule.h"
 #include "optim/checkpoint.h"
+#include "optim/weight_average.h"
 #include "runs/non_finite.h"
 #include "runs/training_run.h"
 
@@ -65,6 +66,9 @@ struct GanTrainConfig {
   // contact detail that per-pixel L1 leaves soft: 1 lowered the validation MSE by 18% on
   // the textured face-128 data (docs/results/2026-12-05-gi-gradient-loss.md).
   double gradient_weight = 0;
+  // > 0: G.blob holds an exponential moving average of G's weights with this decay
+  // (optim/weight_average.h) instead of the last step's weights.
+  double ema = 0;
   int epochs = 10, epochs_decay = 10;  // constant lr, then linear decay to 0
   uint64_t seed = 1;
 
@@ -143,6 +147,7 @@ class GanTrainer {
       opt_d_ = std::make_unique<Adam<float>>(D->parameters(),
                                              AdamOptions{.lr = c.d_lr(), .beta1 = c.beta1, .beta2 = c.beta2});
     }
+    if (c.ema > 0) ema_ = std::make_unique<WeightAverage<float>>(G.parameters(), c.ema);
   }
 
   // Sets both learning rates for `epoch` (0-based); call at the start of each epoch.
@@ -154,10 +159,7 @@ class GanTrainer {
 
   StepLosses train_step(const gi::GiSample& s) {
     StepLosses out = forward_backward(s, /*checked=*/true);
-    // Both updates only after every check passed: a failing step changes nothing.
-    if (D) opt_d_->step();
-    opt_g_->step();
-    ++step_;
+    update();
     return out;
   }
 
@@ -172,9 +174,7 @@ class GanTrainer {
     if (!std::isfinite(mean.g)) throw NonFiniteError(k, "generator loss");
     if (D) check_gradients(*D, k, "D.");
     check_gradients(G, k, "G.");
-    if (D) opt_d_->step();
-    opt_g_->step();
-    ++step_;
+    update();
   }
   // What an accumulated step averages, in a fixed order: G's parameters, then D's; and
   // the dropout generators.
@@ -258,9 +258,11 @@ class GanTrainer {
     return out;
   }
 
-  // G's prediction of the front view, Tanh range (1, 3, h, w), in the given test mode.
+  // G's prediction of the front view, Tanh range (1, 3, h, w), in the given test mode,
+  // with the weights G.blob holds (the average, with ema).
   Tensor<float> predict(const gi::GiSample& s, bool bn_batch_stats, bool dropout_on) {
     NoGradGuard ng;
+    AveragedWeights averaged(ema_.get());
     auto saved = snapshot_buffers();  // batch-stat BN would move the running statistics
     G.set_test_modes(bn_batch_stats, dropout_on);
     Tensor<float> out = gi::crop2d(gi::generate(G, config.generator(), Var<float>(s.input)).value(), s.front);
@@ -279,6 +281,9 @@ class GanTrainer {
     ck.add_module("G", G).add_optimizer("adam_G", *opt_g_);
     if (D) ck.add_module("D", *D).add_optimizer("adam_D", *opt_d_);
     ck.add_state([this](Blob& b) { watch_.save(b); }, [this](const Blob& b) { watch_.load(b); });
+    if (ema_)
+      ck.add_state([this](Blob& b) { ema_->save_state(b, "ema.G."); },
+                   [this](const Blob& b) { ema_->load_state(b, "ema.G."); });
   }
   int64_t& step_counter() { return step_; }
   runs::RunConfig run_config() const {
@@ -290,6 +295,7 @@ class GanTrainer {
   }
   // The generator alone with what rebuilds it and assembles its inputs (gi_model_io.h).
   void save_generator(const std::string& path) {
+    AveragedWeights averaged(ema_.get());
     gi::save_generator_blob(path, G, config.inputs, config.generator(), loss_name(config.loss));
   }
   // G.blob, and D.blob when there is a discriminator (--loss gan).
@@ -317,6 +323,23 @@ class GanTrainer {
     b.set_config("epochs_decay", config.epochs_decay);
     b.set_config("seed", int64_t(config.seed));
   }
+  // Both updates only after every check passed: a failing step changes nothing.
+  void update() {
+    if (D) opt_d_->step();
+    opt_g_->step();
+    if (ema_) ema_->update();
+    ++step_;
+  }
+  // The averaged weights in G for a scope (nothing without an average).
+  struct AveragedWeights {
+    WeightAverage<float>* a;
+    explicit AveragedWeights(WeightAverage<float>* avg) : a(avg) {
+      if (a) a->swap();
+    }
+    ~AveragedWeights() {
+      if (a) a->swap();
+    }
+  };
   static Var<float> pair(const Var<float>& x, const Var<float>& y) {
     return concat_channels(std::vector<Var<float>>{x, y});
   }
@@ -346,7 +369,8 @@ class GanTrainer {
 
  private:
   std::unique_ptr<Adam<float>> opt_g_, opt_d_;
-  LrSchedule schedule_, schedule_d_;  // G's and D's (the same unless lr_d is set)
+  std::unique_ptr<WeightAverage<float>> ema_;  // config.ema > 0
+  LrSchedule schedule_, schedule_d_;           // G's and D's (the same unless lr_d is set)
   int64_t step_ = 0;
   DiscriminatorWatch watch_;
 };

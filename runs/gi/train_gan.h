@@ -61,6 +61,9 @@ struct TrainGanOptions {
   // against 0.189, the error within a pixel of a depth or normal break 0.00359 against
   // 0.00434; w = 4 ties 1 (docs/results/2026-12-05-gi-gradient-loss.md).
   double gradient_weight = 1;
+  // > 0: G.blob holds the exponential moving average of G's weights with this decay
+  // (optim/weight_average.h); 0: the last step's weights.
+  double ema = 0;
   double lr = 2e-4;
   // Data v4 (docs/gan.md, "Results (default data v4)"): the discriminator at a quarter of
   // the generator's rate (two time-scale updates) wins the validation split on MSE and
@@ -156,6 +159,7 @@ inline GanRunOptions run_options(const TrainGanOptions& o, const GanSplits& s) {
   c.lambda = o.lambda, c.lr = o.lr, c.lr_d = o.lr_d, c.beta1 = o.beta1;
   c.dssim_weight = o.dssim_weight_used();
   c.gradient_weight = o.gradient_weight;
+  c.ema = o.ema;
   const int decay = o.decay_epochs >= 0 ? o.decay_epochs : o.epochs / 2;
   c.epochs = o.epochs - decay, c.epochs_decay = decay;
   c.seed = uint64_t(o.seed);

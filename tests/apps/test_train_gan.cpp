@@ -544,3 +544,32 @@ TEST_F(TrainGan, EvalGiScoresAModelAtAnotherSizeAndThroughTheGuidedUpsample) {
   EXPECT_EQ(run(base + " --upsample-from 6 --out " + bad, bad + ".log"), 2);
   EXPECT_NE(read_all(bad + ".log").find("proper divisor of --size"), std::string::npos) << read_all(bad + ".log");
 }
+
+// --ema: G.blob holds the weights' moving average: another file than the last step's
+// weights, the same with 1 or 2 threads, bitwise equal after a kill and resume (the
+// average is in the checkpoint), recorded, and a resume without it is refused.
+TEST_F(TrainGan, WeightAverageIsDeterministicResumableAndRecorded) {
+  const std::string one = (root_ / "ema1").string(), two = (root_ / "ema2").string();
+  const std::string plain = (root_ / "ema0").string(), broken = (root_ / "ema_resumed").string();
+  ASSERT_EQ(run(train_cmd(one, "--ema 0.9 --threads 1"), one + ".log"), 0) << read_all(one + ".log");
+  ASSERT_EQ(run(train_cmd(two, "--ema 0.9 --threads 2"), two + ".log"), 0) << read_all(two + ".log");
+  EXPECT_EQ(read_all(one + "/G.blob"), read_all(two + "/G.blob"));
+  ASSERT_EQ(run(train_cmd(plain, "--threads 2"), plain + ".log"), 0) << read_all(plain + ".log");
+  EXPECT_NE(read_all(plain + "/G.blob"), read_all(two + "/G.blob"));
+  // The same training: the discriminator, which is not averaged, is the same file.
+  EXPECT_EQ(read_all(plain + "/D.blob"), read_all(two + "/D.blob"));
+  EXPECT_EQ(nns::Blob::load(two + "/checkpoint.blob").config_string("ema"), "0.9");
+
+  ASSERT_EQ(run(train_cmd(broken, "--ema 0.9 --threads 1 --debug-stop-after-epochs 1"), broken + ".log1"), 0)
+      << read_all(broken + ".log1");
+  ASSERT_NE(read_all(two + "/G.blob"), read_all(broken + "/G.blob"));
+  ASSERT_EQ(run(train_cmd(broken, "--ema 0.9 --threads 2 --resume"), broken + ".log2"), 0)
+      << read_all(broken + ".log2");
+  EXPECT_EQ(read_all(two + "/G.blob"), read_all(broken + "/G.blob"));
+  EXPECT_EQ(read_all(two + "/checkpoint.blob"), read_all(broken + "/checkpoint.blob"));
+
+  EXPECT_EQ(run(train_cmd(broken, "--resume"), broken + ".log3"), 1) << read_all(broken + ".log3");
+  EXPECT_NE(read_all(broken + ".log3").find("ema: was 0.9, now 0"), std::string::npos) << read_all(broken + ".log3");
+  EXPECT_NE(run(train_cmd(plain + "_bad", "--ema 1"), plain + "_bad.log"), 0);
+  EXPECT_NE(read_all(plain + "_bad.log").find("--ema"), std::string::npos) << read_all(plain + "_bad.log");
+}
