@@ -24,8 +24,9 @@ int main(int argc, char** argv) {
         a.get_string("--data", "", "dataset folder (its test split is scored, its train split fits the ambient term)");
     o.models = a.get_list("--model", "a generator blob (G.blob) from train-gan");
     o.out = a.get_path("--out", "eval-gi-out", "output folder");
-    o.split = a.get_choice("--split", "test", {"test", "validation", "holdout"},
-                           "frames scored: test/, the validation scenes train-gan carved from train/, or holdout/");
+    o.split = a.get_choice("--split", "test", {"test", "validation", "holdout", "train"},
+                           "frames scored: test/, the validation scenes train-gan carved from train/, holdout/, or "
+                           "the scenes it trained on (the fitting error)");
     std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics at test time");
     std::string drop = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time");
     int max_frames = a.get_int("--max-frames", 0, "score at most N test frames (0: all)", 0, INT_MAX);

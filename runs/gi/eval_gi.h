@@ -300,7 +300,8 @@ inline void write_speed_charts(const std::vector<EvalRow>& rows, const EvalOptio
 }
 
 // The frames an evaluation scores: test/, the validation scenes the first model's run
-// carved out of train/, or holdout/; and the train/ scenes the ambient term is fitted on.
+// carved out of train/, holdout/, or the rest of train/ (the scenes it trained on); and
+// the train/ scenes the ambient term is fitted on.
 struct EvalSplits {
   data::DatasetListing listing;
   data::SplitListing fit, validation;
@@ -321,8 +322,10 @@ inline EvalSplits open_eval_splits(const EvalOptions& o, double validation_fract
     if (!e.listing.has_holdout)
       throw std::runtime_error(o.data + ": no holdout/ split (render-dataset --holdout-families makes one)");
     e.scored = &e.listing.holdout;
+  } else if (o.split == "train") {
+    e.scored = &e.fit;  // what the models fitted: their error there against validation's is the generalisation gap
   } else if (o.split != "test") {
-    throw std::invalid_argument("eval-gi: unknown split '" + o.split + "' (test, validation, holdout)");
+    throw std::invalid_argument("eval-gi: unknown split '" + o.split + "' (test, validation, holdout, train)");
   }
   if (e.scored->size() == 0) throw std::runtime_error(o.data + ": no " + o.split + " views or frames");
   return e;

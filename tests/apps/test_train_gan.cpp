@@ -341,6 +341,13 @@ TEST_F(TrainGan, ValidationScenesAreCarvedRecordedAndScored) {
       << read_all(out + ".log");
   EXPECT_NE(read_all(out + "/report.md").find("split validation (4 frames,"), std::string::npos)
       << read_all(out + "/report.md");
+  // The scenes it trained on: the other four frames.
+  ASSERT_EQ(run(kBin + "eval-gi --split train --data " + data + " --model " + run_dir + "/G.blob --out " + out + "_t",
+                out + "_t.log"),
+            0)
+      << read_all(out + "_t.log");
+  EXPECT_NE(read_all(out + "_t/report.md").find("split train (4 frames,"), std::string::npos)
+      << read_all(out + "_t/report.md");
   EXPECT_TRUE(fs::exists(out + "/results_by_family.csv"));
   EXPECT_TRUE(fs::exists(out + "/speed_vs_ssim.svg"));
   EXPECT_TRUE(fs::exists(out + "/speed_vs_mse_linear.png"));
