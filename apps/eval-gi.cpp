@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
                                 "run each model at this face size and bring its indirect light up "
                                 "to the scored size with an upsample guided by depth and normals (0: off)",
                                 0, 16384);
+    o.mirror_average = a.get_flag("--mirror-average",
+                                  "average each model's light with its light for the mirrored frame, mirrored back "
+                                  "(test-time augmentation: twice the time; surround needs an even face size)");
     if (o.upsample_from > 0 && o.size == 0)
       a.error("--upsample-from needs --size (the face the light is brought up to)");
     if (o.upsample_from > 0 && o.size > 0 && (o.upsample_from >= o.size || o.size % o.upsample_from))

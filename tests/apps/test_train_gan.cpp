@@ -348,6 +348,13 @@ TEST_F(TrainGan, ValidationScenesAreCarvedRecordedAndScored) {
       << read_all(out + "_t.log");
   EXPECT_NE(read_all(out + "_t/report.md").find("split train (4 frames,"), std::string::npos)
       << read_all(out + "_t/report.md");
+  ASSERT_EQ(
+      run(kBin + "eval-gi --mirror-average --data " + data + " --model " + run_dir + "/G.blob --out " + out + "_m",
+          out + "_m.log"),
+      0)
+      << read_all(out + "_m.log");
+  EXPECT_NE(read_all(out + "_m/results.csv").find("\nval/G mirror-avg,surround,"), std::string::npos)
+      << read_all(out + "_m/results.csv");
   EXPECT_TRUE(fs::exists(out + "/results_by_family.csv"));
   EXPECT_TRUE(fs::exists(out + "/speed_vs_ssim.svg"));
   EXPECT_TRUE(fs::exists(out + "/speed_vs_mse_linear.png"));
