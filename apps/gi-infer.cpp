@@ -41,6 +41,9 @@ int main(int argc, char** argv) {
     o.out = a.get_path("--out", "", "output .exr (default: <input name>_gi.exr in the current folder)");
     std::string bn = a.get_choice("--test-bn", "batch", {"batch", "running"}, "BatchNorm statistics, as eval-gi");
     std::string drop = a.get_choice("--test-dropout", "off", {"on", "off"}, "dropout at test time, as eval-gi");
+    o.mirror_average = a.get_flag("--mirror-average",
+                                  "average the light with the light for the mirrored frame, mirrored back (twice "
+                                  "the network's time; surround needs an even face size), as eval-gi");
     std::string out_size = a.get_choice("--output-size", "input", {"input", "model"},
                                         "output at the input's size (guided upsample) or at the model's face size");
     int threads = a.get_int("--threads", 2, "worker threads", 1, 256);

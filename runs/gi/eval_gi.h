@@ -24,7 +24,7 @@
 #include "core/atomic_file.h"
 #include "report/chart.h"
 #include "data/validation_split.h"
-#include "runs/gi/gi_augment.h"
+#include "runs/gi/model_light.h"
 #include "runs/gi/gi_samples.h"
 #include "runs/gi/gi_scores.h"
 #include "models/gi/gi_model_io.h"
@@ -403,16 +403,6 @@ inline EvalRow score_upsampled_truth(const LowFrames& low, std::vector<gi::GiSam
   return row;
 }
 
-// The model's linear light for `s`; with mirror_average the mean of it and its light
-// for the mirrored frame (gi_augment.h), mirrored back.
-inline Tensor<float> model_light(gi::LoadedGenerator& g, const gi::GiSample& s, const EvalOptions& o) {
-  Tensor<float> p = gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
-  if (!o.mirror_average) return p;
-  const Tensor<float> m = detail::flipped(gi::predict_linear(g, mirrored(s), o.bn_batch_stats, o.dropout_on));
-  for (int64_t i = 0; i < p.numel(); ++i) p[i] = 0.5f * (p[i] + m[i]);
-  return p;
-}
-
 // One model's row. With --upsample-from (`low` given), the model sees the frames
 // box-filtered to that face, and its indirect light (prediction - direct - env) is
 // brought up to the scored frames by the guided upsample; the direct and env light are
@@ -425,13 +415,14 @@ inline EvalRow score_model(const std::string& path, gi::LoadedGenerator& g, cons
   const std::string label = detail::label_of(path) + (o.mirror_average ? " mirror-avg" : "");
   if (!low)
     return score(
-        label, gi::mode_name(cfg.mode), frames, hdr, o, [&](const gi::GiSample& s) { return model_light(g, s, o); },
+        label, gi::mode_name(cfg.mode), frames, hdr, o,
+        [&](const gi::GiSample& s) { return model_light(g, s, o.bn_batch_stats, o.dropout_on, o.mirror_average); },
         frames_csv);
   return score(
       label + " @" + std::to_string(o.upsample_from) + " guided", gi::mode_name(cfg.mode), frames, hdr, o,
       [&](const gi::GiSample& s) {
         const gi::GiSample& l = low->of(s);
-        return gi::upsampled_light(model_light(g, l, o), l, s);
+        return gi::upsampled_light(model_light(g, l, o.bn_batch_stats, o.dropout_on, o.mirror_average), l, s);
       },
       frames_csv);
 }

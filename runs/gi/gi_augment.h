@@ -84,10 +84,11 @@ inline Tensor<float> flipped(const Tensor<float>& t) {
 inline gi::GiSample mirrored(const gi::GiSample& s) {
   const int64_t C = s.input.size(1), H = s.input.size(2), W = s.input.size(3);
   if (s.front.x0 + s.front.w + s.front.x0 != W)
-    throw std::invalid_argument(s.name +
-                                ": --aug-mirror needs the front view centred in the input (a global view of "
-                                "even face size), got face size " +
-                                std::to_string(s.front.w));
+    throw std::invalid_argument(
+        s.name +
+        ": mirroring (--aug-mirror, --mirror-average) needs the front view centred in the input (a global view of "
+        "even face size), got face size " +
+        std::to_string(s.front.w));
   gi::GiSample o = s;
   o.input = s.input.clone();
   // Albedo, normals, depth, lumination; not the coordinate channels (10-11) after them.

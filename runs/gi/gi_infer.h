@@ -52,6 +52,7 @@
 #include "models/gi/upsampled_light.h"
 #include "runs/gi/gi_samples.h"
 #include "runs/gi/gi_previews.h"
+#include "runs/gi/model_light.h"
 
 namespace nns::runs {
 
@@ -64,6 +65,7 @@ struct InferOptions {
   std::string out;             // "": <name of the input>_gi.exr in the current folder
   bool bn_batch_stats = true;  // test-time BatchNorm, as eval-gi (docs/gan.md)
   bool dropout_on = false;
+  bool mirror_average = false;  // the light averaged with the mirrored frame's (model_light.h)
   // Faces larger than the model's: true, the output at their size (guided upsample of the
   // indirect light); false, at the model's face size.
   bool output_at_input_size = true;
@@ -270,7 +272,7 @@ inline Tensor<float> predict_light(const InferOptions& o, gi::LoadedGenerator& g
   auto t0 = std::chrono::steady_clock::now();
   Tensor<float> light;
   try {
-    light = gi::predict_linear(g, s, o.bn_batch_stats, o.dropout_on);
+    light = model_light(g, s, o.bn_batch_stats, o.dropout_on, o.mirror_average);
   } catch (const std::exception& e) {
     throw std::runtime_error((!o.channels.empty() ? r.front_file : o.in) + ": the model " + o.model +
                              " cannot run on this " + std::to_string(s.input.size(3)) + "x" +

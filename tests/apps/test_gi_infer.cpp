@@ -23,6 +23,7 @@
 #include "models/gi/upsampled_light.h"
 #include "report/image_write.h"
 #include "runs/gi/gi_samples.h"
+#include "runs/gi/model_light.h"
 #include "tests/support/run_command.h"
 #include "tests/support/synthetic_gi_dataset.h"
 
@@ -94,9 +95,11 @@ class GiInfer : public ::testing::Test {
 
   // What eval-gi predicts for test item `index` (with its ground truth on disk): at the
   // model's face size, or with `upsampled` as `eval-gi --size 32 --upsample-from 16` does
-  // (score_model: the prediction at 16, upsampled_light to the frame as stored).
+  // (score_model: the prediction at 16, upsampled_light to the frame as stored);
+  // `mirror_average` as --mirror-average.
   static nns::Tensor<float> eval_gi_prediction(const std::string& blob, size_t index, nns::gi::GiSample* out,
-                                               const std::string& dataset = data(), bool upsampled = false) {
+                                               const std::string& dataset = data(), bool upsampled = false,
+                                               bool mirror_average = false) {
     using namespace nns::gi;
     using namespace nns::runs;
     LoadedGenerator g = load_generator(blob);
@@ -104,7 +107,8 @@ class GiInfer : public ::testing::Test {
     GiItemReader rd{g.inputs.mode, g.inputs.size};
     auto samples = load_samples(listing.test, rd, g.inputs, index + 1, "test", /*quiet=*/true);
     *out = samples[index];
-    nns::Tensor<float> light = predict_linear(g, samples[index], /*bn_batch_stats=*/true, /*dropout_on=*/false);
+    nns::Tensor<float> light =
+        model_light(g, samples[index], /*bn_batch_stats=*/true, /*dropout_on=*/false, mirror_average);
     if (!upsampled) return light;
     auto full = load_samples(listing.test, GiItemReader{g.inputs.mode, 0}, g.inputs, index + 1, "test", true);
     *out = full[index];
@@ -182,6 +186,16 @@ TEST_F(GiInfer, SurroundFrameWithoutTruthGivesEvalGisPrediction) {
   ASSERT_EQ(rm.code, 0) << rm.output;
   EXPECT_EQ(rm.output.find("guided upsample"), std::string::npos) << rm.output;
   expect_output_matches(path("out_s16") + "/f1.exr", light16, s16);
+
+  // --mirror-average: eval-gi's mirror-averaged light, upsampled the same way; not the plain light.
+  nns::gi::GiSample sm;
+  nns::Tensor<float> mirrored_light =
+      eval_gi_prediction(model("surround"), 1, &sm, data(), /*upsampled=*/true, /*mirror_average=*/true);
+  auto ra = run_app("gi-infer", "--model " + model("surround") + " --in " + frame + " --out " + path("out_sm") +
+                                    "/f1.exr --mirror-average");
+  ASSERT_EQ(ra.code, 0) << ra.output;
+  expect_output_matches(path("out_sm") + "/f1.exr", mirrored_light, sm);
+  EXPECT_NE(read_all(path("out_sm") + "/f1.exr"), read_all(exr));
 
   // One thread gives the same bytes (the determinism contract reaches the app).
   auto r1 = run_app("gi-infer", "--model " + model("surround") + " --in " + frame + " --out " + path("out_s") +

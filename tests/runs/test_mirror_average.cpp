@@ -1,11 +1,12 @@
-// eval-gi --mirror-average: a model's light averaged with its light for the mirrored
-// frame, mirrored back, is mirror-equivariant exactly (mirroring twice is the identity
-// and float addition commutes), which the network alone is not.
+// model_light with mirror averaging (eval-gi and gi-infer --mirror-average): a model's light averaged with its light
+// for the mirrored frame, mirrored back, is mirror-equivariant exactly (mirroring twice is the identity and float
+// addition commutes), which the network alone is not.
 #include <gtest/gtest.h>
 
 #include <cstring>
 
-#include "runs/gi/eval_gi.h"
+#include "runs/gi/gi_samples.h"
+#include "runs/gi/model_light.h"
 #include "tests/support/synthetic_gi_dataset.h"
 
 using namespace nns;
@@ -38,9 +39,10 @@ TEST(MirrorAverage, TheAveragedLightOfTheMirroredFrameIsTheMirroredLight) {
   for (int k = 0; k < 6; ++k) faces[size_t(k)] = nns::testing::make_face(8, 3, k, k == 0, 3);
   LoadedGenerator g = small_generator();
   const GiSample s = assemble_surround(faces, g.inputs, "f"), m = mirrored(s);
-  EvalOptions o;
   // The network alone: its light for the mirrored frame is not the mirrored light.
-  EXPECT_FALSE(same(runs::detail::flipped(model_light(g, m, o)), model_light(g, s, o)));
-  o.mirror_average = true;
-  EXPECT_TRUE(same(runs::detail::flipped(model_light(g, m, o)), model_light(g, s, o)));
+  for (bool average : {false, true})
+    EXPECT_EQ(
+        same(runs::detail::flipped(model_light(g, m, true, false, average)), model_light(g, s, true, false, average)),
+        average)
+        << average;
 }
