@@ -77,6 +77,7 @@ struct TrainGanOptions {
   bool coordconv = true;            // coordinate channels appended to the input
   std::string loss = "gan";         // gan | l1 | dssim
   std::string g_norm = "batch";     // batch | none: normalisation in the pix2pix U-Net
+  double g_dropout = 0.5;           // dropout in the U-Net's three innermost up blocks (pix2pix)
   std::string arch = "pix2pix";     // pix2pix | deepshading
   std::string residual = "linear";  // off | mapped | linear (generator.h)
   Precision precision = Precision::fp32;
@@ -156,6 +157,7 @@ inline GanRunOptions run_options(const TrainGanOptions& o, const GanSplits& s) {
   c.arch = gi::parse_arch(o.arch);
   c.residual = gi::parse_residual(o.residual);
   c.g_batchnorm = o.g_norm == "batch";
+  c.g_dropout = float(o.g_dropout);
   c.lambda = o.lambda, c.lr = o.lr, c.lr_d = o.lr_d, c.beta1 = o.beta1;
   c.dssim_weight = o.dssim_weight_used();
   c.gradient_weight = o.gradient_weight;

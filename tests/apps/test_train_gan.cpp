@@ -187,6 +187,7 @@ TEST_F(TrainGan, BadFlagsNameTheFlagAndWriteNothing) {
       {"--dssim-weight -2", "--dssim-weight must be >= 0"},
       {"--gradient-weight -1", "--gradient-weight"},
       {"--arch foo", "--arch: expected one of"},
+      {"--g-dropout 1", "--g-dropout"},
   };
   for (auto [flags, message] : cases) {
     SCOPED_TRACE(flags);
@@ -586,4 +587,19 @@ TEST_F(TrainGan, WeightAverageIsDeterministicResumableAndRecorded) {
   EXPECT_NE(read_all(broken + ".log3").find("ema: was 0.9, now 0"), std::string::npos) << read_all(broken + ".log3");
   EXPECT_NE(run(train_cmd(plain + "_bad", "--ema 1"), plain + "_bad.log"), 0);
   EXPECT_NE(read_all(plain + "_bad.log").find("--ema"), std::string::npos) << read_all(plain + "_bad.log");
+}
+
+// --g-dropout: the U-Net's dropout probability, recorded in G.blob (eval-gi rebuilds the
+// generator from it) and in the checkpoint (a resume with another value is refused).
+TEST_F(TrainGan, GeneratorDropoutIsRecordedAndChecked) {
+  const std::string none = (root_ / "nodrop").string();
+  ASSERT_EQ(run(train_cmd(none, "--g-dropout 0 --epochs 1"), none + ".log"), 0) << read_all(none + ".log");
+  EXPECT_EQ(nns::Blob::load(none + "/G.blob").config_double("dropout"), 0.0);
+  const std::string out = (root_ / "nodrop_eval").string();
+  ASSERT_EQ(run(kBin + "eval-gi --data " + (root_ / "data").string() + " --model " + none + "/G.blob --out " + out,
+                out + ".log"),
+            0)
+      << read_all(out + ".log");
+  EXPECT_EQ(run(train_cmd(none, "--epochs 2 --resume"), none + ".log2"), 1) << read_all(none + ".log2");
+  EXPECT_NE(read_all(none + ".log2").find("dropout: was 0, now 0.5"), std::string::npos) << read_all(none + ".log2");
 }
