@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
     o.mirror_average = a.get_flag("--mirror-average",
                                   "average each model's light with its light for the mirrored frame, mirrored back "
                                   "(test-time augmentation: twice the time; surround needs an even face size)");
+    o.second_render = a.get_path("--second-render", "",
+                                 "another render of the scored frames with independent noise (render-dataset "
+                                 "--noise-seed): scored as rows 'another render' (the noise floor) and, with "
+                                 "--upsample-from, 'another render @L guided' (docs/gan.md)");
     if (o.upsample_from > 0 && o.size == 0)
       a.error("--upsample-from needs --size (the face the light is brought up to)");
     if (o.upsample_from > 0 && o.size > 0 && (o.upsample_from >= o.size || o.size % o.upsample_from))

@@ -25,6 +25,7 @@
 #include "report/chart.h"
 #include "data/validation_split.h"
 #include "runs/gi/model_light.h"
+#include "runs/gi/second_render.h"
 #include "runs/gi/gi_samples.h"
 #include "runs/gi/gi_scores.h"
 #include "models/gi/gi_model_io.h"
@@ -55,6 +56,9 @@ struct EvalOptions {
   // Each model's light averaged with its light for the mirrored frame, mirrored back
   // (test-time augmentation: twice the time per frame).
   bool mirror_average = false;
+  // Another render of the scored frames with independent noise (second_render.h): its
+  // light is scored as ceiling rows (empty: none).
+  std::string second_render;
 };
 
 struct EvalRow {
@@ -403,6 +407,33 @@ inline EvalRow score_upsampled_truth(const LowFrames& low, std::vector<gi::GiSam
   return row;
 }
 
+// The light of another render of the same frames (second_render.h): its own row, the
+// noise floor; with --upsample-from also as a face-L network that knew the light would
+// deliver it (its indirect light brought up by the guided upsample). Ceiling rows.
+inline void score_second_render(const GiItemReader& rd, const gi::GiInputConfig& cfg, const LowFrames* low,
+                                std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr, const EvalOptions& o,
+                                std::vector<EvalRow>& rows, std::string& frames_csv) {
+  const SecondRender other(o.second_render);
+  rows.push_back(score(
+      "another render", "-", frames, hdr, o,
+      [&](const gi::GiSample& s) { return other.of(s, rd, cfg).target_linear.clone(); }, frames_csv));
+  rows.back().ceiling = true;
+  if (!low) return;
+  const GiItemReader low_reader{cfg.mode, o.upsample_from};
+  rows.push_back(score(
+      "another render @" + std::to_string(o.upsample_from) + " guided", "-", frames, hdr, o,
+      [&](const gi::GiSample& s) {
+        const gi::GiSample& l = low->of(s);
+        const gi::GiSample b = other.of(l, low_reader, cfg);
+        // The other render's indirect light on this frame's direct and env light.
+        Tensor<float> light = b.target_linear.clone();
+        for (int64_t i = 0; i < light.numel(); ++i) light[i] += l.direct_env[i] - b.direct_env[i];
+        return gi::upsampled_light(light, l, s);
+      },
+      frames_csv));
+  rows.back().ceiling = true;
+}
+
 // One model's row. With --upsample-from (`low` given), the model sees the frames
 // box-filtered to that face, and its indirect light (prediction - direct - env) is
 // brought up to the scored frames by the guided upsample; the direct and env light are
@@ -506,6 +537,8 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
     if (m == 0) {
       score_references(e, rd, cfg, frames, hdr, o, rows, frames_csv);
       if (low) rows.push_back(score_upsampled_truth(*low, frames, hdr, o, frames_csv));
+      if (!o.second_render.empty())
+        score_second_render(rd, cfg, low ? &*low : nullptr, frames, hdr, o, rows, frames_csv);
     }
     rows.push_back(score_model(o.models[m], generators[m], low ? &*low : nullptr, frames, hdr, o, frames_csv));
   }

@@ -558,6 +558,28 @@ TEST_F(TrainGan, EvalGiScoresAModelAtAnotherSizeAndThroughTheGuidedUpsample) {
   EXPECT_NE(read_all(bad + ".log").find("--upsample-from needs --size"), std::string::npos) << read_all(bad + ".log");
   EXPECT_EQ(run(base + " --upsample-from 6 --out " + bad, bad + ".log"), 2);
   EXPECT_NE(read_all(bad + ".log").find("proper divisor of --size"), std::string::npos) << read_all(bad + ".log");
+
+  // --second-render: a copy of the data is a render without independent noise, so
+  // "another render" scores MSE 0 and "another render @16 guided" is "truth @16 guided".
+  const std::string copy = (root_ / "data32_copy").string();
+  fs::copy(data, copy, fs::copy_options::recursive);
+  const std::string second = (root_ / "second16").string();
+  ASSERT_EQ(run(base + " --upsample-from 16 --second-render " + copy + " --out " + second, second + ".log"), 0)
+      << read_all(second + ".log");
+  const auto c = lines(read_all(second + "/results.csv"));
+  ASSERT_EQ(c.size(), 7u);
+  ASSERT_EQ(c[4].rfind("another render,", 0), 0u) << c[4];
+  EXPECT_EQ(mse(c[4]), 0.0) << c[4];
+  EXPECT_EQ(c[5], "another render @16 guided" + b[3].substr(b[3].find(','))) << c[5] << "\n" << b[3];
+  EXPECT_EQ(c[6], b[4]);
+  // A frame of another view under the same name (two frames' folders swapped) is refused, naming it.
+  const std::string other = (root_ / "data32_swapped").string();
+  fs::copy(data, other, fs::copy_options::recursive);
+  fs::rename(other + "/test/frame0", other + "/test/tmp");
+  fs::rename(other + "/test/frame1", other + "/test/frame0");
+  fs::rename(other + "/test/tmp", other + "/test/frame1");
+  EXPECT_EQ(run(base + " --upsample-from 16 --second-render " + other + " --out " + bad, bad + ".log"), 1);
+  EXPECT_NE(read_all(bad + ".log").find("not the frame"), std::string::npos) << read_all(bad + ".log");
 }
 
 // --ema: G.blob holds the weights' moving average: another file than the last step's
