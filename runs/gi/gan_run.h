@@ -67,18 +67,18 @@ struct GanRunOptions {
   GiAugment augment;
 };
 
-// The augmentation's part of a run's configuration (a resume must match it); checkpoints
-// from before augmentation existed were made without it (RunSpec::unrecorded_means).
+// A number as a run's configuration records it ("0.9", not "0.90000000000000002").
 inline std::string config_number(double x) {
   char b[32];
   std::snprintf(b, sizeof b, "%g", x);
   return b;
 }
+// The augmentation's part of a run's configuration (a resume must match it); checkpoints
+// from before augmentation existed were made without it (RunSpec::unrecorded_means).
 inline void add_augment_config(runs::RunSpec& spec, const GiAugment& a) {
-  auto num = config_number;
   spec.config.emplace_back("aug_mirror", a.mirror ? "on" : "off");
-  spec.config.emplace_back("aug_exposure", num(a.exposure));
-  spec.config.emplace_back("aug_tint", num(a.tint));
+  spec.config.emplace_back("aug_exposure", config_number(a.exposure));
+  spec.config.emplace_back("aug_tint", config_number(a.tint));
   for (auto [k, v] :
        {std::pair<const char*, const char*>{"aug_mirror", "off"}, {"aug_exposure", "1"}, {"aug_tint", "1"}})
     spec.unrecorded_means.emplace_back(k, v);

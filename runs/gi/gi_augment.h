@@ -79,9 +79,9 @@ inline Tensor<float> flipped(const Tensor<float>& t) {
 }
 }  // namespace detail
 
-// The sample in a mirror (see above); throws for a global view of odd face size, whose
-// layout is not symmetric (the front face is not centred).
-inline gi::GiSample mirrored(const gi::GiSample& s) {
+// The network input of the sample in a mirror (see above); throws for a global view of
+// odd face size, whose layout is not symmetric (the front face is not centred).
+inline Tensor<float> mirrored_input(const gi::GiSample& s) {
   const int64_t C = s.input.size(1), H = s.input.size(2), W = s.input.size(3);
   if (s.front.x0 + s.front.w + s.front.x0 != W)
     throw std::invalid_argument(
@@ -89,11 +89,17 @@ inline gi::GiSample mirrored(const gi::GiSample& s) {
         ": mirroring (--aug-mirror, --mirror-average) needs the front view centred in the input (a global view of "
         "even face size), got face size " +
         std::to_string(s.front.w));
-  gi::GiSample o = s;
-  o.input = s.input.clone();
+  Tensor<float> in = s.input.clone();
   // Albedo, normals, depth, lumination; not the coordinate channels (10-11) after them.
-  detail::flip_rows(o.input.data(), std::min<int64_t>(C, 10), H, W);
-  for (int64_t i = 0; i < H * W; ++i) o.input[3 * H * W + i] = -o.input[3 * H * W + i];
+  detail::flip_rows(in.data(), std::min<int64_t>(C, 10), H, W);
+  for (int64_t i = 0; i < H * W; ++i) in[3 * H * W + i] = -in[3 * H * W + i];
+  return in;
+}
+
+// The sample in a mirror (see above): its input, targets, shading planes and geometry.
+inline gi::GiSample mirrored(const gi::GiSample& s) {
+  gi::GiSample o = s;
+  o.input = mirrored_input(s);
   for (Tensor<float>* t : {&o.target, &o.albedo, &o.emission, &o.direct_env, &o.target_linear})
     if (t->defined()) *t = detail::flipped(*t);
   const int64_t w = s.front.w, h = s.front.h;

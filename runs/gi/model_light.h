@@ -15,7 +15,9 @@ inline Tensor<float> model_light(gi::LoadedGenerator& g, const gi::GiSample& s, 
                                  bool mirror_average) {
   Tensor<float> p = gi::predict_linear(g, s, bn_batch_stats, dropout_on);
   if (!mirror_average) return p;
-  const Tensor<float> m = detail::flipped(gi::predict_linear(g, mirrored(s), bn_batch_stats, dropout_on));
+  gi::GiSample m_in;  // the network reads the input and the front rectangle alone
+  m_in.name = s.name, m_in.input = mirrored_input(s), m_in.front = s.front;
+  const Tensor<float> m = detail::flipped(gi::predict_linear(g, m_in, bn_batch_stats, dropout_on));
   for (int64_t i = 0; i < p.numel(); ++i) p[i] = 0.5f * (p[i] + m[i]);
   return p;
 }
