@@ -410,10 +410,9 @@ inline EvalRow score_upsampled_truth(const LowFrames& low, std::vector<gi::GiSam
 // The light of another render of the same frames (second_render.h): its own row, the
 // noise floor; with --upsample-from also as a face-L network that knew the light would
 // deliver it (its indirect light brought up by the guided upsample). Ceiling rows.
-inline void score_second_render(const GiItemReader& rd, const gi::GiInputConfig& cfg, const LowFrames* low,
-                                std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr, const EvalOptions& o,
-                                std::vector<EvalRow>& rows, std::string& frames_csv) {
-  const SecondRender other(o.second_render);
+inline void score_second_render(const SecondRender& other, const GiItemReader& rd, const gi::GiInputConfig& cfg,
+                                const LowFrames* low, std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr,
+                                const EvalOptions& o, std::vector<EvalRow>& rows, std::string& frames_csv) {
   rows.push_back(score(
       "another render", "-", frames, hdr, o,
       [&](const gi::GiSample& s) { return other.of(s, rd, cfg).target_linear.clone(); }, frames_csv));
@@ -514,6 +513,9 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
   // Every model read once, before any frame: a bad blob stops the run at once.
   std::vector<gi::LoadedGenerator> generators;
   for (const auto& path : o.models) generators.push_back(gi::load_generator(path));
+  // The second render's folder listed before any frame too.
+  std::optional<SecondRender> second;
+  if (!o.second_render.empty()) second.emplace(o.second_render);
   // The ambient term is fitted on the scenes the models trained on: train/ without the
   // validation scenes the first model's run carved out (the models of one table are
   // trained on the same data, so they share them).
@@ -537,8 +539,7 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
     if (m == 0) {
       score_references(e, rd, cfg, frames, hdr, o, rows, frames_csv);
       if (low) rows.push_back(score_upsampled_truth(*low, frames, hdr, o, frames_csv));
-      if (!o.second_render.empty())
-        score_second_render(rd, cfg, low ? &*low : nullptr, frames, hdr, o, rows, frames_csv);
+      if (second) score_second_render(*second, rd, cfg, low ? &*low : nullptr, frames, hdr, o, rows, frames_csv);
     }
     rows.push_back(score_model(o.models[m], generators[m], low ? &*low : nullptr, frames, hdr, o, frames_csv));
   }

@@ -580,6 +580,10 @@ TEST_F(TrainGan, EvalGiScoresAModelAtAnotherSizeAndThroughTheGuidedUpsample) {
   fs::rename(other + "/test/tmp", other + "/test/frame1");
   EXPECT_EQ(run(base + " --upsample-from 16 --second-render " + other + " --out " + bad, bad + ".log"), 1);
   EXPECT_NE(read_all(bad + ".log").find("not the frame"), std::string::npos) << read_all(bad + ".log");
+  // A folder that is not there is named before any frame is read.
+  EXPECT_EQ(run(base + " --second-render " + copy + "_missing --out " + bad, bad + ".log"), 1);
+  EXPECT_NE(read_all(bad + ".log").find(copy + "_missing: not a folder"), std::string::npos) << read_all(bad + ".log");
+  EXPECT_EQ(read_all(bad + ".log").find("eval-gi small/G"), std::string::npos) << read_all(bad + ".log");
 }
 
 // --ema: G.blob holds the weights' moving average: another file than the last step's
