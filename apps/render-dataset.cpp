@@ -72,6 +72,10 @@ Command read_flags(apps::Args& args) {
           " (default 320x180; gi 256x144; surround 64x64 faces; nnao-v2: 0.6-1.0 x its pixels, aspect varied)");
   job.settings.ao_spp = args.get_int("--spp", 256, "AO rays per pixel", 1, 65536);
   job.settings.gi_spp = args.get_int("--gi-spp", 128, "env/indirect paths per pixel", 1, 65536);
+  job.train_gi_spp = args.get_int("--train-gi-spp", 0,
+                                  "env/indirect paths per pixel on train/ alone (0: --gi-spp): noisier training "
+                                  "targets than the test/ and holdout/ references",
+                                  0, 65536);
   job.settings.side_spp = args.get_int("--side-spp", 0,
                                        "AO and env rays per pixel on the five side faces of a surround frame (0: the "
                                        "preset's: surround-v5 64 x 64 / face size, 8 to 64; the others --spp and "

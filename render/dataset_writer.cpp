@@ -170,6 +170,9 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
       m << "texture-variation: procedural albedo textures (noise, bricks, tiles, wood, stains, dirt) on most "
            "materials per scene (render/scenes/texture_variation.h)\n";
     const RenderSettings& rs = job.settings;
+    if (job.train_gi_spp > 0)
+      m << "gi-spp.train: " << job.train_gi_spp << " env and indirect paths per pixel on train/ (" << rs.gi_spp
+        << " on test/ and holdout/)\n";
     if (rs.side_spp > 0 && is_surround_preset(job.preset))
       m << "side-spp: " << rs.side_spp << " AO and env rays per pixel on the five side faces\n";
     if (job.vary_views) {
@@ -378,6 +381,7 @@ void render_scene(const DatasetJob& job, const SceneTask& task, int P, RenderSta
     float fov = surround ? 90.0f : shape.fov;
     RenderSettings settings = job.settings;
     if (job.noise_seed >= 0) settings.seed = uint64_t(job.noise_seed);
+    if (job.train_gi_spp > 0 && task.split == "train") settings.gi_spp = job.train_gi_spp;
     settings.ao_radius = shape.ao_radius;
     std::vector<Camera> cams;
     if (P == 1) cams.push_back(place_camera(rt, w, h, fov, cam_rng));

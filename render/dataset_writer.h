@@ -49,6 +49,11 @@ struct DatasetJob {
   // scenes, cameras and lighting keep settings.seed: the same views with independent
   // noise (two-seed noise estimates, a reference against which to measure an estimator).
   int64_t noise_seed = -1;
+  // > 0: paths per pixel of the train/ views' env and indirect light, in place of
+  // settings.gi_spp, which then renders test/ and holdout/ alone: training targets may
+  // be noisier than the references that score a model (the default surround data trains
+  // on 64 paths and is scored against 128, docs/renderer.md).
+  int train_gi_spp = 0;
   bool progress = true;  // progress bar on stderr
   // Render only views i with i % parts == part (mpirun: rank and size). Every part walks
   // the same scenes and cameras, so a view's bytes never depend on the split; part 0

@@ -42,7 +42,7 @@ DatasetJob default_dataset_job(const std::string& preset) {
     job.fov_y_deg = 60;
     job.settings.ao_spp = 256;
   } else if (preset == "surround") {
-    // Cube frames for the surround-aware GAN (version 5): all 24 families with textured
+    // Cube frames for the surround-aware GAN (version 6): all 24 families with textured
     // materials (surround-v5: surround-v4's procedural textures in the albedo and in the
     // light alike, 32 side-face AO and env rays per pixel at face 128), one 4-frame camera
     // path per scene, so the 2,400 frames come from 600 scenes; cave, pipes and round are
@@ -50,10 +50,14 @@ DatasetJob default_dataset_job(const std::string& preset) {
     // its validation scenes out of train/. 128x128 faces, the size the light is delivered
     // at: train-gan trains at face 64 (box-filtered) and brings the indirect light back up
     // with the guided upsample, which beat a face-128 network of the same arithmetic on the
-    // validation scenes (docs/results/2026-12-05-gi-face128-network-vs-upsample.md). GI
-    // target on front with 128 paths: per area of a face-64 pixel 0.61x the noise of
-    // version 4's 256 paths at face 64 (docs/results/2026-12-05-surround-speed.md).
-    // 2.7 CPU-s per frame on a Zen 2: about 54 minutes on 2 idle cores.
+    // validation scenes (docs/results/2026-12-05-gi-face128-network-vs-upsample.md).
+    // The GI references of test/ and holdout/ take 128 paths on front (per area of a
+    // face-64 pixel 0.61x the noise of version 4's 256 paths at face 64,
+    // docs/results/2026-12-05-surround-speed.md); the training targets of train/ take 64:
+    // over 3 seeds the models trained on them scored inside the seed range of those trained
+    // on 128 on the validation scenes (MSE +2.5%, SSIM +0.001), for 0.53x the CPU time of
+    // a train/ frame (docs/results/2026-12-06-gi-training-paths.md). Version 5 was this
+    // with 128 paths on train/ too, 6,888 CPU-s; version 6 about 4,600.
     job.preset = "surround-v5";
     job.views = 2400;
     job.views_per_scene = 4;
@@ -64,6 +68,7 @@ DatasetJob default_dataset_job(const std::string& preset) {
     job.width = job.height = 128;
     job.settings.ao_spp = 64;
     job.settings.gi_spp = 128;
+    job.train_gi_spp = 64;
     job.settings.light_spp = 4;
     job.settings.bounces = 3;
   } else if (preset == "gi") {

@@ -16,11 +16,12 @@ namespace nns::render {
 
 // Bumped whenever the renderer, the scenes or the sizes below change the pixels; the
 // cache folder is default-<preset>-v<version>. nnao is at 4 (nnao-v2 families, holdout/,
-// camera paths, three test scenes per family); surround is at 5 (surround-v5: all 24
-// families, textured materials, lights varied, holdout/, 2,400 frames, 128x128 faces);
+// camera paths, three test scenes per family); surround is at 6 (surround-v5: all 24
+// families, textured materials, lights varied, holdout/, 2,400 frames, 128x128 faces;
+// train/ at 64 paths, test/ and holdout/ at 128: version 5's test/ and holdout/ bytes);
 // gi is at 3 (the renderer's faster estimator changed its noise).
 inline int default_dataset_version(const std::string& preset) {
-  return preset == "nnao" ? 4 : preset == "surround" ? 5 : 3;
+  return preset == "nnao" ? 4 : preset == "surround" ? 6 : 3;
 }
 
 // The job that renders the default dataset of `preset` ("nnao", "surround", "gi"):

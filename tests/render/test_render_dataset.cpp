@@ -140,11 +140,14 @@ TEST(DefaultDataset, CacheRootAndSizes) {
   for (std::string p : {"nnao", "surround", "gi"}) {
     DatasetJob j = default_dataset_job(p);
     EXPECT_GE(j.views, 100) << p;
-    // nnao v3+: generations 1-2; surround v5: all four generations, textured, face 128
+    // nnao v3+: generations 1-2; surround v5+: all four generations, textured, face 128
     EXPECT_EQ(j.preset, p == "nnao" ? std::string("nnao-v2") : p == "surround" ? std::string("surround-v5") : p);
   }
   EXPECT_EQ(default_dataset_job("surround").width, 128);
-  EXPECT_EQ(default_dataset_version("surround"), 5);
+  EXPECT_EQ(default_dataset_version("surround"), 6);
+  // Version 6: training targets at 64 paths, the references of test/ and holdout/ at 128.
+  EXPECT_EQ(default_dataset_job("surround").settings.gi_spp, 128);
+  EXPECT_EQ(default_dataset_job("surround").train_gi_spp, 64);
   EXPECT_FALSE(default_dataset_job("surround").holdout_families.empty());
   EXPECT_FALSE(default_dataset_job("nnao").holdout_families.empty());
   EXPECT_GT(default_dataset_job("nnao").path_frames, 1);  // flicker on the default data
@@ -215,6 +218,49 @@ TEST(RenderDataset, NoiseSeedChangesTheNoiseAlone) {
   std::stringstream meta;
   meta << m.rdbuf();
   EXPECT_NE(meta.str().find("noise-seed: 8"), std::string::npos) << meta.str();
+}
+
+// --train-gi-spp: train/ rendered as a job at that many paths, test/ and holdout/ as a
+// job at --gi-spp, bit for bit (so a default job can be scored against the references of
+// a render at --gi-spp alone); metadata.txt says so.
+TEST(RenderDataset, TrainGiSppRendersTrainAloneWithFewerPaths) {
+  auto job_at = [](const std::string& out, int gi_spp, int train_gi_spp) {
+    DatasetJob job = tiny("surround-v5", out);
+    job.families = {"room", "arcade"};
+    job.holdout_families = {"arcade"};
+    job.holdout_fraction = 0.25;
+    job.width = job.height = 8;
+    job.views = 8;
+    job.views_per_scene = 1;
+    job.test_fraction = 0.34;
+    job.settings.gi_spp = gi_spp;
+    job.train_gi_spp = train_gi_spp;
+    render_dataset(job);
+    return list_dataset(out);
+  };
+  const std::string mixed_dir = temp_dir("tgs-mixed");
+  DatasetListing mixed = job_at(mixed_dir, 16, 4), low = job_at(temp_dir("tgs-low"), 4, 0),
+                 high = job_at(temp_dir("tgs-high"), 16, 0);
+  auto same = [](const std::vector<FrameEntry>& a, const std::vector<FrameEntry>& b, const char* split) {
+    ASSERT_EQ(a.size(), b.size()) << split;
+    ASSERT_FALSE(a.empty()) << split;
+    for (size_t i = 0; i < a.size(); ++i) {
+      View x = read_view(a[i].faces[0]), y = read_view(b[i].faces[0]);
+      for (const char* c : {"Z", "albedo.R", "env.G", "indirect.G"})
+        EXPECT_EQ(x.channel(c), y.channel(c)) << split << " frame " << i << " " << c;
+    }
+  };
+  same(mixed.train.frames, low.train.frames, "train");
+  same(mixed.test.frames, high.test.frames, "test");
+  same(mixed.holdout.frames, high.holdout.frames, "holdout");
+  EXPECT_NE(read_view(low.train.frames[0].faces[0]).channel("indirect.G"),
+            read_view(high.train.frames[0].faces[0]).channel("indirect.G"));
+  std::ifstream m(mixed_dir + "/metadata.txt");
+  std::stringstream meta;
+  meta << m.rdbuf();
+  EXPECT_NE(meta.str().find("gi-spp.train: 4 env and indirect paths per pixel on train/ (16 on test/ and holdout/)"),
+            std::string::npos)
+      << meta.str();
 }
 
 // Leave-families-out: the held-out families render only into holdout/, with instances
