@@ -294,3 +294,39 @@ TEST_F(ImageRead, AWideShortTiffIsReadWithinBoundedMemory) {
   };
   EXPECT_EXIT(read_capped(), ::testing::ExitedWithCode(0), "");
 }
+
+// A tiled image is converted through a row of its tiles: a 1x1 TIFF declaring tiles of
+// 65536x65536 (a 4 GB row, in 134 bytes) is refused before that buffer is made.
+TEST_F(ImageRead, TilesLargerThanAnyImageAreRefused) {
+  std::string bytes("II*\x00\x08\x00\x00\x00", 8);
+  auto put16 = [&](uint16_t v) { bytes.append(reinterpret_cast<const char*>(&v), 2); };
+  auto put32 = [&](uint32_t v) { bytes.append(reinterpret_cast<const char*>(&v), 4); };
+  const uint16_t entries = 10;
+  const uint32_t data_at = 8 + 2 + entries * 12 + 4;
+  put16(entries);
+  // tag, type (3 short, 4 long), count 1, value: width, height, 8 bits, no compression,
+  // grey, one sample, tile width and length, tile offset and byte count.
+  const uint32_t tags[entries][3] = {{256, 4, 1}, {257, 4, 1},     {258, 3, 8},     {259, 3, 1},       {262, 3, 1},
+                                     {277, 3, 1}, {322, 4, 65536}, {323, 4, 65536}, {324, 4, data_at}, {325, 4, 64}};
+  for (auto& t : tags) {
+    put16(uint16_t(t[0]));
+    put16(uint16_t(t[1]));
+    put32(1);
+    if (t[1] == 3) {
+      put16(uint16_t(t[2]));
+      put16(0);
+    } else {
+      put32(t[2]);
+    }
+  }
+  put32(0);
+  bytes += std::string(64, '\0');
+  const std::string p = path("huge-tiles.tif");
+  std::ofstream(p, std::ios::binary) << bytes;
+  try {
+    read_image(p);
+    ADD_FAILURE() << "read";
+  } catch (const std::runtime_error& e) {
+    expect_contains(e.what(), {p + ": tiles of 65536x65536 pixels"});
+  }
+}
