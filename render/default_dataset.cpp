@@ -57,7 +57,8 @@ DatasetJob default_dataset_job(const std::string& preset) {
     // over 3 seeds the models trained on them scored inside the seed range of those trained
     // on 128 on the validation scenes (MSE +2.5%, SSIM +0.001), for 0.53x the CPU time of
     // a train/ frame (docs/results/2026-12-06-gi-training-paths.md). Version 5 was this
-    // with 128 paths on train/ too, 6,888 CPU-s; version 6 about 4,600.
+    // with 128 paths on train/ too, 6,888 CPU-s on an Intel Xeon; version 6 3,957 (35 min
+    // on 2 cores).
     job.preset = "surround-v5";
     job.views = 2400;
     job.views_per_scene = 4;
