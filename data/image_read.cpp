@@ -42,7 +42,7 @@ std::string format_of(const std::string& path) {
 
 // The scanlines in their stored types, at most about 64 MB of them at a time, each
 // block converted to float. OpenImageIO's own conversion goes through a buffer of at
-// least 256 scanlines whatever the image's height: a 238-byte TIFF of 23814x4 pixels with
+// least 256 scanlines whatever the image's height: a 237-byte TIFF of 23814x4 pixels with
 // 774 channels made it ask for 4.7 GB (found by fuzz_image).
 bool read_scanlines_as_float(OIIO::ImageInput& in, float* out) {
   const OIIO::ImageSpec& spec = in.spec();
