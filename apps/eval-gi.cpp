@@ -50,6 +50,9 @@ int main(int argc, char** argv) {
                                  "another render of the scored frames with independent noise (render-dataset "
                                  "--noise-seed): scored as rows 'another render' (the noise floor) and, with "
                                  "--upsample-from, 'another render @L guided' (docs/gan.md)");
+    o.best_gain = a.get_flag("--best-gain",
+                             "a diagnostic row per model: its indirect light times the per-frame, per-channel gain "
+                             "that fits the truth best; what it still gets wrong is the light's shape, not its level");
     if (o.upsample_from > 0 && o.size == 0)
       a.error("--upsample-from needs --size (the face the light is brought up to)");
     if (o.upsample_from > 0 && o.size > 0 && (o.upsample_from >= o.size || o.size % o.upsample_from))

@@ -59,6 +59,10 @@ struct EvalOptions {
   // Another render of the scored frames with independent noise (second_render.h): its
   // light is scored as ceiling rows (empty: none).
   std::string second_render;
+  // A diagnostic row per model: its indirect light times the per-frame gains that fit
+  // the truth best (best_gain_light). What the row still gets wrong is the light's shape;
+  // the difference to the model's own row is the frame's overall level and colour.
+  bool best_gain = false;
 };
 
 struct EvalRow {
@@ -457,6 +461,29 @@ inline EvalRow score_model(const std::string& path, gi::LoadedGenerator& g, cons
       frames_csv);
 }
 
+// The light `light` (3, h, w) of frame s with its indirect part (light - direct - env)
+// scaled, per colour channel, by the gain that fits the true indirect light best in
+// least squares over the geometry pixels: g = sum(p t) / sum(p p) (1 where the
+// prediction has no indirect light at all).
+inline Tensor<float> best_gain_light(Tensor<float> light, const gi::GiSample& s) {
+  const int64_t n = light.numel() / 3;
+  for (int c = 0; c < 3; ++c) {
+    double pt = 0, pp = 0;
+    for (int64_t i = 0; i < n; ++i) {
+      if (!s.geometry[size_t(i)]) continue;
+      const double p = light[c * n + i] - s.direct_env[c * n + i];
+      pt += p * (s.target_linear[c * n + i] - s.direct_env[c * n + i]);
+      pp += p * p;
+    }
+    const double g = pp > 0 ? pt / pp : 1.0;
+    for (int64_t i = 0; i < n; ++i) {
+      const float d = s.direct_env[c * n + i];
+      light[c * n + i] = d + float(g) * (light[c * n + i] - d);
+    }
+  }
+  return light;
+}
+
 inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOptions& o, size_t scored_frames,
                               size_t unlit_frames, const std::string& frames_csv) {
   write_file_atomic(o.out + "/results.csv", results_csv(rows, false));
@@ -542,6 +569,18 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
       if (second) score_second_render(*second, rd, cfg, low ? &*low : nullptr, frames, hdr, o, rows, frames_csv);
     }
     rows.push_back(score_model(o.models[m], generators[m], low ? &*low : nullptr, frames, hdr, o, frames_csv));
+    if (o.best_gain) {
+      EvalRow r = score(
+          rows.back().model + ", best gain", rows.back().mode, frames, hdr, o,
+          [&](const gi::GiSample& s) {
+            const gi::GiSample* f = low ? &low->of(s) : &s;
+            Tensor<float> l = model_light(generators[m], *f, o.bn_batch_stats, o.dropout_on, o.mirror_average);
+            return best_gain_light(low ? gi::upsampled_light(l, *f, s) : l, s);
+          },
+          frames_csv);
+      r.ceiling = true;
+      rows.push_back(std::move(r));
+    }
   }
   write_eval_report(rows, o, e.scored->size(), unlit_frames, frames_csv);
   return rows;

@@ -74,3 +74,29 @@ TEST(GiEvaluate, DistanceBandsFollowDepthJumpsAndCreases) {
   EXPECT_NEAR(bands.mean_flip(2), 0.25, 1e-12);
   EXPECT_NEAR(bands.share(0), 24.0 / (47 * 4), 1e-12);
 }
+
+// --best-gain: a prediction whose indirect light is the truth's times a colour cast is
+// brought back to the truth exactly; sky pixels do not enter the fit.
+TEST(GiEvaluate, BestGainUndoesAPerChannelScaleOfTheIndirectLight) {
+  GiSample s;
+  s.geometry = {1, 1, 0, 1};
+  s.direct_env = Tensor<float>({3, 2, 2});
+  s.target_linear = Tensor<float>({3, 2, 2});
+  Tensor<float> light({3, 2, 2});
+  const float cast[3] = {2.0f, 0.5f, 1.0f};
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < 4; ++i) {
+      const int k = c * 4 + i;
+      s.direct_env[k] = 0.1f * float(i + c);
+      const float indirect = 0.2f + 0.05f * float(i * (c + 1));
+      s.target_linear[k] = s.direct_env[k] + indirect;
+      light[k] = s.direct_env[k] + cast[c] * indirect;
+    }
+  light[2] = 50.0f;  // sky: any value, not fitted, scaled like the rest
+  Tensor<float> fitted = best_gain_light(light, s);
+  for (int k : {0, 1, 3, 4, 5, 7, 8, 9, 11}) EXPECT_NEAR(fitted[k], s.target_linear[k], 1e-6f) << k;
+  // no indirect light predicted: nothing to scale, the light is kept
+  Tensor<float> flat = s.direct_env.clone();
+  Tensor<float> kept = best_gain_light(flat, s);
+  for (int64_t k = 0; k < 12; ++k) EXPECT_EQ(kept[k], flat[k]);
+}
