@@ -37,8 +37,6 @@ void read_model_flags(apps::Args& a, TrainGanOptions& o) {
   o.levels = a.get_int("--levels", o.levels, "U-Net levels (input size divisible by 2^levels)", 1, 12);
   o.d_layers = a.get_int("--d-layers", o.d_layers, "PatchGAN layers (3: 70x70 patches)", 1, 10);
   o.coordconv = a.get_choice("--coordconv", on(o.coordconv), {"on", "off"}, "append coordinate channels") == "on";
-  o.radiance = a.get_choice("--radiance", on(o.radiance), {"on", "off"},
-                            "input the surfaces' outgoing light, albedo * (direct + env) + emission") == "on";
   o.loss = a.get_choice("--loss", o.loss, {"gan", "l1", "dssim"}, "adversarial + L1, or a plain loss (baseline)");
   o.g_norm = a.get_choice("--g-norm", o.g_norm, {"batch", "none"}, "normalisation in the pix2pix U-Net (docs/gan.md)");
   o.g_dropout =

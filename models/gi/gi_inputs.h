@@ -1,5 +1,5 @@
 #pragma once
-// Assembling the generator's 12 (or 15) input channels and its target from G-buffer views
+// Assembling the generator's 12 input channels and its target from G-buffer views
 // (docs/dataset-format.md), for one front view (--mode front, Deep Illumination) or a
 // surround frame merged into the global view (--mode surround, the thesis).
 //
@@ -8,13 +8,9 @@
 //   3-5  camera-space normal          as stored (front camera's space for every face)
 //   6    depth                        2 min(z / depth_max, 1) - 1; sky = 1 (thesis 4.3.1)
 //   7-9  lumination = direct + emission + env   HDR-mapped (hdr_mapping.h), thesis eq. 4.2
-//   10-12 radiance (with `radiance`)  albedo * (direct + env) + emission, HDR-mapped: the
-//                                     light each visible surface sends on, the source of the
-//                                     next bounce. A ReLU network multiplies two inputs only
-//                                     approximately; the product is given instead.
-//   then coordinates (CoordConv)      2c - 1 of (x, y) for a single view, of (phi, theta)
+//   10-11 coordinates (CoordConv)     2c - 1 of (x, y) for a single view, of (phi, theta)
 //                                     for the global view (data/coord_maps.h); absent when
-//                                     CoordConv is off (10 channels, 13 with radiance)
+//                                     CoordConv is off (10 channels)
 // Target (front view only): direct + env + indirect, HDR-mapped into Tanh's range. The
 // shaded image is albedo * target + emission (the emission is not the network's job).
 #include <cmath>
@@ -53,15 +49,12 @@ struct GiNormalisation {
 struct GiInputConfig {
   GiMode mode = GiMode::surround;
   bool coordconv = true;
-  bool radiance = false;  // channels 10-12: the surfaces' outgoing light (above)
-  int size = 0;           // face size the views are reduced to (0: as stored), gi_samples.h
+  int size = 0;  // face size the views are reduced to (0: as stored), gi_samples.h
   GiNormalisation norm;
   // Share of train/'s scenes carved out as the validation split (data/validation_split.h)
   // before anything was fitted; stored in G.blob so eval-gi carves the same scenes.
   double validation_fraction = 0;
-  // Per-view planes (all but the coordinates), then the coordinates.
-  int planes() const { return radiance ? 13 : 10; }
-  int channels() const { return planes() + (coordconv ? 2 : 0); }
+  int channels() const { return coordconv ? 12 : 10; }
 };
 
 // One training or test example.
@@ -71,7 +64,6 @@ struct GiSample {
   Tensor<float> input;   // (1, C, H, W)      the generator's input
   Tensor<float> target;  // (1, 3, h, w)      Tanh range, the front view; undefined without ground truth
   Rect front;            // the front view inside the input (all of it in front mode)
-  int planes = 10;       // input channels before the coordinates (GiInputConfig::planes)
   // The front view, linear HDR, (3, h, w): for shading, references and metrics.
   Tensor<float> albedo, emission, direct_env, target_linear;  // target_linear: as target
   std::vector<uint8_t> geometry;                              // h * w, 1 where there is geometry (not sky)
@@ -110,10 +102,10 @@ inline std::vector<float> rgb_or_zero(const data::View& v, const std::string& ba
   return finite_channel(v, name);
 }
 
-// The per-view planes (coordinates excluded) of one view, (10 or 13, h, w), mapped as above.
-inline Tensor<float> view_planes(const data::View& v, const GiNormalisation& norm, bool radiance = false) {
+// The 10 per-view planes (coordinates excluded) of one view, (10, h, w), mapped as above.
+inline Tensor<float> view_planes(const data::View& v, const GiNormalisation& norm) {
   const int64_t n = int64_t(v.width) * v.height;
-  Tensor<float> t({radiance ? 13 : 10, v.height, v.width});
+  Tensor<float> t({10, v.height, v.width});
   float* p = t.data();
   HdrMapping hdr(norm.hdr_scale);
   for (int c = 0; c < 3; ++c) {
@@ -135,12 +127,6 @@ inline Tensor<float> view_planes(const data::View& v, const GiNormalisation& nor
     const auto& dir = finite_channel(v, std::string("direct.") + "RGB"[c]);
     auto em = rgb_or_zero(v, "emission", c), env = rgb_or_zero(v, "env", c);
     for (int64_t i = 0; i < n; ++i) p[(7 + c) * n + i] = hdr.to_tanh(dir[size_t(i)] + em[size_t(i)] + env[size_t(i)]);
-    if (!radiance) continue;
-    const auto& a = finite_channel(v, std::string("albedo.") + "RGB"[c]);
-    for (int64_t i = 0; i < n; ++i) {
-      size_t k = size_t(i);
-      p[(10 + c) * n + i] = hdr.to_tanh(a[k] * (dir[k] + env[k]) + em[k]);
-    }
   }
   return t;
 }

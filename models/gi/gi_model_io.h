@@ -26,7 +26,6 @@ inline void put_generator_config(Blob& b, const GiInputConfig& in, const Generat
   b.set_config("residual", residual_name(gc.residual));
   b.set_config("mode", mode_name(in.mode));
   b.set_config("coordconv", in.coordconv ? "on" : "off");
-  if (in.radiance) b.set_config("radiance", "on");  // absent: off (blobs before it)
   b.set_config("size", in.size);
   b.set_config("depth_max", double(in.norm.depth_max));
   b.set_config("hdr_scale", double(in.norm.hdr_scale));
@@ -65,7 +64,6 @@ inline LoadedGenerator load_generator(const std::string& path) {
   LoadedGenerator g;
   g.inputs.mode = parse_mode(b.config_string("mode"));
   g.inputs.coordconv = b.config_string("coordconv") == "on";
-  g.inputs.radiance = b.has_config("radiance") && b.config_string("radiance") == "on";
   // Integers checked as stored, then narrowed; the ranges are train-gan's flags'.
   g.inputs.size = b.config_int("size", 0, 16384);
   const auto positive = [&](const char* key) {
@@ -111,7 +109,7 @@ inline LoadedGenerator load_generator(const std::string& path) {
   u.batchnorm = !(b.has_config("batchnorm") && b.config_string("batchnorm") == "off");
   if (u.in_channels != g.inputs.channels())
     throw std::runtime_error(path + ": in_channels " + std::to_string(u.in_channels) + " does not match coordconv " +
-                             b.config_string("coordconv") + (g.inputs.radiance ? " with radiance" : ""));
+                             b.config_string("coordconv"));
   g.loss = b.config_string("loss");
   Rng rng(0);
   g.G = make_generator<float>(g.config, rng);

@@ -90,8 +90,8 @@ inline Tensor<float> mirrored_input(const gi::GiSample& s) {
         "even face size), got face size " +
         std::to_string(s.front.w));
   Tensor<float> in = s.input.clone();
-  // Albedo, normals, depth, lumination (and radiance); not the coordinate channels after them.
-  detail::flip_rows(in.data(), std::min<int64_t>(C, s.planes), H, W);
+  // Albedo, normals, depth, lumination; not the coordinate channels (10-11) after them.
+  detail::flip_rows(in.data(), std::min<int64_t>(C, 10), H, W);
   for (int64_t i = 0; i < H * W; ++i) in[3 * H * W + i] = -in[3 * H * W + i];
   return in;
 }
@@ -124,13 +124,9 @@ inline gi::GiSample light_scaled(const gi::GiSample& s, const float scale[3], fl
   const int64_t H = s.input.size(2), W = s.input.size(3), n = H * W;
   gi::GiSample o = s;
   o.input = s.input.clone();
-  // The lumination and, when present, the radiance (channels 10-12): both are linear in the light.
-  for (int first : {gi::GeneratorConfig::kLuminationChannel, 10}) {
-    if (first == 10 && s.planes < 13) break;
-    for (int c = 0; c < 3; ++c) {
-      float* lum = o.input.data() + (first + c) * n;
-      for (int64_t i = 0; i < n; ++i) lum[i] = hdr.to_tanh(scale[c] * hdr.from_tanh(lum[i]));
-    }
+  for (int c = 0; c < 3; ++c) {
+    float* lum = o.input.data() + (gi::GeneratorConfig::kLuminationChannel + c) * n;
+    for (int64_t i = 0; i < n; ++i) lum[i] = hdr.to_tanh(scale[c] * hdr.from_tanh(lum[i]));
   }
   for (Tensor<float>* t : {&o.emission, &o.direct_env, &o.target_linear}) {
     if (!t->defined()) continue;

@@ -94,13 +94,12 @@ inline gi::GiSample assemble_front(const data::View& v, const gi::GiInputConfig&
   gi::GiSample s;
   s.name = v.source;
   s.scene = v.scene;
-  Tensor<float> planes = gi::view_planes(v, cfg.norm, cfg.radiance);
+  Tensor<float> planes = gi::view_planes(v, cfg.norm);
   s.input = Tensor<float>({1, cfg.channels(), v.height, v.width});
   std::copy(planes.begin(), planes.end(), s.input.begin());
-  s.planes = cfg.planes();
   if (cfg.coordconv) {
     auto xy = data::xy_coordinate_maps(v.width, v.height);
-    append_coords(s.input, xy.x, xy.y, cfg.planes());
+    append_coords(s.input, xy.x, xy.y, 10);
   }
   s.front = {0, 0, v.width, v.height};
   s.front_geometry = gi::geometry_of(v);
@@ -129,22 +128,21 @@ inline gi::GiSample assemble_surround(const std::array<data::View, 6>& faces, co
                                       const std::string& name, bool targets = true) {
   const int F = faces[0].width;
   std::array<Tensor<float>, 6> planes;
-  for (int f = 0; f < 6; ++f) planes[size_t(f)] = gi::view_planes(faces[size_t(f)], cfg.norm, cfg.radiance);
+  for (int f = 0; f < 6; ++f) planes[size_t(f)] = gi::view_planes(faces[size_t(f)], cfg.norm);
   const data::GlobalViewLayout& layout = data::global_view_layout(F);
   gi::GiSample s;
   s.name = name;
   s.scene = faces[0].scene;
   s.input = Tensor<float>({1, cfg.channels(), layout.height, layout.width});
   const int64_t fn = int64_t(F) * F, gn = int64_t(layout.height) * layout.width;
-  s.planes = cfg.planes();
-  for (int c = 0; c < s.planes; ++c) {
+  for (int c = 0; c < 10; ++c) {
     std::array<const float*, 6> src;
     for (int f = 0; f < 6; ++f) src[size_t(f)] = planes[size_t(f)].data() + c * fn;
     data::merge_to_global_view(src, F, s.input.data() + c * gn);
   }
   if (cfg.coordconv) {
     auto pt = data::phi_theta_maps(F);
-    append_coords(s.input, pt.phi, pt.theta, cfg.planes());
+    append_coords(s.input, pt.phi, pt.theta, 10);
   }
   auto r = layout.front_rect();
   s.front = {r.x0, r.y0, r.w, r.h};

@@ -75,7 +75,6 @@ struct TrainGanOptions {
   double lr_d = 5e-5;  // 0: lr (pix2pix)
   double beta1 = 0.5;
   bool coordconv = true;            // coordinate channels appended to the input
-  bool radiance = false;            // the surfaces' outgoing light as three more input channels
   std::string loss = "gan";         // gan | l1 | dssim
   std::string g_norm = "batch";     // batch | none: normalisation in the pix2pix U-Net
   double g_dropout = 0.5;           // dropout in the U-Net's three innermost up blocks (pix2pix)
@@ -151,7 +150,6 @@ inline GanRunOptions run_options(const TrainGanOptions& o, const GanSplits& s) {
   GanTrainConfig& c = r.train;
   c.inputs.mode = gi::parse_mode(o.mode);
   c.inputs.coordconv = o.coordconv;
-  c.inputs.radiance = o.radiance;
   c.inputs.size = o.size;
   c.inputs.validation_fraction = s.splits.validation.size() > 0 ? o.validation_fraction : 0;
   c.ngf = o.ngf, c.ndf = o.ndf, c.levels = o.levels, c.d_layers = o.d_layers;

@@ -94,32 +94,6 @@ TEST(GiInputs, ChannelsAreMappedAsDocumented) {
   EXPECT_EQ(assemble_front(v, cfg).input.size(1), 10);
 }
 
-TEST(GiInputs, RadianceIsAlbedoTimesLightPlusEmissionBeforeTheCoordinates) {
-  View v = make_view(4, 3, 1.0f);
-  GiInputConfig cfg;
-  cfg.mode = GiMode::front;
-  cfg.norm.hdr_scale = 2.0f;
-  cfg.radiance = true;
-  GiSample s = assemble_front(v, cfg);
-  ASSERT_EQ(s.input.shape(), (Shape{1, 15, 3, 4}));
-  EXPECT_EQ(s.planes, 13);
-  const int64_t n = 12, px = 5;
-  const float off = 0.001f * px;
-  HdrMapping hdr(2.0f);
-  // R: albedo 0.25 x (direct 1 + env 0.1) + emission 0.5; G: 0.5 x (2 + 0.1), no emission
-  EXPECT_FLOAT_EQ(s.input[10 * n + px], hdr.to_tanh((0.25f + off) * ((1 + off) + (0.1f + off)) + (0.5f + off)));
-  EXPECT_FLOAT_EQ(s.input[11 * n + px], hdr.to_tanh((0.5f + off) * ((2 + off) + (0.1f + off)) + off));
-  // the coordinates follow the radiance
-  EXPECT_FLOAT_EQ(s.input[13 * n + px], 2 * (1.5f / 4) - 1);
-  EXPECT_FLOAT_EQ(s.input[14 * n + px], 2 * (1.5f / 3) - 1);
-  // every other channel as without it
-  cfg.radiance = false;
-  GiSample plain = assemble_front(v, cfg);
-  for (int64_t i = 0; i < 10 * n; ++i) ASSERT_EQ(s.input[i], plain.input[i]) << i;
-  cfg.coordconv = false, cfg.radiance = true;
-  EXPECT_EQ(assemble_front(v, cfg).input.size(1), 13);
-}
-
 TEST(GiInputs, OptionalLightIsZeroAndNonFiniteIsRefusedByName) {
   View v = make_view(4, 3, 1.0f, /*with_optional=*/false);
   GiInputConfig cfg;

@@ -140,29 +140,6 @@ gi::LoadedGenerator tiny_generator_blob(const std::string& p) {
   return gi::load_generator(p);
 }
 
-TEST_F(ModelBlobTest, GiGeneratorKeepsTheRadianceInputAndOldBlobsReadWithoutIt) {
-  gi::GeneratorConfig gc;
-  gi::GiInputConfig in;
-  in.size = 16;
-  in.radiance = true;
-  gc.unet.in_channels = in.channels();
-  gc.unet.ngf = 2;
-  gc.unet.levels = 2;
-  Rng rng(1);
-  auto G = gi::make_generator<float>(gc, rng);
-  const std::string p = path("G.blob");
-  gi::save_generator_blob(p, *G, in, gc, "gan");
-  gi::LoadedGenerator g = gi::load_generator(p);
-  EXPECT_TRUE(g.inputs.radiance);
-  EXPECT_EQ(g.inputs.channels(), 15);
-  EXPECT_FALSE(tiny_generator_blob(path("old.blob")).inputs.radiance);
-  // a blob whose channel count does not fit its radiance key is refused, naming both
-  Blob b = Blob::load(p);
-  b.set_config("radiance", std::string("off"));
-  b.save(path("bad.blob"));
-  expect_refused(error_of([&] { gi::load_generator(path("bad.blob")); }), path("bad.blob"), "in_channels 15");
-}
-
 // gi-infer and eval-gi accepted a NaN conv weight.
 TEST_F(ModelBlobTest, GiGeneratorAndDiscriminatorRefuseANonFiniteTensorNamingIt) {
   const std::string p = path("G.blob");
