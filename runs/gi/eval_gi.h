@@ -571,7 +571,7 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
     rows.push_back(score_model(o.models[m], generators[m], low ? &*low : nullptr, frames, hdr, o, frames_csv));
     if (o.best_gain) {
       EvalRow r = score(
-          rows.back().model + ", best gain", rows.back().mode, frames, hdr, o,
+          rows.back().model + " x best gain", rows.back().mode, frames, hdr, o,
           [&](const gi::GiSample& s) {
             const gi::GiSample* f = low ? &low->of(s) : &s;
             Tensor<float> l = model_light(generators[m], *f, o.bn_batch_stats, o.dropout_on, o.mirror_average);
