@@ -39,6 +39,10 @@ void read_model_flags(apps::Args& a, TrainGanOptions& o) {
   o.coordconv = a.get_choice("--coordconv", on(o.coordconv), {"on", "off"}, "append coordinate channels") == "on";
   o.loss = a.get_choice("--loss", o.loss, {"gan", "l1", "dssim"}, "adversarial + L1, or a plain loss (baseline)");
   o.g_norm = a.get_choice("--g-norm", o.g_norm, {"batch", "none"}, "normalisation in the pix2pix U-Net (docs/gan.md)");
+  o.level_head = a.get_int("--level-head", o.level_head,
+                           "hidden width of a frame-level head scaling the predicted indirect light (0: none; "
+                           "pix2pix with --residual linear only)",
+                           0, 4096);
   o.g_dropout =
       a.get_double("--g-dropout", o.g_dropout,
                    "dropout probability in the U-Net's three innermost up blocks (pix2pix: 0.5; 0: none)", 0, 0.95);

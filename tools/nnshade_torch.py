@@ -150,9 +150,21 @@ class Pix2PixUnet(nn.Module):
         super().__init__()
         self.model = UnetBlock(c, 0)
         self.size_multiple = 1 << c["levels"]
+        if c["level_head"] > 0:  # models/gi/unet.h: UnetGenerator::level_gain
+            self.level_head_in = nn.Linear(2 * c["in_channels"], c["level_head"])
+            self.level_head_out = nn.Linear(c["level_head"], c["out_channels"])
 
     def forward(self, x):
         return self.model(x)
+
+    def level_gain(self, x):
+        """Per-frame gains (B, 3, 1, 1) of the indirect light from the input's channel means
+        and mean squares over the whole view; None without the head."""
+        if not hasattr(self, "level_head_in"):
+            return None
+        f = torch.cat([x.mean((2, 3)), (x * x).mean((2, 3))], 1)
+        h = F.leaky_relu(self.level_head_in(f), 0.2)
+        return torch.exp(self.level_head_out(h)).view(x.shape[0], -1, 1, 1)
 
 
 class DeepShadingUnet(nn.Module):
@@ -199,6 +211,9 @@ class Generator(nn.Module):
         k, eps = self.k, LINEAR_EPS
         u = (0.5 * (lum + 1)).clamp(0, 1 - eps)
         indirect = (y * (0.5 * k) + 0.5 * k) / (y * -0.5 + (0.5 + eps))
+        gain = self.net.level_gain(x) if hasattr(self.net, "level_gain") else None
+        if gain is not None:
+            indirect = indirect * gain
         return (k / (indirect + k * u / (1 - u) + k)) * -2 + 1
 
     def to_linear(self, y):
@@ -243,6 +258,7 @@ def build_nnao(c):
 def build_generator(c):
     g = {k: c.num(k, int) for k in ("in_channels", "out_channels", "ngf", "levels", "dropout_blocks")}
     g["dropout"], g["batchnorm"] = c.num("dropout", float), c.str("batchnorm", "on") != "off"
+    g["level_head"] = c.num("level_head", int, 0)
     arch, residual = c.str("arch", "pix2pix"), c.str("residual", "off")
     residual = {"on": "mapped"}.get(residual, residual)  # the name blobs of early runs carry
     if arch not in ("pix2pix", "deepshading") or residual not in ("off", "mapped", "linear"):

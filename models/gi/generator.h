@@ -100,6 +100,7 @@ Var<T> generate(GiGenerator<T>& g, const GeneratorConfig& c, const Var<T>& x) {
     v = k * u / (T(1) - u);
   }
   Var<T> indirect = div(affine(y, T(0.5) * k, T(0.5) * k), affine(y, T(-0.5), T(0.5) + eps));
+  if (Var<T> gain = g.level_gain(x); gain.defined()) indirect = indirect * gain;
   Var<T> light = indirect + Var<T>(std::move(lum));
   return affine(rdiv(k, affine(light, T(1), k)), T(-2), T(1));  // 2 L/(L+k) - 1
 }

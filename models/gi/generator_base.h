@@ -3,6 +3,7 @@
 // it is (the pix2pix U-Net, unet.h, or Deep Shading's U-Net, deep_shading_unet.h).
 #include <cstdint>
 
+#include "core/autograd.h"
 #include "nn/module.h"
 
 namespace nns::gi {
@@ -15,6 +16,8 @@ class GiGenerator : public Module<T> {
   virtual void set_test_modes(bool bn_batch_stats, bool dropout_on) = 0;
   // Height and width of an input must be multiples of this.
   virtual int64_t size_multiple() const = 0;
+  // Per-frame gains (B, 3, 1, 1) for the predicted indirect light, or undefined (none).
+  virtual Var<T> level_gain(const Var<T>&) { return Var<T>(); }
 };
 
 }  // namespace nns::gi

@@ -55,6 +55,7 @@ struct GanTrainConfig {
   gi::GiResidual residual = gi::GiResidual::off;  // predict a correction to the input light (generator.h)
   bool g_batchnorm = true;                        // BatchNorm in the pix2pix U-Net (unet.h)
   float g_dropout = 0.5f;                         // dropout in its three innermost up blocks (0: none)
+  int level_head = 0;                             // hidden width of the frame-level head (unet.h; 0: none)
   int ndf = 32, d_layers = 3;                     // discriminator
   GiLoss loss = GiLoss::gan;
   double lambda = 100, lr = 2e-4, beta1 = 0.5, beta2 = 0.999;
@@ -80,6 +81,7 @@ struct GanTrainConfig {
     u.levels = levels;
     u.batchnorm = g_batchnorm;
     u.dropout = g_dropout;
+    u.level_head = level_head;
     return u;
   }
   gi::GeneratorConfig generator() const { return {arch, unet(), residual, inputs.norm.hdr_scale}; }

@@ -85,9 +85,15 @@ TEST_F(TrainGan, NanStopsNamingStepAndTensorAndKeepsLastGoodCheckpoint) {
   int rc = run(train_cmd(bad, "--debug-poison-step 5"), bad + ".log");
   std::string log = read_all(bad + ".log");
   EXPECT_EQ(rc, 3) << log;
-  // The NaN enters at pixel 0 of the input; ReLU's max(x, 0) drops it from the forward
-  // pass, so the first place it shows is the gradient of the first conv's weight.
-  EXPECT_NE(log.find("at step 5 in gradient of G.model.down.weight"), std::string::npos) << log;
+  // The NaN enters at pixel 0 of the input. The frame-level head averages the input, so
+  // its gain, and with it the whole generator output, is NaN: the forward check names it.
+  // (Without the head ReLU's max(x, 0) drops it from the forward pass, and the first place
+  // it shows is the gradient of the first conv's weight.)
+  EXPECT_NE(log.find("at step 5 in generator output"), std::string::npos) << log;
+  const std::string no_head = (root_ / "no_head").string();
+  EXPECT_EQ(run(train_cmd(no_head, "--debug-poison-step 5 --level-head 0"), no_head + ".log"), 3);
+  EXPECT_NE(read_all(no_head + ".log").find("at step 5 in gradient of G.model.down.weight"), std::string::npos)
+      << read_all(no_head + ".log");
   EXPECT_NE(log.find("last good checkpoint"), std::string::npos) << log;
   EXPECT_EQ(read_all(bad + "/checkpoint.blob"), read_all(good + "/checkpoint.blob"));
   EXPECT_NE(read_all(bad + "/summary.json").find("\"finished\":false"), std::string::npos);

@@ -140,6 +140,28 @@ gi::LoadedGenerator tiny_generator_blob(const std::string& p) {
   return gi::load_generator(p);
 }
 
+TEST_F(ModelBlobTest, GiGeneratorKeepsItsLevelHeadAndOldBlobsReadWithout) {
+  gi::GeneratorConfig gc;
+  gi::GiInputConfig in;
+  in.size = 16;
+  gc.unet.in_channels = in.channels();
+  gc.unet.ngf = 2;
+  gc.unet.levels = 2;
+  gc.unet.level_head = 5;
+  gc.residual = gi::GiResidual::linear;
+  Rng rng(1);
+  auto G = gi::make_generator<float>(gc, rng);
+  const std::string p = path("G.blob");
+  gi::save_generator_blob(p, *G, in, gc, "gan");
+  EXPECT_EQ(gi::load_generator(p).config.unet.level_head, 5);
+  EXPECT_EQ(tiny_generator_blob(path("old.blob")).config.unet.level_head, 0);
+  // a level_head key without the head's tensors (or with another width) is refused
+  Blob b = Blob::load(p);
+  b.set_config("level_head", int64_t(6));
+  b.save(path("bad.blob"));
+  expect_refused(error_of([&] { gi::load_generator(path("bad.blob")); }), path("bad.blob"), "level_head");
+}
+
 // gi-infer and eval-gi accepted a NaN conv weight.
 TEST_F(ModelBlobTest, GiGeneratorAndDiscriminatorRefuseANonFiniteTensorNamingIt) {
   const std::string p = path("G.blob");

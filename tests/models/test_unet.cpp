@@ -3,6 +3,7 @@
 #include <set>
 #include <string>
 
+#include "models/gi/generator.h"
 #include "models/gi/unet.h"
 #include "tests/support/gradcheck.h"
 
@@ -139,6 +140,58 @@ TEST(Unet, GradCheckWholeNetwork) {
         size_t i = 0;
         for (auto& [name, r] : g.named_rngs()) r->set_state(rng_states[i++]);
         return g.forward(in[0]);
+      },
+      inputs);
+}
+
+// The frame-level head (--level-head): drawn after the U-Net and started at gain 1, so a
+// generator with it predicts exactly what the same seed's generator without it does.
+TEST(Unet, LevelHeadStartsAtGainOneAndLeavesTheUnetAlone) {
+  GeneratorConfig with, without;
+  with.unet = without.unet = tiny(10, 2, 2);
+  with.unet.level_head = 4;
+  with.residual = without.residual = GiResidual::linear;
+  with.hdr_scale = without.hdr_scale = 0.7f;
+  Rng r1(3), r2(3), rx(4);
+  auto a = make_generator<float>(with, r1);
+  auto b = make_generator<float>(without, r2);
+  EXPECT_EQ(a->parameter_count(), b->parameter_count() + (20 * 4 + 4) + (4 * 3 + 3));
+  const TensorD xd = random_tensor({1, 10, 8, 8}, rx, 0.8);
+  Tensor<float> xf(xd.shape());
+  for (int64_t i = 0; i < xd.numel(); ++i) xf[i] = float(xd[i]);
+  Var<float> x(std::move(xf));
+  Tensor<float> ya = generate(*a, with, x).value(), yb = generate(*b, without, x).value();
+  for (int64_t i = 0; i < ya.numel(); ++i) ASSERT_EQ(ya[i], yb[i]) << i;
+  EXPECT_FALSE(b->level_gain(x).defined());
+  Tensor<float> g = a->level_gain(x).value();
+  EXPECT_EQ(g.shape(), (Shape{1, 3, 1, 1}));
+  for (float v : g) EXPECT_EQ(v, 1.0f);
+}
+
+// The head's parameters and the U-Net's, through the linear residual, in double. The
+// head reads the input's statistics as data (no gradient flows back into the input).
+TEST(Unet, LevelHeadGradCheckThroughTheLinearResidual) {
+  GeneratorConfig gc;
+  gc.unet = tiny(10, 2, 2);
+  gc.unet.level_head = 3;
+  gc.residual = GiResidual::linear;
+  gc.hdr_scale = 0.7f;
+  Rng rng(6);
+  auto g = make_generator<double>(gc, rng);
+  std::vector<Rng::State> rng_states;
+  for (auto& [name, r] : g->named_rngs()) rng_states.push_back(r->state());
+  const VarD x(random_tensor({1, 10, 8, 8}, rng, 0.8));
+  std::vector<VarD> inputs;
+  for (auto& p : g->parameters()) {  // O(1) weights: see GradCheckWholeNetwork
+    VarD q = p;
+    q.value() = random_tensor(q.shape(), rng, q.shape().dim() >= 2 ? 0.4 : 0.5);
+    inputs.push_back(q);
+  }
+  gradcheck(
+      [&](std::vector<VarD>&) {
+        size_t i = 0;
+        for (auto& [name, r] : g->named_rngs()) r->set_state(rng_states[i++]);
+        return generate(*g, gc, x);
       },
       inputs);
 }
