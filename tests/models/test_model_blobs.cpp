@@ -126,7 +126,8 @@ TEST_F(ModelBlobTest, NnaoChecksKeysAsStoredBeforeNarrowing) {
   }
 }
 
-gi::LoadedGenerator tiny_generator_blob(const std::string& p) {
+// level_head > 0: with a frame-level head (and the linear residual it scales).
+gi::LoadedGenerator tiny_generator_blob(const std::string& p, int level_head = 0) {
   gi::GeneratorConfig gc;
   gi::GiInputConfig in;
   in.size = 16;
@@ -134,6 +135,8 @@ gi::LoadedGenerator tiny_generator_blob(const std::string& p) {
   gc.unet.ngf = 2;
   gc.unet.levels = 2;
   gc.unet.dropout_blocks = 1;
+  gc.unet.level_head = level_head;
+  if (level_head > 0) gc.residual = gi::GiResidual::linear;
   Rng rng(1);
   auto G = gi::make_generator<float>(gc, rng);
   gi::save_generator_blob(p, *G, in, gc, "gan");
@@ -141,19 +144,8 @@ gi::LoadedGenerator tiny_generator_blob(const std::string& p) {
 }
 
 TEST_F(ModelBlobTest, GiGeneratorKeepsItsLevelHeadAndOldBlobsReadWithout) {
-  gi::GeneratorConfig gc;
-  gi::GiInputConfig in;
-  in.size = 16;
-  gc.unet.in_channels = in.channels();
-  gc.unet.ngf = 2;
-  gc.unet.levels = 2;
-  gc.unet.level_head = 5;
-  gc.residual = gi::GiResidual::linear;
-  Rng rng(1);
-  auto G = gi::make_generator<float>(gc, rng);
   const std::string p = path("G.blob");
-  gi::save_generator_blob(p, *G, in, gc, "gan");
-  EXPECT_EQ(gi::load_generator(p).config.unet.level_head, 5);
+  EXPECT_EQ(tiny_generator_blob(p, 5).config.unet.level_head, 5);
   EXPECT_EQ(tiny_generator_blob(path("old.blob")).config.unet.level_head, 0);
   // a level_head key without the head's tensors (or with another width) is refused
   Blob b = Blob::load(p);
