@@ -437,30 +437,6 @@ inline void score_second_render(const SecondRender& other, const GiItemReader& r
   rows.back().ceiling = true;
 }
 
-// One model's row. With --upsample-from (`low` given), the model sees the frames
-// box-filtered to that face, and its indirect light (prediction - direct - env) is
-// brought up to the scored frames by the guided upsample; the direct and env light are
-// the scored frames' own.
-inline EvalRow score_model(const std::string& path, gi::LoadedGenerator& g, const LowFrames* low,
-                           std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr, const EvalOptions& o,
-                           std::string& frames_csv) {
-  const gi::GiInputConfig& cfg = g.inputs;
-  NoGradGuard ng;
-  const std::string label = detail::label_of(path) + (o.mirror_average ? " mirror-avg" : "");
-  if (!low)
-    return score(
-        label, gi::mode_name(cfg.mode), frames, hdr, o,
-        [&](const gi::GiSample& s) { return model_light(g, s, o.bn_batch_stats, o.dropout_on, o.mirror_average); },
-        frames_csv);
-  return score(
-      label + " @" + std::to_string(o.upsample_from) + " guided", gi::mode_name(cfg.mode), frames, hdr, o,
-      [&](const gi::GiSample& s) {
-        const gi::GiSample& l = low->of(s);
-        return gi::upsampled_light(model_light(g, l, o.bn_batch_stats, o.dropout_on, o.mirror_average), l, s);
-      },
-      frames_csv);
-}
-
 // The light `light` (3, h, w) of frame s with its indirect part (light - direct - env)
 // scaled, per colour channel, by the gain that fits the true indirect light best in
 // least squares over the geometry pixels: g = sum(p t) / sum(p p) (1 where the
@@ -482,6 +458,31 @@ inline Tensor<float> best_gain_light(Tensor<float> light, const gi::GiSample& s)
     }
   }
   return light;
+}
+
+// One model's row. With --upsample-from (`low` given), the model sees the frames
+// box-filtered to that face, and its indirect light (prediction - direct - env) is
+// brought up to the scored frames by the guided upsample; the direct and env light are
+// the scored frames' own. best_gain: the diagnostic row of --best-gain (a ceiling row).
+inline EvalRow score_model(const std::string& path, gi::LoadedGenerator& g, const LowFrames* low,
+                           std::vector<gi::GiSample>& frames, const gi::HdrMapping& hdr, const EvalOptions& o,
+                           std::string& frames_csv, bool best_gain = false) {
+  const gi::GiInputConfig& cfg = g.inputs;
+  NoGradGuard ng;
+  const std::string label = detail::label_of(path) + (o.mirror_average ? " mirror-avg" : "") +
+                            (low ? " @" + std::to_string(o.upsample_from) + " guided" : "") +
+                            (best_gain ? " x best gain" : "");
+  EvalRow row = score(
+      label, gi::mode_name(cfg.mode), frames, hdr, o,
+      [&](const gi::GiSample& s) {
+        const gi::GiSample& f = low ? low->of(s) : s;
+        Tensor<float> light = model_light(g, f, o.bn_batch_stats, o.dropout_on, o.mirror_average);
+        if (low) light = gi::upsampled_light(light, f, s);
+        return best_gain ? best_gain_light(std::move(light), s) : light;
+      },
+      frames_csv);
+  row.ceiling = best_gain;
+  return row;
 }
 
 inline void write_eval_report(const std::vector<EvalRow>& rows, const EvalOptions& o, size_t scored_frames,
@@ -569,18 +570,9 @@ inline std::vector<EvalRow> evaluate_gi(const EvalOptions& o) {
       if (second) score_second_render(*second, rd, cfg, low ? &*low : nullptr, frames, hdr, o, rows, frames_csv);
     }
     rows.push_back(score_model(o.models[m], generators[m], low ? &*low : nullptr, frames, hdr, o, frames_csv));
-    if (o.best_gain) {
-      EvalRow r = score(
-          rows.back().model + " x best gain", rows.back().mode, frames, hdr, o,
-          [&](const gi::GiSample& s) {
-            const gi::GiSample* f = low ? &low->of(s) : &s;
-            Tensor<float> l = model_light(generators[m], *f, o.bn_batch_stats, o.dropout_on, o.mirror_average);
-            return best_gain_light(low ? gi::upsampled_light(l, *f, s) : l, s);
-          },
-          frames_csv);
-      r.ceiling = true;
-      rows.push_back(std::move(r));
-    }
+    if (o.best_gain)
+      rows.push_back(score_model(o.models[m], generators[m], low ? &*low : nullptr, frames, hdr, o, frames_csv,
+                                 /*best_gain=*/true));
   }
   write_eval_report(rows, o, e.scored->size(), unlit_frames, frames_csv);
   return rows;
