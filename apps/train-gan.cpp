@@ -43,6 +43,8 @@ void read_model_flags(apps::Args& a, TrainGanOptions& o) {
                            "hidden width of a frame-level head scaling the predicted indirect light (0: none; "
                            "pix2pix with --residual linear only)",
                            0, 4096);
+  o.level_energy = a.get_choice("--level-energy", on(o.level_energy), {"on", "off"},
+                                "the frame-level head also reads the view's light energy") == "on";
   o.g_dropout =
       a.get_double("--g-dropout", o.g_dropout,
                    "dropout probability in the U-Net's three innermost up blocks (pix2pix: 0.5; 0: none)", 0, 0.95);

@@ -151,7 +151,9 @@ class Pix2PixUnet(nn.Module):
         self.model = UnetBlock(c, 0)
         self.size_multiple = 1 << c["levels"]
         if c["level_head"] > 0:  # models/gi/unet.h: UnetGenerator::level_gain
-            self.level_head_in = nn.Linear(2 * c["in_channels"], c["level_head"])
+            self.level_energy = c["level_energy"]
+            nf = 2 * c["in_channels"] + (6 if self.level_energy else 0)
+            self.level_head_in = nn.Linear(nf, c["level_head"])
             self.level_head_out = nn.Linear(c["level_head"], c["out_channels"])
 
     def forward(self, x):
@@ -159,10 +161,19 @@ class Pix2PixUnet(nn.Module):
 
     def level_gain(self, x):
         """Per-frame gains (B, 3, 1, 1) of the indirect light from the input's channel means
-        and mean squares over the whole view; None without the head."""
+        and mean squares over the whole view, and with the energy the log mean linear
+        lumination and albedo x lumination per colour (models/gi/frame_level_features.h);
+        None without the head."""
         if not hasattr(self, "level_head_in"):
             return None
-        f = torch.cat([x.mean((2, 3)), (x * x).mean((2, 3))], 1)
+        f = [x.mean((2, 3)), (x * x).mean((2, 3))]
+        if self.level_energy:
+            xd = x.double()
+            a = 0.5 * (xd[:, 0:3] + 1)
+            u = (0.5 * (xd[:, 7:10] + 1)).clamp(0, 1 - 2.0**-20)
+            light = u / (1 - u)
+            f += [torch.log(light.mean((2, 3)) + 1e-3).to(x.dtype), torch.log((a * light).mean((2, 3)) + 1e-3).to(x.dtype)]
+        f = torch.cat(f, 1)
         h = F.leaky_relu(self.level_head_in(f), 0.2)
         return torch.exp(self.level_head_out(h)).view(x.shape[0], -1, 1, 1)
 
@@ -259,6 +270,7 @@ def build_generator(c):
     g = {k: c.num(k, int) for k in ("in_channels", "out_channels", "ngf", "levels", "dropout_blocks")}
     g["dropout"], g["batchnorm"] = c.num("dropout", float), c.str("batchnorm", "on") != "off"
     g["level_head"] = c.num("level_head", int, 0)
+    g["level_energy"] = c.str("level_energy", "off") == "on"
     arch, residual = c.str("arch", "pix2pix"), c.str("residual", "off")
     residual = {"on": "mapped"}.get(residual, residual)  # the name blobs of early runs carry
     if arch not in ("pix2pix", "deepshading") or residual not in ("off", "mapped", "linear"):

@@ -61,7 +61,6 @@ struct GeneratorConfig {
   UnetConfig unet;  // in/out channels, ngf, levels, dropout (dropout: pix2pix only)
   GiResidual residual = GiResidual::off;
   float hdr_scale = 1.0f;  // the HDR mapping's k (residual linear)
-  static constexpr int kLuminationChannel = 7;
   static constexpr float kLinearEps = 1e-3f;
 
   DeepShadingConfig deep_shading() const {
@@ -76,8 +75,7 @@ struct GeneratorConfig {
 
 template <class T = float>
 std::unique_ptr<GiGenerator<T>> make_generator(const GeneratorConfig& c, Rng& rng) {
-  if (c.residual != GiResidual::off &&
-      (c.unet.in_channels < GeneratorConfig::kLuminationChannel + 3 || c.unet.out_channels != 3))
+  if (c.residual != GiResidual::off && (c.unet.in_channels < kLuminationChannel + 3 || c.unet.out_channels != 3))
     throw std::invalid_argument("residual generator: needs the lumination input channels 7-9 and 3 outputs");
   if (c.arch == GiArch::pix2pix) return std::make_unique<UnetGenerator<T>>(c.unet, rng);
   return std::make_unique<DeepShadingUnet<T>>(c.deep_shading(), rng);
@@ -91,8 +89,7 @@ Var<T> generate(GiGenerator<T>& g, const GeneratorConfig& c, const Var<T>& x) {
   const int64_t n = x.size(2) * x.size(3), ch = x.size(1);
   Tensor<T> lum({x.size(0), 3, x.size(2), x.size(3)});
   for (int64_t b = 0; b < x.size(0); ++b)
-    for (int64_t k = 0; k < 3 * n; ++k)
-      lum[b * 3 * n + k] = x.value()[(b * ch + GeneratorConfig::kLuminationChannel) * n + k];
+    for (int64_t k = 0; k < 3 * n; ++k) lum[b * 3 * n + k] = x.value()[(b * ch + kLuminationChannel) * n + k];
   if (c.residual == GiResidual::mapped) return y * T(2) + Var<T>(std::move(lum));
   const T k = T(c.hdr_scale), eps = T(GeneratorConfig::kLinearEps);
   for (auto& v : lum) {  // back to linear light: k u / (1 - u), u = (v + 1) / 2

@@ -26,6 +26,9 @@
 
 namespace nns::gi {
 
+// The first channel of each three-channel group above.
+constexpr int kAlbedoChannel = 0, kNormalChannel = 3, kLuminationChannel = 7;
+
 enum class GiMode { front, surround };
 
 inline GiMode parse_mode(const std::string& s) {
@@ -110,12 +113,12 @@ inline Tensor<float> view_planes(const data::View& v, const GiNormalisation& nor
   HdrMapping hdr(norm.hdr_scale);
   for (int c = 0; c < 3; ++c) {
     const auto& a = finite_channel(v, std::string("albedo.") + "RGB"[c]);
-    for (int64_t i = 0; i < n; ++i) p[c * n + i] = 2.0f * a[size_t(i)] - 1.0f;
+    for (int64_t i = 0; i < n; ++i) p[(kAlbedoChannel + c) * n + i] = 2.0f * a[size_t(i)] - 1.0f;
   }
   const char* normals[3] = {"N.X", "N.Y", "N.Z"};
   for (int c = 0; c < 3; ++c) {
     const auto& nc = finite_channel(v, normals[c]);
-    for (int64_t i = 0; i < n; ++i) p[(3 + c) * n + i] = nc[size_t(i)];
+    for (int64_t i = 0; i < n; ++i) p[(kNormalChannel + c) * n + i] = nc[size_t(i)];
   }
   data::check_depth(v);
   const auto& z = v.channel("Z");
@@ -126,7 +129,8 @@ inline Tensor<float> view_planes(const data::View& v, const GiNormalisation& nor
   for (int c = 0; c < 3; ++c) {
     const auto& dir = finite_channel(v, std::string("direct.") + "RGB"[c]);
     auto em = rgb_or_zero(v, "emission", c), env = rgb_or_zero(v, "env", c);
-    for (int64_t i = 0; i < n; ++i) p[(7 + c) * n + i] = hdr.to_tanh(dir[size_t(i)] + em[size_t(i)] + env[size_t(i)]);
+    for (int64_t i = 0; i < n; ++i)
+      p[(kLuminationChannel + c) * n + i] = hdr.to_tanh(dir[size_t(i)] + em[size_t(i)] + env[size_t(i)]);
   }
   return t;
 }

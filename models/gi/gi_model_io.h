@@ -39,6 +39,7 @@ inline void put_generator_config(Blob& b, const GiInputConfig& in, const Generat
   b.set_config("dropout_blocks", u.dropout_blocks);
   if (!u.batchnorm) b.set_config("batchnorm", "off");
   if (u.level_head > 0) b.set_config("level_head", u.level_head);
+  if (u.level_head > 0 && u.level_energy) b.set_config("level_energy", "on");
   b.set_config("loss", loss);
 }
 
@@ -109,6 +110,11 @@ inline LoadedGenerator load_generator(const std::string& path) {
   u.dropout_blocks = b.config_int("dropout_blocks", 0, 12);
   u.batchnorm = !(b.has_config("batchnorm") && b.config_string("batchnorm") == "off");
   if (b.has_config("level_head")) u.level_head = b.config_int("level_head", 1, 4096);
+  if (b.has_config("level_energy")) {
+    const std::string e = b.config_string("level_energy");
+    if (e != "on" && e != "off") throw b.error("config key 'level_energy' is '" + e + "', expected on or off");
+    u.level_energy = e == "on";
+  }
   if (u.in_channels != g.inputs.channels())
     throw std::runtime_error(path + ": in_channels " + std::to_string(u.in_channels) + " does not match coordconv " +
                              b.config_string("coordconv"));

@@ -23,6 +23,7 @@
 #include <string>
 
 #include "models/gi/generator_base.h"
+#include "models/gi/frame_level_features.h"
 #include "models/gi/pix2pix_layers.h"
 #include "nn/functional/elementwise.h"
 #include "nn/functional/reshape.h"
@@ -43,6 +44,8 @@ struct UnetConfig {
   bool batchnorm = true;
   // > 0: a frame-level head of this hidden width (UnetGenerator::level_gain); 0: none.
   int level_head = 0;
+  // The head also reads the view's light energy (frame_level_features.h).
+  bool level_energy = false;
 };
 
 template <class T = float>
@@ -102,9 +105,12 @@ class UnetGenerator : public GiGenerator<T> {
       throw std::invalid_argument("UnetGenerator: levels, ngf and channels must be >= 1");
     root_ = this->register_module("model", std::make_shared<UnetBlock<T>>(c, 0, rng));
     init_pix2pix(*this, rng);
+    if (c.level_energy && c.in_channels < kLuminationChannel + 3)
+      throw std::invalid_argument("UnetGenerator: the level head's energy needs the lumination channels 7-9");
     if (c.level_head > 0) {  // after the U-Net's draws: without the head nothing changes
-      head_in_ =
-          this->register_module("level_head_in", std::make_shared<Linear<T>>(rng, 2 * c.in_channels, c.level_head));
+      head_in_ = this->register_module(
+          "level_head_in",
+          std::make_shared<Linear<T>>(rng, frame_level_feature_count(c.in_channels, c.level_energy), c.level_head));
       head_out_ =
           this->register_module("level_head_out", std::make_shared<Linear<T>>(rng, c.level_head, c.out_channels));
       for (auto* t : {&head_out_->weight.value(), &head_out_->bias.value()})
@@ -112,23 +118,15 @@ class UnetGenerator : public GiGenerator<T> {
     }
   }
 
-  // The frame's level: one gain per output channel, exp(MLP(the input's per-channel mean
-  // and mean square over the whole view)), for the predicted indirect light. The U-Net's
+  // The frame's level: one gain per output channel, exp(MLP(frame_level_features(x))),
+  // for the predicted indirect light. The U-Net's
   // BatchNorm at batch 1 normalises every feature map by its own statistics, so a
   // frame-wide level reaches the output only through the outermost skip; this path
   // carries it past the normalisation. Undefined without the head.
   Var<T> level_gain(const Var<T>& x) override {
     if (!head_in_) return Var<T>();
-    const int64_t B = x.size(0), C = x.size(1), n = x.size(2) * x.size(3);
-    Tensor<T> f({B, 2 * C});
-    for (int64_t b = 0; b < B; ++b)
-      for (int64_t c = 0; c < C; ++c) {
-        const T* p = x.value().data() + (b * C + c) * n;
-        double m = 0, q = 0;
-        for (int64_t i = 0; i < n; ++i) m += double(p[i]), q += double(p[i]) * double(p[i]);
-        f[b * 2 * C + c] = T(m / double(n));
-        f[b * 2 * C + C + c] = T(q / double(n));
-      }
+    const int64_t B = x.size(0);
+    Tensor<T> f = frame_level_features(x.value(), config_.level_energy);
     Var<T> h = leaky_relu(head_in_->forward(Var<T>(std::move(f))), 0.2);
     return reshape(exp(head_out_->forward(h)), Shape{B, config_.out_channels, 1, 1});
   }

@@ -56,6 +56,7 @@ struct GanTrainConfig {
   bool g_batchnorm = true;                        // BatchNorm in the pix2pix U-Net (unet.h)
   float g_dropout = 0.5f;                         // dropout in its three innermost up blocks (0: none)
   int level_head = 0;                             // hidden width of the frame-level head (unet.h; 0: none)
+  bool level_energy = false;                      // the head also reads the view's light energy (unet.h)
   int ndf = 32, d_layers = 3;                     // discriminator
   GiLoss loss = GiLoss::gan;
   double lambda = 100, lr = 2e-4, beta1 = 0.5, beta2 = 0.999;
@@ -82,6 +83,7 @@ struct GanTrainConfig {
     u.batchnorm = g_batchnorm;
     u.dropout = g_dropout;
     u.level_head = level_head;
+    u.level_energy = level_energy;
     return u;
   }
   gi::GeneratorConfig generator() const { return {arch, unet(), residual, inputs.norm.hdr_scale}; }

@@ -125,7 +125,7 @@ inline gi::GiSample light_scaled(const gi::GiSample& s, const float scale[3], fl
   gi::GiSample o = s;
   o.input = s.input.clone();
   for (int c = 0; c < 3; ++c) {
-    float* lum = o.input.data() + (gi::GeneratorConfig::kLuminationChannel + c) * n;
+    float* lum = o.input.data() + (gi::kLuminationChannel + c) * n;
     for (int64_t i = 0; i < n; ++i) lum[i] = hdr.to_tanh(scale[c] * hdr.from_tanh(lum[i]));
   }
   for (Tensor<float>* t : {&o.emission, &o.direct_env, &o.target_linear}) {

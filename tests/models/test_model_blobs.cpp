@@ -127,7 +127,7 @@ TEST_F(ModelBlobTest, NnaoChecksKeysAsStoredBeforeNarrowing) {
 }
 
 // level_head > 0: with a frame-level head (and the linear residual it scales).
-gi::LoadedGenerator tiny_generator_blob(const std::string& p, int level_head = 0) {
+gi::LoadedGenerator tiny_generator_blob(const std::string& p, int level_head = 0, bool level_energy = false) {
   gi::GeneratorConfig gc;
   gi::GiInputConfig in;
   in.size = 16;
@@ -136,6 +136,7 @@ gi::LoadedGenerator tiny_generator_blob(const std::string& p, int level_head = 0
   gc.unet.levels = 2;
   gc.unet.dropout_blocks = 1;
   gc.unet.level_head = level_head;
+  gc.unet.level_energy = level_energy;
   if (level_head > 0) gc.residual = gi::GiResidual::linear;
   Rng rng(1);
   auto G = gi::make_generator<float>(gc, rng);
@@ -152,6 +153,23 @@ TEST_F(ModelBlobTest, GiGeneratorKeepsItsLevelHeadAndOldBlobsReadWithout) {
   b.set_config("level_head", int64_t(6));
   b.save(path("bad.blob"));
   expect_refused(error_of([&] { gi::load_generator(path("bad.blob")); }), path("bad.blob"), "level_head");
+}
+
+// The head's energy features widen its first layer by 6: the key travels with the blob,
+// a blob without it reads as before, and a key that does not fit the tensors is refused.
+TEST_F(ModelBlobTest, GiGeneratorKeepsItsLevelEnergyAndRefusesAKeyThatDoesNotFit) {
+  const std::string p = path("G.blob");
+  const gi::LoadedGenerator g = tiny_generator_blob(p, 5, true);
+  EXPECT_EQ(g.config.unet.level_head, 5);
+  EXPECT_TRUE(g.config.unet.level_energy);
+  EXPECT_FALSE(tiny_generator_blob(path("moments.blob"), 5).config.unet.level_energy);
+  for (const char* value : {"off", "maybe"}) {
+    Blob b = Blob::load(p);
+    b.set_config("level_energy", std::string(value));
+    b.save(path("bad.blob"));
+    expect_refused(error_of([&] { gi::load_generator(path("bad.blob")); }), path("bad.blob"),
+                   value == std::string("off") ? "level_head_in" : "level_energy");
+  }
 }
 
 // gi-infer and eval-gi accepted a NaN conv weight.

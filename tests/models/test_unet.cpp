@@ -168,32 +168,70 @@ TEST(Unet, LevelHeadStartsAtGainOneAndLeavesTheUnetAlone) {
   for (float v : g) EXPECT_EQ(v, 1.0f);
 }
 
-// The head's parameters and the U-Net's, through the linear residual, in double. The
-// head reads the input's statistics as data (no gradient flows back into the input).
-TEST(Unet, LevelHeadGradCheckThroughTheLinearResidual) {
-  GeneratorConfig gc;
-  gc.unet = tiny(10, 2, 2);
-  gc.unet.level_head = 3;
-  gc.residual = GiResidual::linear;
-  gc.hdr_scale = 0.7f;
-  Rng rng(6);
-  auto g = make_generator<double>(gc, rng);
-  std::vector<Rng::State> rng_states;
-  for (auto& [name, r] : g->named_rngs()) rng_states.push_back(r->state());
-  const VarD x(random_tensor({1, 10, 8, 8}, rng, 0.8));
-  std::vector<VarD> inputs;
-  for (auto& p : g->parameters()) {  // O(1) weights: see GradCheckWholeNetwork
-    VarD q = p;
-    q.value() = random_tensor(q.shape(), rng, q.shape().dim() >= 2 ? 0.4 : 0.5);
-    inputs.push_back(q);
+// The features the head reads, on a view whose halves differ: the moments of every
+// channel, and the log mean of the linear lumination and of albedo x lumination, the
+// Reinhard mapping undone in units of k.
+TEST(Unet, FrameLevelFeaturesAreTheMomentsAndTheLogLightEnergy) {
+  const int64_t C = 10, H = 2, W = 4, n = H * W;
+  Tensor<double> x({1, C, H, W});
+  for (int64_t c = 0; c < C; ++c)
+    for (int64_t i = 0; i < n; ++i) x[c * n + i] = 0.1 * double(c) - 0.5 + (i < n / 2 ? 0.2 : -0.2);
+  // colour channel c: albedo 0.25 (left) / 0.75 (right); light u = 0.5 -> 1 k, u = 0.8 -> 4 k
+  for (int c = 0; c < 3; ++c)
+    for (int64_t i = 0; i < n; ++i) {
+      const bool left = i % W < W / 2;
+      x[(kAlbedoChannel + c) * n + i] = left ? -0.5 : 0.5;
+      x[(kLuminationChannel + c) * n + i] = left ? 0.0 : 0.6;
+    }
+  const Tensor<double> plain = frame_level_features(x, false), f = frame_level_features(x, true);
+  ASSERT_EQ(plain.shape(), (Shape{1, 2 * C}));
+  ASSERT_EQ(f.shape(), (Shape{1, 2 * C + 6}));
+  for (int64_t c = 0; c < C; ++c) {
+    double m = 0, q = 0;
+    for (int64_t i = 0; i < n; ++i) m += x[c * n + i], q += x[c * n + i] * x[c * n + i];
+    EXPECT_NEAR(f[c], m / double(n), 1e-12) << c;
+    EXPECT_NEAR(f[C + c], q / double(n), 1e-12) << c;
+    EXPECT_EQ(f[c], plain[c]);
+    EXPECT_EQ(f[C + c], plain[C + c]);
   }
-  gradcheck(
-      [&](std::vector<VarD>&) {
-        size_t i = 0;
-        for (auto& [name, r] : g->named_rngs()) r->set_state(rng_states[i++]);
-        return generate(*g, gc, x);
-      },
-      inputs);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(f[2 * C + c], std::log((1.0 + 4.0) / 2 + 1e-3), 1e-9) << c;
+    EXPECT_NEAR(f[2 * C + 3 + c], std::log((0.25 * 1.0 + 0.75 * 4.0) / 2 + 1e-3), 1e-9) << c;
+  }
+  EXPECT_THROW(frame_level_features(Tensor<double>({1, 9, 2, 2}), true), std::invalid_argument);
+}
+
+// The head's parameters and the U-Net's, through the linear residual, in double, with
+// and without the energy features. The head reads the input's statistics as data (no
+// gradient flows back into the input).
+TEST(Unet, LevelHeadGradCheckThroughTheLinearResidual) {
+  for (bool energy : {false, true}) {
+    SCOPED_TRACE(energy ? "energy" : "moments");
+    GeneratorConfig gc;
+    gc.unet = tiny(10, 2, 2);
+    gc.unet.level_head = 3;
+    gc.unet.level_energy = energy;
+    gc.residual = GiResidual::linear;
+    gc.hdr_scale = 0.7f;
+    Rng rng(energy ? 8 : 6);
+    auto g = make_generator<double>(gc, rng);
+    std::vector<Rng::State> rng_states;
+    for (auto& [name, r] : g->named_rngs()) rng_states.push_back(r->state());
+    const VarD x(random_tensor({1, 10, 8, 8}, rng, 0.8));
+    std::vector<VarD> inputs;
+    for (auto& p : g->parameters()) {  // O(1) weights: see GradCheckWholeNetwork
+      VarD q = p;
+      q.value() = random_tensor(q.shape(), rng, q.shape().dim() >= 2 ? 0.4 : 0.5);
+      inputs.push_back(q);
+    }
+    gradcheck(
+        [&](std::vector<VarD>&) {
+          size_t i = 0;
+          for (auto& [name, r] : g->named_rngs()) r->set_state(rng_states[i++]);
+          return generate(*g, gc, x);
+        },
+        inputs);
+  }
 }
 
 // --g-norm none: no BatchNorm (no buffers), a bias on every conv; same hand count as

@@ -37,6 +37,7 @@ EXPORTS = [
     ("G-pix2pix", [], ("x", [1, 12, "H", "W"]), ("light", [1, 3, "H", "W"])),
     ("G-pix2pix-mapped", ["--bn", "running", "--height", "32", "--width", "48"], ("x", [1, 10, "H", "W"]),
      ("light", [1, 3, "H", "W"])),
+    ("G-pix2pix-level-energy", ["--output", "linear"], ("x", [1, 12, "H", "W"]), ("light", [1, 3, "H", "W"])),
     ("G-deepshading", ["--output", "linear"], ("x", [1, 12, "H", "W"]), ("light", [1, 3, "H", "W"])),
     ("D-patchgan", [], ("pair", [1, 15, "H", "W"]), ("logits", [1, 1, "H_patches", "W_patches"])),
 ]

@@ -28,7 +28,8 @@ from writer_arg import pop_writer  # noqa: E402
 
 WRITER = None
 RTOL = 1e-5
-GENERATORS = ["G-pix2pix", "G-pix2pix-mapped", "G-pix2pix-linear", "G-pix2pix-nobn", "G-deepshading", "G-pix2pix-level"]
+GENERATORS = ["G-pix2pix", "G-pix2pix-mapped", "G-pix2pix-linear", "G-pix2pix-nobn", "G-deepshading", "G-pix2pix-level",
+              "G-pix2pix-level-energy"]
 DISCRIMINATORS = ["D-patchgan", "D-patchgan-1layer"]
 MEASURED = []  # (case, n, max abs difference, max ratio to the tolerance's scale)
 

@@ -169,11 +169,12 @@ int main(int argc, char** argv) {
     plain.norm.light_max = INFINITY;
     gi::GeneratorConfig p2p;
     p2p.unet.ngf = 4, p2p.unet.levels = 3;
-    gi::GeneratorConfig mapped = p2p, linear = p2p, nobn = p2p, deep = p2p, level = p2p;
+    gi::GeneratorConfig mapped = p2p, linear = p2p, nobn = p2p, deep = p2p, level = p2p, energy = p2p;
     mapped.residual = gi::GiResidual::mapped, mapped.unet.levels = 4;
     linear.residual = gi::GiResidual::linear;
     nobn.unet.batchnorm = false;
     level.residual = gi::GiResidual::linear, level.unet.level_head = 5;
+    energy.residual = gi::GiResidual::linear, energy.unet.level_head = 4, energy.unet.level_energy = true;
     deep.arch = gi::GiArch::deepshading, deep.residual = gi::GiResidual::linear, deep.unet.levels = 2;
     generator_case({"G-pix2pix", p2p, front, 16, 16}, 21);
     generator_case({"G-pix2pix-mapped", mapped, plain, 16, 32}, 22);
@@ -181,6 +182,7 @@ int main(int argc, char** argv) {
     generator_case({"G-pix2pix-nobn", nobn, plain, 16, 16}, 24);
     generator_case({"G-deepshading", deep, front, 16, 24}, 25);
     generator_case({"G-pix2pix-level", level, front, 16, 16}, 26);
+    generator_case({"G-pix2pix-level-energy", energy, front, 16, 16}, 27);
 
     discriminator_case("D-patchgan", {/*in_channels=*/15, /*ndf=*/4, /*layers=*/3}, 32, 32, 31);
     discriminator_case("D-patchgan-1layer", {13, 4, 1}, 16, 24, 32);
