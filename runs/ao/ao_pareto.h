@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "report/csv_field.h"
 #include "report/html_report.h"
 
 namespace nns::runs {
@@ -51,9 +52,9 @@ inline std::string pareto_fmt(double v, int prec) {
 inline std::string pareto_csv(const std::vector<ParetoRow>& rows) {
   std::string csv = "method,setting,wall_ms,cpu_ms,mse,ssim,flicker_x_truth,on_front,beaten_by_nnao_at_no_more_time\n";
   for (auto& r : rows)
-    csv += r.method + "," + r.setting + "," + pareto_fmt(r.ms, 5) + "," + pareto_fmt(r.cpu_ms, 5) + "," +
-           pareto_fmt(r.mse, 6) + "," + pareto_fmt(r.ssim, 6) + "," + pareto_fmt(r.flicker, 4) + "," +
-           (r.on_front ? "yes" : "no") + "," + r.beaten_by + "\n";
+    csv += report::csv_field(r.method) + "," + report::csv_field(r.setting) + "," + pareto_fmt(r.ms, 5) + "," +
+           pareto_fmt(r.cpu_ms, 5) + "," + pareto_fmt(r.mse, 6) + "," + pareto_fmt(r.ssim, 6) + "," +
+           pareto_fmt(r.flicker, 4) + "," + (r.on_front ? "yes" : "no") + "," + r.beaten_by + "\n";
   return csv;
 }
 

@@ -34,6 +34,7 @@
 #include "core/progress.h"
 #include "core/thread_pool.h"
 #include "report/chart.h"
+#include "report/csv_field.h"
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "data/validate.h"
@@ -380,13 +381,13 @@ inline std::string write_tables(const EvalAoOptions& o, const Evaluation& ev) {
   std::string timing = "method,samples,wall_ms_median,cpu_ms_median,threads,threads_used,setting\n";
   for (size_t m = 0; m < methods.size(); ++m) {
     const auto& st = ev.stats[m];
-    const std::string nm = methods[m].name, ns = std::to_string(methods[m].samples);
+    const std::string nm = report::csv_field(methods[m].name), ns = std::to_string(methods[m].samples);
     const double ms = median(st.ms), mse = st.all.mse();
     csv += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(mse) + "," + fmt(st.all.ssim()) + "," +
-           fmt(report::psnr_from_mse(mse), 5) + "," + methods[m].setting + "\n";
+           fmt(report::psnr_from_mse(mse), 5) + "," + report::csv_field(methods[m].setting) + "\n";
     for (auto& [scene, sc] : st.by_scene)
-      by_scene += nm + "," + ns + "," + scene + "," + std::to_string(sc.views) + "," + fmt(sc.mse()) + "," +
-                  fmt(sc.ssim()) + "," + fmt(report::psnr_from_mse(sc.mse()), 5) + "\n";
+      by_scene += nm + "," + ns + "," + report::csv_field(scene) + "," + std::to_string(sc.views) + "," +
+                  fmt(sc.mse()) + "," + fmt(sc.ssim()) + "," + fmt(report::psnr_from_mse(sc.mse()), 5) + "\n";
     for (size_t b = 0; b < st.bands.size(); ++b)
       band_csv += nm + "," + ns + "," + ev.band_names[b] + "," + std::to_string(st.bands[b].pixels) + "," +
                   fmt(st.bands[b].mse()) + "\n";
@@ -398,7 +399,7 @@ inline std::string write_tables(const EvalAoOptions& o, const Evaluation& ev) {
     }
     const double cpu = median(st.cpu_ms);
     timing += nm + "," + ns + "," + fmt(ms, 5) + "," + fmt(cpu, 5) + "," + std::to_string(o.threads) + "," +
-              fmt(cpu / ms, 3) + "," + methods[m].setting + "\n";
+              fmt(cpu / ms, 3) + "," + report::csv_field(methods[m].setting) + "\n";
   }
   write_file_atomic((fs::path(o.out) / "results.csv").string(), csv);
   write_file_atomic((fs::path(o.out) / "results_by_scene.csv").string(), by_scene);

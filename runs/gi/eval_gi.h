@@ -23,6 +23,7 @@
 
 #include "core/atomic_file.h"
 #include "report/chart.h"
+#include "report/csv_field.h"
 #include "data/validation_split.h"
 #include "runs/gi/model_light.h"
 #include "runs/gi/second_render.h"
@@ -135,10 +136,11 @@ EvalRow score(const std::string& model, const std::string& mode, std::vector<gi:
       add_flicker_pair(truth_temporal, map, truth, prev_truth, truth, prev_truth);
     }
     prev = &s, prev_pred = std::move(pred), prev_truth = std::move(truth);
-    frames_csv += model + "," + mode + "," + s.name + "," + s.scene + "," + detail::fmt(s.front_direct_share) + "," +
-                  (is_off ? "1" : "0") + "," + detail::fmt(m.mse) + "," + detail::fmt(m.psnr) + "," +
-                  detail::fmt(m.ssim) + "," + detail::fmt(m.mse_linear) + "," + detail::fmt(m.psnr_linear) + "," +
-                  detail::fmt(m.ssim_linear) + "," + detail::fmt(m.flip) + "," + detail::fmt(m.grad_error) + "\n";
+    frames_csv += report::csv_field(model) + "," + report::csv_field(mode) + "," + report::csv_field(s.name) + "," +
+                  report::csv_field(s.scene) + "," + detail::fmt(s.front_direct_share) + "," + (is_off ? "1" : "0") +
+                  "," + detail::fmt(m.mse) + "," + detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," +
+                  detail::fmt(m.mse_linear) + "," + detail::fmt(m.psnr_linear) + "," + detail::fmt(m.ssim_linear) +
+                  "," + detail::fmt(m.flip) + "," + detail::fmt(m.grad_error) + "\n";
     if (previews < o.previews) {
       const std::string prefix =
           "previews/" + detail::safe_name(model) + "_" + detail::safe_name(detail::label_of(s.name));
@@ -193,9 +195,9 @@ inline std::string results_csv(const std::vector<EvalRow>& rows, bool offscreen)
       "flicker_truth,flicker_ratio,temporal_error,path_pairs,flip,grad_error\n";
   for (auto& r : rows) {
     const LightMetrics& m = offscreen ? r.offscreen : r.all;
-    s += r.model + "," + r.mode + "," + detail::fmt(r.ms_per_frame, "%.3f") + "," + detail::fmt(m.mse) + "," +
-         detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," + detail::fmt(m.mse_linear) + "," +
-         detail::fmt(m.psnr_linear) + "," + detail::fmt(m.ssim_linear) + "," +
+    s += report::csv_field(r.model) + "," + report::csv_field(r.mode) + "," + detail::fmt(r.ms_per_frame, "%.3f") +
+         "," + detail::fmt(m.mse) + "," + detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," +
+         detail::fmt(m.mse_linear) + "," + detail::fmt(m.psnr_linear) + "," + detail::fmt(m.ssim_linear) + "," +
          std::to_string(offscreen ? r.offscreen_frames : r.frames) + "," + detail::fmt(r.flicker) + "," +
          detail::fmt(r.flicker_truth) + "," + detail::fmt(r.flicker / r.flicker_truth) + "," +
          detail::fmt(r.temporal_error) + "," + std::to_string(r.flicker_pairs) + "," + detail::fmt(m.flip) + "," +
@@ -230,9 +232,9 @@ inline std::string family_csv(const std::vector<EvalRow>& rows) {
   for (auto& r : rows)
     for (auto& [family, mm] : r.by_family) {
       const LightMetrics m = mm.mean();
-      s += r.model + "," + family + "," + std::to_string(mm.frames) + "," + detail::fmt(m.mse) + "," +
-           detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," + detail::fmt(m.mse_linear) + "," +
-           detail::fmt(m.flip) + "," + detail::fmt(m.grad_error) + "\n";
+      s += report::csv_field(r.model) + "," + report::csv_field(family) + "," + std::to_string(mm.frames) + "," +
+           detail::fmt(m.mse) + "," + detail::fmt(m.psnr) + "," + detail::fmt(m.ssim) + "," +
+           detail::fmt(m.mse_linear) + "," + detail::fmt(m.flip) + "," + detail::fmt(m.grad_error) + "\n";
     }
   return s;
 }
@@ -258,9 +260,9 @@ inline std::string distance_csv(const std::vector<EvalRow>& rows) {
   std::string s = "model,mode,band,pixels,share,mse,flip\n";
   for (auto& r : rows)
     for (int b = 0; b < DistanceBands::kCount; ++b)
-      s += r.model + "," + r.mode + "," + DistanceBands::name(b) + "," + std::to_string(r.bands.pixels[size_t(b)]) +
-           "," + detail::fmt(r.bands.share(b)) + "," + detail::fmt(r.bands.mse(b)) + "," +
-           detail::fmt(r.bands.mean_flip(b)) + "\n";
+      s += report::csv_field(r.model) + "," + report::csv_field(r.mode) + "," + DistanceBands::name(b) + "," +
+           std::to_string(r.bands.pixels[size_t(b)]) + "," + detail::fmt(r.bands.share(b)) + "," +
+           detail::fmt(r.bands.mse(b)) + "," + detail::fmt(r.bands.mean_flip(b)) + "\n";
   return s;
 }
 

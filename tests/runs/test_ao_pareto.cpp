@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "runs/ao/ao_pareto.h"
+#include "tests/support/csv_line.h"
 
 using nns::runs::ParetoRow;
 
@@ -58,4 +59,15 @@ TEST(AoPareto, ABetterMseWithAWorseSsimIsNoWin) {
       csv.rfind("method,setting,wall_ms,cpu_ms,mse,ssim,flicker_x_truth,on_front,beaten_by_nnao_at_no_more_time\n", 0),
       0u);
   EXPECT_NE(csv.find("\nHBAO,16,5,10,0.01,0.9,,no,none\n"), std::string::npos) << csv;
+}
+
+// A method or setting with a comma (an NNAO model's file name) shifted the columns.
+TEST(AoPareto, CsvKeepsItsColumnsWhateverTheMethodIsCalled) {
+  std::vector<ParetoRow> rows = {{"NNAO-exact (runs/a,b)", "k=1,r=2", 1.0, 1.0, 0.01, 0.9, NAN}};
+  const auto lines = nns::testing::csv_lines(nns::runs::pareto_csv(rows));
+  ASSERT_EQ(lines.size(), 2u);
+  const auto f = nns::testing::csv_fields(lines[1]);
+  EXPECT_EQ(f.size(), nns::testing::csv_fields(lines[0]).size()) << lines[1];
+  EXPECT_EQ(f[0], "NNAO-exact (runs/a,b)");
+  EXPECT_EQ(f[1], "k=1,r=2");
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "runs/gi/eval_gi.h"
+#include "tests/support/csv_line.h"
 
 using namespace nns;
 using namespace nns::gi;
@@ -99,4 +100,28 @@ TEST(GiEvaluate, BestGainUndoesAPerChannelScaleOfTheIndirectLight) {
   Tensor<float> flat = s.direct_env.clone();
   Tensor<float> kept = best_gain_light(flat, s);
   for (int64_t k = 0; k < 12; ++k) EXPECT_EQ(kept[k], flat[k]);
+}
+
+// A model label from a folder with a comma (and a quote) shifted every later column of
+// its rows in results.csv, results_by_family.csv and results_by_distance.csv.
+TEST(GiEvaluate, CsvFilesKeepTheirColumnsWhateverTheModelIsCalled) {
+  EvalRow r;
+  r.model = "runs/a,b \"new\"/G @64 guided";
+  r.mode = "surround";
+  r.frames = 2;
+  LightMetrics m;
+  m.mse = 0.01, m.ssim = 0.9;
+  r.by_family["arcade,2"].add(m);
+  for (const std::string& text :
+       {results_csv({r}, false), results_csv({r}, true), family_csv({r}), distance_csv({r})}) {
+    const auto lines = nns::testing::csv_lines(text);
+    ASSERT_GE(lines.size(), 2u) << text;
+    const size_t columns = nns::testing::csv_fields(lines[0]).size();
+    for (size_t i = 1; i < lines.size(); ++i) {
+      const auto f = nns::testing::csv_fields(lines[i]);
+      EXPECT_EQ(f.size(), columns) << lines[i];
+      EXPECT_EQ(f[0], r.model) << lines[i];
+    }
+  }
+  EXPECT_EQ(nns::testing::csv_fields(nns::testing::csv_lines(family_csv({r}))[1])[1], "arcade,2");
 }
