@@ -212,11 +212,25 @@ void load_gltf(const std::string& path, Scene& s) {
         uint32_t mat = prim.material >= 0 ? first + uint32_t(prim.material) : fallback;
         if (prim.indices >= 0) {
           const auto& idx = model.accessors.at(size_t(prim.indices));
+          // glTF's indices are unsigned integers; a float accessor read as one made an
+          // out-of-range float-to-integer conversion (undefined behaviour) before the
+          // vertex check below could refuse it.
+          if (idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+              idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+              idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+            throw error(path, "the triangle indices (accessor " + std::to_string(prim.indices) +
+                                  ") are not unsigned integers (component type " + std::to_string(idx.componentType) +
+                                  ")");
+          auto vertex = [&](size_t i) {
+            const double v = read_component(model, idx, i, 0);
+            if (v >= double(pos.count))
+              throw error(path, "triangle index " + std::to_string(uint64_t(v)) + " (accessor " +
+                                    std::to_string(prim.indices) + ") is past its primitive's " +
+                                    std::to_string(pos.count) + " vertices");
+            return base + uint32_t(v);
+          };
           for (size_t t = 0; t + 2 < idx.count; t += 3)
-            s.triangles.push_back({{base + uint32_t(read_component(model, idx, t, 0)),
-                                    base + uint32_t(read_component(model, idx, t + 1, 0)),
-                                    base + uint32_t(read_component(model, idx, t + 2, 0))},
-                                   mat});
+            s.triangles.push_back({{vertex(t), vertex(t + 1), vertex(t + 2)}, mat});
         } else {
           for (uint32_t t = 0; t + 2 < pos.count; t += 3)
             s.triangles.push_back({{base + t, base + t + 1, base + t + 2}, mat});

@@ -5,8 +5,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include "render/placement.h"
 #include "render/surround.h"
@@ -191,6 +193,18 @@ std::string temp_path(const std::string& name) {
   return (dir / name).string();
 }
 
+// A glTF data URI's payload (the byte count a multiple of 3 here: no padding).
+std::string base64(const void* data, size_t n) {
+  const unsigned char* bytes = static_cast<const unsigned char*>(data);
+  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string enc;
+  for (size_t i = 0; i + 2 < n; i += 3) {
+    uint32_t v = uint32_t(bytes[i]) << 16 | uint32_t(bytes[i + 1]) << 8 | bytes[i + 2];
+    for (int k = 3; k >= 0; --k) enc += b64[(v >> (6 * k)) & 63];
+  }
+  return enc;
+}
+
 // Removes this process's temporary folder after the last test.
 class RemoveTempDir : public ::testing::Environment {
  public:
@@ -221,13 +235,7 @@ TEST(MeshLoader, ObjWithMaterials) {
 TEST(MeshLoader, GltfWithNodeTransform) {
   // One triangle (3 float positions, no indices) under a node translated by +2 in y.
   const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 0, 1};
-  const unsigned char* bytes = reinterpret_cast<const unsigned char*>(pos);
-  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string enc;
-  for (int i = 0; i < 36; i += 3) {
-    uint32_t v = uint32_t(bytes[i]) << 16 | uint32_t(bytes[i + 1]) << 8 | bytes[i + 2];
-    for (int k = 3; k >= 0; --k) enc += b64[(v >> (6 * k)) & 63];
-  }
+  const std::string enc = base64(pos, sizeof pos);
   auto write = [&](const std::string& path, int count) {
     std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
                         << R"("nodes":[{"mesh":0,"translation":[0,2,0]}],)"
@@ -291,13 +299,7 @@ TEST(MeshLoader, NonFiniteVerticesAreRefusedNamingTheFile) {
   }
   // A glTF node scale of 1e39 overflows float when applied.
   const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 0, 1};
-  const unsigned char* bytes = reinterpret_cast<const unsigned char*>(pos);
-  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string enc;
-  for (int i = 0; i < 36; i += 3) {
-    uint32_t v = uint32_t(bytes[i]) << 16 | uint32_t(bytes[i + 1]) << 8 | bytes[i + 2];
-    for (int k = 3; k >= 0; --k) enc += b64[(v >> (6 * k)) & 63];
-  }
+  const std::string enc = base64(pos, sizeof pos);
   std::string gltf = temp_path("huge.gltf");
   std::ofstream(gltf)
       << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
@@ -311,6 +313,41 @@ TEST(MeshLoader, NonFiniteVerticesAreRefusedNamingTheFile) {
     ADD_FAILURE() << "no error for a non-finite transformed vertex";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(gltf + ": "), std::string::npos) << e.what();
+  }
+}
+
+// Found by fuzz/fuzz_scene.cpp (fuzz/regressions/scene/gltf-float-indices): a primitive
+// whose indices were a float accessor had each float converted to an integer, out of
+// range and undefined; an index past the primitive's vertices pointed into another's.
+TEST(MeshLoader, GltfTriangleIndicesAreUnsignedAndInsideTheirPrimitive) {
+  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 0, 1};
+  unsigned char buf[42];  // 3 float vertices, then 3 uint16 indices
+  std::memcpy(buf, pos, sizeof pos);
+  auto write = [&](const std::string& name, int index_type, uint16_t last) {
+    const uint16_t idx[3] = {0, 1, last};
+    std::memcpy(buf + sizeof pos, idx, sizeof idx);
+    const std::string p = temp_path(name);
+    std::ofstream(p) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
+                     << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)"
+                     << R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},)"
+                     << R"({"bufferView":)" << (index_type == 5126 ? 0 : 1) << R"(,"componentType":)" << index_type
+                     << R"(,"count":3,"type":"SCALAR"}],)"
+                     << R"("bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],)"
+                     << R"("buffers":[{"byteLength":42,"uri":"data:application/octet-stream;base64,)"
+                     << base64(buf, sizeof buf) << R"("}]})";
+    return p;
+  };
+  EXPECT_EQ(load_mesh_scene(write("ok.gltf", 5123, 2)).triangles.size(), 1u);
+  for (auto [name, type, last, what] : {std::tuple{"float-indices.gltf", 5126, 2, "not unsigned integers"},
+                                        std::tuple{"index-past.gltf", 5123, 3, "past its primitive's 3 vertices"}}) {
+    const std::string p = write(name, type, uint16_t(last));
+    try {
+      load_mesh_scene(p);
+      ADD_FAILURE() << "no error for " << name;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(p + ": "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
   }
 }
 
