@@ -203,7 +203,10 @@ TEST(Unet, FrameLevelFeaturesAreTheMomentsAndTheLogLightEnergy) {
 
 // The head's parameters and the U-Net's, through the linear residual, in double, with
 // and without the energy features. The head reads the input's statistics as data (no
-// gradient flows back into the input).
+// gradient flows back into the input). Step 1e-4: with the energy the loss is large
+// against some of these gradients (~1e-3), and at 1e-6 the central difference's
+// round-off (~1e-16 of the loss / eps) reached 1e-4 of them, shrinking as eps grew
+// (1.4e-4 at 1e-6, 2e-5 at 1e-5, 2.4e-6 at 1e-4): round-off, not a wrong gradient.
 TEST(Unet, LevelHeadGradCheckThroughTheLinearResidual) {
   for (bool energy : {false, true}) {
     SCOPED_TRACE(energy ? "energy" : "moments");
@@ -213,7 +216,7 @@ TEST(Unet, LevelHeadGradCheckThroughTheLinearResidual) {
     gc.unet.level_energy = energy;
     gc.residual = GiResidual::linear;
     gc.hdr_scale = 0.7f;
-    Rng rng(energy ? 8 : 6);
+    Rng rng(6);
     auto g = make_generator<double>(gc, rng);
     std::vector<Rng::State> rng_states;
     for (auto& [name, r] : g->named_rngs()) rng_states.push_back(r->state());
@@ -230,7 +233,7 @@ TEST(Unet, LevelHeadGradCheckThroughTheLinearResidual) {
           for (auto& [name, r] : g->named_rngs()) r->set_state(rng_states[i++]);
           return generate(*g, gc, x);
         },
-        inputs);
+        inputs, /*tol=*/1e-6, /*eps=*/1e-4);
   }
 }
 
