@@ -54,7 +54,7 @@ inline std::string pareto_csv(const std::vector<ParetoRow>& rows) {
   for (auto& r : rows)
     csv += report::csv_field(r.method) + "," + report::csv_field(r.setting) + "," + pareto_fmt(r.ms, 5) + "," +
            pareto_fmt(r.cpu_ms, 5) + "," + pareto_fmt(r.mse, 6) + "," + pareto_fmt(r.ssim, 6) + "," +
-           pareto_fmt(r.flicker, 4) + "," + (r.on_front ? "yes" : "no") + "," + r.beaten_by + "\n";
+           pareto_fmt(r.flicker, 4) + "," + (r.on_front ? "yes" : "no") + "," + report::csv_field(r.beaten_by) + "\n";
   return csv;
 }
 
