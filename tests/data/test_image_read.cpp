@@ -295,9 +295,8 @@ TEST_F(ImageRead, AWideShortTiffIsReadWithinBoundedMemory) {
   EXPECT_EXIT(read_capped(), ::testing::ExitedWithCode(0), "");
 }
 
-// A tiled image is converted through a row of its tiles: a 1x1 TIFF declaring tiles of
-// 65536x65536 (a 4 GB row, in 134 bytes) is refused before that buffer is made.
-TEST_F(ImageRead, TilesLargerThanAnyImageAreRefused) {
+// A one-pixel grey 8-bit TIFF stored as one tile of the given size.
+static std::string tiff_with_tiles(uint32_t tile_width, uint32_t tile_height) {
   std::string bytes("II*\x00\x08\x00\x00\x00", 8);
   auto put16 = [&](uint16_t v) { bytes.append(reinterpret_cast<const char*>(&v), 2); };
   auto put32 = [&](uint32_t v) { bytes.append(reinterpret_cast<const char*>(&v), 4); };
@@ -306,8 +305,9 @@ TEST_F(ImageRead, TilesLargerThanAnyImageAreRefused) {
   put16(entries);
   // tag, type (3 short, 4 long), count 1, value: width, height, 8 bits, no compression,
   // grey, one sample, tile width and length, tile offset and byte count.
-  const uint32_t tags[entries][3] = {{256, 4, 1}, {257, 4, 1},     {258, 3, 8},     {259, 3, 1},       {262, 3, 1},
-                                     {277, 3, 1}, {322, 4, 65536}, {323, 4, 65536}, {324, 4, data_at}, {325, 4, 64}};
+  const uint32_t tags[entries][3] = {{256, 4, 1},       {257, 4, 1}, {258, 3, 8},          {259, 3, 1},
+                                     {262, 3, 1},       {277, 3, 1}, {322, 4, tile_width}, {323, 4, tile_height},
+                                     {324, 4, data_at}, {325, 4, 64}};
   for (auto& t : tags) {
     put16(uint16_t(t[0]));
     put16(uint16_t(t[1]));
@@ -320,13 +320,23 @@ TEST_F(ImageRead, TilesLargerThanAnyImageAreRefused) {
     }
   }
   put32(0);
-  bytes += std::string(64, '\0');
-  const std::string p = path("huge-tiles.tif");
-  std::ofstream(p, std::ios::binary) << bytes;
-  try {
-    read_image(p);
-    ADD_FAILURE() << "read";
-  } catch (const std::runtime_error& e) {
-    expect_contains(e.what(), {p + ": tiles of 65536x65536 pixels"});
+  return bytes + std::string(64, '\0');
+}
+
+// A tiled image is converted through a row of its tiles, as stored and as float: a 1x1
+// TIFF declaring tiles of 65536x65536 (a 4 GB row, in 134 bytes) is refused before that
+// buffer is made, and so is one tile of 587268096x1, whose stored row (587 MB) is within
+// bounds but whose float row is 2.35 GB (found by fuzz_image).
+TEST_F(ImageRead, TilesLargerThanAnyImageAreRefused) {
+  for (const auto& [w, h] : {std::pair<uint32_t, uint32_t>{65536, 65536}, {587268096, 1}}) {
+    const std::string name = std::to_string(w) + "x" + std::to_string(h);
+    const std::string p = path("huge-tiles-" + name + ".tif");
+    std::ofstream(p, std::ios::binary) << tiff_with_tiles(w, h);
+    try {
+      read_image(p);
+      ADD_FAILURE() << name << ": read";
+    } catch (const std::runtime_error& e) {
+      expect_contains(e.what(), {p + ": tiles of " + name + " pixels"});
+    }
   }
 }
