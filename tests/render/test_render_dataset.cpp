@@ -103,6 +103,30 @@ TEST(RenderDataset, SurroundFramesInPathOrder) {
   EXPECT_EQ(front.fov_y_deg, 90.0f);
 }
 
+// Files are written on a thread of their own while the next view renders: a frame that
+// cannot be written (a file where its folder goes) still stops the job, naming it.
+TEST(RenderDataset, AFrameThatCannotBeWrittenStopsTheJobNamingIt) {
+  DatasetJob job = tiny("surround", temp_dir("write-a"));
+  job.width = job.height = 12;
+  job.views = 4;
+  job.path_frames = 2;
+  job.views_per_scene = 2;
+  render_dataset(job);
+  std::set<std::string> frames;
+  for (auto& e : fs::directory_iterator(fs::path(job.out) / "train")) frames.insert(e.path().filename().string());
+  ASSERT_GE(frames.size(), 2u);
+  const std::string blocked = *frames.rbegin();  // not the first: a later write fails
+  job.out = temp_dir("write-b");
+  fs::create_directories(fs::path(job.out) / "train");
+  std::ofstream(fs::path(job.out) / "train" / blocked) << "not a folder";
+  try {
+    render_dataset(job);
+    ADD_FAILURE() << "rendered";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find(blocked), std::string::npos) << e.what();
+  }
+}
+
 TEST(RenderDataset, BadJobsFailWithAReason) {
   DatasetJob job = tiny("nnao", temp_dir("bad"));
   job.families = {"castle"};
