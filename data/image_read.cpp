@@ -84,12 +84,13 @@ bool read_scanlines_as_float(OIIO::ImageInput& in, float* out) {
 // one 587268096x1 tile (587 MB stored) made the float row 2.35 GB (found by fuzz_image).
 bool read_tiled_as_float(OIIO::ImageInput& in, const std::string& path, float* out) {
   const OIIO::ImageSpec& spec = in.spec();
-  const long long tiles_across = (spec.width + spec.tile_width - 1) / spec.tile_width;
-  const long long row_pixels =
-      tiles_across * spec.tile_width * (long long)spec.tile_height * std::max(spec.tile_depth, 1);
-  const long long row_bytes =
-      row_pixels * ((long long)spec.pixel_bytes(/*native=*/true) + spec.nchannels * (long long)sizeof(float));
-  if (spec.tile_height <= 0 || row_bytes > (1ll << 30))
+  // In double: a header's tile sizes multiply past any integer type.
+  const double tiles_across = std::ceil(double(spec.width) / double(spec.tile_width));
+  const double row_pixels =
+      tiles_across * double(spec.tile_width) * double(spec.tile_height) * double(std::max(spec.tile_depth, 1));
+  const double row_bytes =
+      row_pixels * (double(spec.pixel_bytes(/*native=*/true)) + double(spec.nchannels) * sizeof(float));
+  if (spec.tile_height <= 0 || row_bytes > double(1ll << 30))
     throw std::runtime_error(path + ": tiles of " + std::to_string(spec.tile_width) + "x" +
                              std::to_string(spec.tile_height) + " pixels are larger than any image read here");
   return in.read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out);

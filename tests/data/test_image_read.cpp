@@ -326,9 +326,10 @@ static std::string tiff_with_tiles(uint32_t tile_width, uint32_t tile_height) {
 // A tiled image is converted through a row of its tiles, as stored and as float: a 1x1
 // TIFF declaring tiles of 65536x65536 (a 4 GB row, in 134 bytes) is refused before that
 // buffer is made, and so is one tile of 587268096x1, whose stored row (587 MB) is within
-// bounds but whose float row is 2.35 GB (found by fuzz_image).
+// bounds but whose float row is 2.35 GB (found by fuzz_image), and one whose row's size
+// overflows a 64-bit integer.
 TEST_F(ImageRead, TilesLargerThanAnyImageAreRefused) {
-  for (const auto& [w, h] : {std::pair<uint32_t, uint32_t>{65536, 65536}, {587268096, 1}}) {
+  for (const auto& [w, h] : {std::pair<uint32_t, uint32_t>{65536, 65536}, {587268096, 1}, {2147483647, 2147483647}}) {
     const std::string name = std::to_string(w) + "x" + std::to_string(h);
     const std::string p = path("huge-tiles-" + name + ".tif");
     std::ofstream(p, std::ios::binary) << tiff_with_tiles(w, h);
