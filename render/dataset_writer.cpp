@@ -363,9 +363,8 @@ void render_one(const DatasetJob& job, const SceneTask& task, const Scene& scene
         data::write_view((frame / (cube_face_names()[size_t(i)] + ".exr")).string(), faces[size_t(i)]);
     });
   } else {
-    st.write_later([view = render_view(rt, cam, settings, id, nullptr, &st.stats), file = dir / (name + ".exr")] {
-      data::write_view(file.string(), view);
-    });
+    data::View view = render_view(rt, cam, settings, id, nullptr, &st.stats);
+    st.write_later([view = std::move(view), file = dir / (name + ".exr")] { data::write_view(file.string(), view); });
   }
   (task.split == "train"  ? st.report.train_views
    : task.split == "test" ? st.report.test_views
