@@ -1,10 +1,11 @@
-// train-gan: learn screen-space global illumination from G-buffers with a pix2pix
-// conditional GAN (U-Net generator, PatchGAN discriminator), front-only (Deep
-// Illumination) or surround-aware (the thesis's global view). See docs/gan.md.
+// train-gan: learn screen-space global illumination from G-buffers with pix2pix's U-Net
+// generator, trained on its reconstruction loss or as a conditional GAN with a PatchGAN
+// discriminator, front-only (Deep Illumination) or surround-aware (the thesis's global
+// view). See docs/gan.md.
 //
 //   train-gan                                  default surround data, default model
 //   train-gan --data DIR --mode front --out runs/front
-//   train-gan --loss l1                        the non-adversarial baseline
+//   train-gan --loss gan                       pix2pix's adversarial training (PatchGAN)
 //   train-gan --loss dssim --arch deepshading  Deep Shading's U-Net and loss
 //   train-gan --out runs/x --resume            continue exactly where runs/x stopped
 //   train-gan --aug-mirror --aug-exposure 1.4 --aug-tint 1.15   augmented samples (docs/gan.md)
@@ -33,11 +34,13 @@ void read_model_flags(apps::Args& a, TrainGanOptions& o) {
                      0, 4096);
   if (o.size > 0 && o.size < 4) a.error("--size must be 0 (as stored) or in [4, 4096]");
   o.ngf = a.get_int("--ngf", o.ngf, "generator base width", 1, 1024);
-  o.ndf = a.get_int("--ndf", o.ndf, "discriminator base width", 1, 1024);
+  o.ndf = a.get_int("--ndf", o.ndf, "discriminator base width (--loss gan)", 1, 1024);
   o.levels = a.get_int("--levels", o.levels, "U-Net levels (input size divisible by 2^levels)", 1, 12);
-  o.d_layers = a.get_int("--d-layers", o.d_layers, "PatchGAN layers (3: 70x70 patches)", 1, 10);
+  o.d_layers = a.get_int("--d-layers", o.d_layers, "PatchGAN layers (3: 70x70 patches; --loss gan)", 1, 10);
   o.coordconv = a.get_choice("--coordconv", on(o.coordconv), {"on", "off"}, "append coordinate channels") == "on";
-  o.loss = a.get_choice("--loss", o.loss, {"gan", "l1", "dssim"}, "adversarial + L1, or a plain loss (baseline)");
+  o.loss = a.get_choice("--loss", o.loss, {"gan", "l1", "dssim"},
+                        "l1: the reconstruction term (L1 + DSSIM + gradient terms) alone; gan: adversarial + "
+                        "lambda x it (PatchGAN); dssim: DSSIM alone");
   o.g_norm = a.get_choice("--g-norm", o.g_norm, {"batch", "none"}, "normalisation in the pix2pix U-Net (docs/gan.md)");
   o.level_head = a.get_int("--level-head", o.level_head,
                            "hidden width of a frame-level head scaling the predicted indirect light (0: none; "
@@ -60,10 +63,11 @@ void read_training_flags(apps::Args& a, TrainGanOptions& o) {
   o.epochs = a.get_int("--epochs", o.epochs, "epochs in all", 1, 100000);
   o.decay_epochs = a.get_int("--decay-epochs", o.decay_epochs,
                              "of which the last N decay the rate linearly to 0 (default: half)", -1, 100000);
-  o.lambda = a.get_double("--lambda", o.lambda, "weight of the L1 term in the generator loss", 0, HUGE_VAL);
-  o.dssim_weight = a.get_double(
-      "--dssim-weight", o.dssim_weight,
-      "add this times DSSIM to the L1 term (default: 1 with --loss gan, 0 with l1; 0 is pix2pix's L1 alone)");
+  o.lambda = a.get_double("--lambda", o.lambda,
+                          "weight of the reconstruction term against the adversarial one (--loss gan)", 0, HUGE_VAL);
+  o.dssim_weight =
+      a.get_double("--dssim-weight", o.dssim_weight,
+                   "add this times DSSIM to the L1 term (default: 1 with --loss gan or l1; 0 is pix2pix's L1 alone)");
   o.gradient_weight = a.get_double("--gradient-weight", o.gradient_weight,
                                    "add this times the L1 of the images' finite differences (edges)", 0, HUGE_VAL);
   o.ema = a.get_double("--ema", o.ema,
@@ -71,10 +75,11 @@ void read_training_flags(apps::Args& a, TrainGanOptions& o) {
                        "step's weights)",
                        0, 0.999999);
   o.lr = a.get_double("--lr", o.lr, "Adam learning rate", 1e-12, 1e9);
-  o.lr_d = a.get_double("--lr-d", o.lr_d,
-                        "the discriminator's learning rate (0: --lr, as pix2pix; the default, a quarter of the "
-                        "default --lr, won the validation split: docs/gan.md)",
-                        0, 1e9);
+  o.lr_d = a.get_double(
+      "--lr-d", o.lr_d,
+      "the discriminator's learning rate with --loss gan (0: --lr, as pix2pix; the default, a quarter of the "
+      "default --lr, won the validation split: docs/gan.md)",
+      0, 1e9);
   o.beta1 = a.get_double("--beta1", o.beta1, "Adam beta1", 0, 0.9999);
   o.precision = parse_precision(a.get_choice(
       "--precision", precision_name(o.precision), {"fp32", "bf16"},

@@ -162,7 +162,9 @@ class GanTask : public runs::TrainingTask {
     if (t_.step() % o_.log_every == 0) flush_log();
     if (run_.writes_files() && o_.sample_every > 0 && t_.step() % o_.sample_every == 0) write_samples(j);
     char status[96];
-    std::snprintf(status, sizeof status, "D %.3f G_adv %.3f rec %.4f", l.d, l.g_adv, l.g_rec);
+    if (o_.train.loss == GiLoss::gan)
+      std::snprintf(status, sizeof status, "D %.3f G_adv %.3f rec %.4f", l.d, l.g_adv, l.g_rec);
+    else std::snprintf(status, sizeof status, "rec %.4f", l.g_rec);
     return status;
   }
   void end_epoch(int64_t) override {

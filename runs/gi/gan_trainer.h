@@ -12,7 +12,8 @@
 // at the front rectangle of input and output (the discriminator is conditioned on the
 // input channels there, coordinates included). BCE is computed from logits (stable);
 // the D loss is halved as in pix2pix so D learns at half G's pace.
-// --loss l1 / dssim train G alone on that loss (the non-adversarial baseline).
+// --loss l1 / dssim train G alone on the reconstruction term / on DSSIM (no D; l1 is the
+// default, runs/gi/train_gan.h says why).
 //
 // Every loss and every gradient is checked for NaN/Inf; the first one found throws
 // NonFiniteError naming the step and the tensor, before any weight is touched, so the

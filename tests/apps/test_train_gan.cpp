@@ -61,13 +61,15 @@ class TrainGan : public ::testing::Test {
 
 TEST_F(TrainGan, ResumeIsBitwiseEqualToAnUninterruptedRun) {
   const std::string a = (root_ / "a").string(), b = (root_ / "b").string();
-  ASSERT_EQ(run(train_cmd(a, "--threads 2"), a + ".log"), 0) << read_all(a + ".log");
+  // With the discriminator, whose weights, Adam state and watch the checkpoint holds too.
+  ASSERT_EQ(run(train_cmd(a, "--loss gan --threads 2"), a + ".log"), 0) << read_all(a + ".log");
   // b: interrupted after the first epoch, then resumed (with the other thread count:
   // results must not depend on it either).
-  ASSERT_EQ(run(train_cmd(b, "--threads 1 --debug-stop-after-epochs 1"), b + ".log1"), 0) << read_all(b + ".log1");
+  ASSERT_EQ(run(train_cmd(b, "--loss gan --threads 1 --debug-stop-after-epochs 1"), b + ".log1"), 0)
+      << read_all(b + ".log1");
   ASSERT_TRUE(fs::exists(b + "/checkpoint.blob"));
   ASSERT_NE(read_all(a + "/G.blob"), read_all(b + "/G.blob"));  // b really stopped early
-  ASSERT_EQ(run(train_cmd(b, "--threads 2 --resume"), b + ".log2"), 0) << read_all(b + ".log2");
+  ASSERT_EQ(run(train_cmd(b, "--loss gan --threads 2 --resume"), b + ".log2"), 0) << read_all(b + ".log2");
   EXPECT_NE(read_all(b + ".log2").find("resuming"), std::string::npos);
   EXPECT_EQ(read_all(a + "/G.blob"), read_all(b + "/G.blob"));
   EXPECT_EQ(read_all(a + "/D.blob").substr(0, 7), "NNSBLOB");  // the GAN loss writes D.blob too
@@ -242,6 +244,23 @@ TEST_F(TrainGan, EmptyDataIsRefusedNotACrash) {
   }
 }
 
+// The default trains the generator alone on the reconstruction term (L1 + DSSIM + the
+// gradient term): no D.blob, no discriminator in the progress line, and the run's
+// configuration says so.
+TEST_F(TrainGan, TheDefaultTrainsTheGeneratorAloneOnTheReconstructionTerm) {
+  const std::string out = (root_ / "plain").string();
+  ASSERT_EQ(run(train_cmd(out, ""), out + ".log"), 0) << read_all(out + ".log");
+  EXPECT_TRUE(fs::exists(out + "/G.blob"));
+  EXPECT_FALSE(fs::exists(out + "/D.blob"));
+  const std::string log = read_all(out + ".log");
+  EXPECT_NE(log.find("train-gan l1 "), std::string::npos) << log;
+  EXPECT_EQ(log.find("G_adv"), std::string::npos) << log;
+  const nns::Blob ck = nns::Blob::load(out + "/checkpoint.blob");
+  EXPECT_EQ(ck.config_string("loss"), "l1");
+  EXPECT_DOUBLE_EQ(ck.config_double("dssim_weight"), 1);
+  EXPECT_DOUBLE_EQ(ck.config_double("gradient_weight"), 1);
+}
+
 // train-gan --resume with nothing to resume used to start from scratch with exit 0.
 TEST_F(TrainGan, ResumeWithoutACheckpointIsRefused) {
   const std::string out = (root_ / "nock").string();
@@ -310,18 +329,19 @@ TEST_F(TrainGan, KilledAtRandomMomentsAndResumedEndsBitwiseEqual) {
 // refused naming it.
 TEST_F(TrainGan, DiscriminatorLearningRateIsRecordedAndChecked) {
   const std::string out = (root_ / "lrd").string();
-  ASSERT_EQ(run(train_cmd(out, "--lr-d 0.001 --debug-stop-after-epochs 1"), out + ".log"), 0) << read_all(out + ".log");
-  ASSERT_EQ(run(train_cmd(out, "--lr-d 0.001 --resume"), out + ".log1"), 0) << read_all(out + ".log1");
+  ASSERT_EQ(run(train_cmd(out, "--loss gan --lr-d 0.001 --debug-stop-after-epochs 1"), out + ".log"), 0)
+      << read_all(out + ".log");
+  ASSERT_EQ(run(train_cmd(out, "--loss gan --lr-d 0.001 --resume"), out + ".log1"), 0) << read_all(out + ".log1");
   EXPECT_DOUBLE_EQ(nns::Blob::load(out + "/checkpoint.blob").config_double("lr_d"), 0.001);
-  int rc = run(train_cmd(out, "--lr-d 0.002 --resume"), out + ".log2");
+  int rc = run(train_cmd(out, "--loss gan --lr-d 0.002 --resume"), out + ".log2");
   EXPECT_EQ(rc, 1) << read_all(out + ".log2");
   EXPECT_NE(read_all(out + ".log2").find("lr_d: was 0.001, now 0.002"), std::string::npos) << read_all(out + ".log2");
   // One rate (--lr-d 0, pix2pix) records nothing; the default, a quarter of --lr, is recorded.
   const std::string same = (root_ / "lrd-same").string();
-  ASSERT_EQ(run(train_cmd(same, "--lr-d 0"), same + ".log"), 0) << read_all(same + ".log");
+  ASSERT_EQ(run(train_cmd(same, "--loss gan --lr-d 0"), same + ".log"), 0) << read_all(same + ".log");
   EXPECT_FALSE(nns::Blob::load(same + "/checkpoint.blob").has_config("lr_d"));
   const std::string def = (root_ / "lrd-default").string();
-  ASSERT_EQ(run(train_cmd(def, ""), def + ".log"), 0) << read_all(def + ".log");
+  ASSERT_EQ(run(train_cmd(def, "--loss gan"), def + ".log"), 0) << read_all(def + ".log");
   EXPECT_DOUBLE_EQ(nns::Blob::load(def + "/checkpoint.blob").config_double("lr_d"), 5e-5);
 }
 
@@ -417,7 +437,8 @@ TEST_F(TrainGan, StreamedFramesTrainBitwiseLikeFramesInMemory) {
 TEST_F(TrainGan, DiscriminatorWatchFiresWhenDWinsOutright) {
   const std::string won = (root_ / "dwins").string(), calm = (root_ / "dcalm").string();
   // 3 frames x 70 epochs = 210 steps: two full 100-step windows.
-  ASSERT_EQ(run(train_cmd(won, "--lr 1e-9 --lr-d 0.002 --epochs 70"), won + ".log"), 0) << read_all(won + ".log");
+  ASSERT_EQ(run(train_cmd(won, "--loss gan --lr 1e-9 --lr-d 0.002 --epochs 70"), won + ".log"), 0)
+      << read_all(won + ".log");
   const std::string log = read_all(won + ".log");
   EXPECT_NE(log.find("warning: the discriminator wins outright at step 200"), std::string::npos) << log;
   EXPECT_NE(log.find("the discriminator won outright in 1 windows"), std::string::npos) << log;
@@ -428,7 +449,7 @@ TEST_F(TrainGan, DiscriminatorWatchFiresWhenDWinsOutright) {
   EXPECT_TRUE(fs::exists(won + "/G.blob"));
 
   // --lr-d 0: D at G's rate, as pix2pix (the default is a quarter of it, calmer still).
-  ASSERT_EQ(run(train_cmd(calm, "--epochs 70 --lr-d 0"), calm + ".log"), 0) << read_all(calm + ".log");
+  ASSERT_EQ(run(train_cmd(calm, "--loss gan --epochs 70 --lr-d 0"), calm + ".log"), 0) << read_all(calm + ".log");
   EXPECT_EQ(read_all(calm + ".log").find("wins outright"), std::string::npos) << read_all(calm + ".log");
   EXPECT_NE(read_all(calm + "/summary.json").find("\"d_wins_windows\":0"), std::string::npos);
 }
@@ -603,8 +624,8 @@ TEST_F(TrainGan, WeightAverageIsDeterministicResumableAndRecorded) {
   EXPECT_EQ(read_all(one + "/G.blob"), read_all(two + "/G.blob"));
   ASSERT_EQ(run(train_cmd(plain, "--threads 2"), plain + ".log"), 0) << read_all(plain + ".log");
   EXPECT_NE(read_all(plain + "/G.blob"), read_all(two + "/G.blob"));
-  // The same training: the discriminator, which is not averaged, is the same file.
-  EXPECT_EQ(read_all(plain + "/D.blob"), read_all(two + "/D.blob"));
+  // The same training: its losses, which the average does not touch, are the same log.
+  EXPECT_EQ(read_all(plain + "/metrics.jsonl"), read_all(two + "/metrics.jsonl"));
   EXPECT_EQ(nns::Blob::load(two + "/checkpoint.blob").config_string("ema"), "0.9");
 
   ASSERT_EQ(run(train_cmd(broken, "--ema 0.9 --threads 1 --debug-stop-after-epochs 1"), broken + ".log1"), 0)

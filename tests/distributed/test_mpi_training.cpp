@@ -76,7 +76,7 @@ class MpiTraining : public ::testing::Test {
   static std::string gan(const std::string& out, const std::string& extra = "") {
     return kBin + "train-gan --data " + (root / "gi").string() + " --out " + (root / out).string() +
            " --size 16 --ngf 4 --ndf 4 --levels 3 --d-layers 2 --epochs 2 --sample-every 0 --no-eval --seed 3"
-           " --validation-fraction 0 --accumulate 3 --threads 1 --bucket-mb 0.001 " +
+           " --validation-fraction 0 --accumulate 3 --threads 1 --bucket-mb 0.001 --loss gan " +
            extra;
   }
   static void expect_same(const std::string& a, const std::string& b, const std::vector<std::string>& files) {
