@@ -74,13 +74,15 @@ void read_training_flags(apps::Args& a, TrainGanOptions& o) {
                        "G.blob holds the moving average of G's weights with this decay, e.g. 0.999 (0: the last "
                        "step's weights)",
                        0, 0.999999);
-  o.lr = a.get_double("--lr", o.lr, "Adam learning rate", 1e-12, 1e9);
+  o.lr = a.get_double("--lr", o.lr, "Adam learning rate (-1, unset: 0.0005 with --loss l1, 0.0002 with gan or dssim)",
+                      -1, 1e9);
   o.lr_d = a.get_double(
       "--lr-d", o.lr_d,
       "the discriminator's learning rate with --loss gan (0: --lr, as pix2pix; the default, a quarter of the "
-      "default --lr, won the validation split: docs/gan.md)",
+      "GAN's --lr, won the validation split: docs/gan.md)",
       0, 1e9);
-  o.beta1 = a.get_double("--beta1", o.beta1, "Adam beta1", 0, 0.9999);
+  o.beta1 =
+      a.get_double("--beta1", o.beta1, "Adam beta1 (-1, unset: 0.9 with --loss l1, 0.5 with gan or dssim)", -1, 0.9999);
   o.precision = parse_precision(a.get_choice(
       "--precision", precision_name(o.precision), {"fp32", "bf16"},
       "GEMM/convolution inputs: fp32, or bf16 with fp32 sums, master weights, Adam and BatchNorm (docs/gan.md)"));
@@ -144,6 +146,8 @@ TrainGanOptions read_flags(apps::Args& a, int& threads) {
   o.stop_after_epochs = a.get_int("--debug-stop-after-epochs", o.stop_after_epochs,
                                   "testing only: stop after N epochs as if interrupted", -1, INT_MAX);
   if (o.dssim_weight < 0 && o.dssim_weight != -1) a.error("--dssim-weight must be >= 0");
+  if (o.lr <= 0 && o.lr != -1) a.error("--lr must be > 0");
+  if (o.beta1 < 0 && o.beta1 != -1) a.error("--beta1 must be >= 0");
   if (o.decay_epochs > o.epochs) a.error("--decay-epochs must be <= --epochs");
   if (o.accumulate < runs::size())
     a.error("--accumulate must be at least the number of MPI ranks (" + std::to_string(runs::size()) + ")");
@@ -156,7 +160,8 @@ int main(int argc, char** argv) {
   runs::Session mpi(argc, argv);
   return mpi.finish(apps::run_main("train-gan", [&] {
     apps::Args a(argc, argv, "train-gan",
-                 "Train a pix2pix GAN (or an L1/DSSIM U-Net) to predict diffuse global illumination.");
+                 "Train pix2pix's U-Net to predict diffuse global illumination: alone on L1 + DSSIM by default, "
+                 "or as a GAN against a PatchGAN (--loss gan).");
     int threads = 2;
     TrainGanOptions o = read_flags(a, threads);
     runs::announce_accumulate("train-gan", o.accumulate);

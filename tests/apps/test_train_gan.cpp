@@ -193,6 +193,8 @@ TEST_F(TrainGan, BadFlagsNameTheFlagAndWriteNothing) {
       {"--dssim-weight nan", "--dssim-weight: expected a finite number"},
       {"--lr inf", "--lr: expected a finite number"},
       {"--dssim-weight -2", "--dssim-weight must be >= 0"},
+      {"--lr 0", "--lr must be > 0"},
+      {"--beta1 -0.5", "--beta1 must be >= 0"},
       {"--gradient-weight -1", "--gradient-weight"},
       {"--arch foo", "--arch: expected one of"},
       {"--g-dropout 1", "--g-dropout"},
@@ -259,6 +261,23 @@ TEST_F(TrainGan, TheDefaultTrainsTheGeneratorAloneOnTheReconstructionTerm) {
   EXPECT_EQ(ck.config_string("loss"), "l1");
   EXPECT_DOUBLE_EQ(ck.config_double("dssim_weight"), 1);
   EXPECT_DOUBLE_EQ(ck.config_double("gradient_weight"), 1);
+  // Without a discriminator, Adam's ordinary regression setting, not pix2pix's.
+  EXPECT_DOUBLE_EQ(ck.config_double("lr"), 5e-4);
+  EXPECT_DOUBLE_EQ(ck.config_double("beta1"), 0.9);
+}
+
+// --loss gan keeps pix2pix's Adam setting unless the flags say otherwise.
+TEST_F(TrainGan, TheGanKeepsPix2pixsAdamSetting) {
+  const std::string out = (root_ / "ganrates").string();
+  ASSERT_EQ(run(train_cmd(out, "--loss gan"), out + ".log"), 0) << read_all(out + ".log");
+  const nns::Blob ck = nns::Blob::load(out + "/checkpoint.blob");
+  EXPECT_DOUBLE_EQ(ck.config_double("lr"), 2e-4);
+  EXPECT_DOUBLE_EQ(ck.config_double("beta1"), 0.5);
+  const std::string set = (root_ / "ganrates_set").string();
+  ASSERT_EQ(run(train_cmd(set, "--loss gan --lr 0.001 --beta1 0.8"), set + ".log"), 0);
+  const nns::Blob ck2 = nns::Blob::load(set + "/checkpoint.blob");
+  EXPECT_DOUBLE_EQ(ck2.config_double("lr"), 1e-3);
+  EXPECT_DOUBLE_EQ(ck2.config_double("beta1"), 0.8);
 }
 
 // train-gan --resume with nothing to resume used to start from scratch with exit 0.
