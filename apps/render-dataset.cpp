@@ -81,6 +81,9 @@ Command read_flags(apps::Args& args) {
                                        "preset's: surround-v5 64 x 64 / face size, 8 to 64; the others --spp and "
                                        "min(--gi-spp, 64))",
                                        0, 65536);
+  job.settings.ao = !args.get_flag("--no-ao",
+                                    "lit presets: write no AO channel and trace no AO rays (the GI networks never "
+                                    "read it; every other channel is the same bits)");
   job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)", 1, 64);
   job.settings.seed = uint64_t(args.get_int("--seed", 1, "seed: scenes, cameras and noise", 0, INT_MAX));
   int noise_seed = args.get_int(
@@ -113,6 +116,8 @@ Command read_flags(apps::Args& args) {
   else if (w > kMaxSide || h > kMaxSide)  // 65536x65536 died in std::bad_alloc naming nothing
     args.error("--size: " + size + " is out of range: each side at most " + std::to_string(kMaxSide) + " pixels");
   if (surround && w != h) args.error("--size: surround faces are square, got " + size);
+  if (!job.settings.ao && job.preset.rfind("nnao", 0) == 0)
+    args.error("--no-ao: preset " + job.preset + " renders AO alone (its target)");
   args.done();
   job.width = w, job.height = h;
   return c;

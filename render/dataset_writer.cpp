@@ -33,18 +33,19 @@ namespace fs = std::filesystem;
 
 void apply_preset(DatasetJob& job) {
   RenderSettings& s = job.settings;
-  if (job.preset == "nnao") {
-    s.ao = true, s.lighting = false;
-  } else if (job.preset == "nnao-v2") {
-    s.ao = true, s.lighting = false;
-    job.vary_views = true;
+  // The lit presets write AO unless the job turned it off (s.ao): the GI networks never
+  // read it, and at face 128 its rays are about a seventh of a frame's time.
+  if (job.preset == "nnao" || job.preset == "nnao-v2") {
+    if (!s.ao) throw std::invalid_argument("preset '" + job.preset + "': AO is its only target (no AO is for lit presets)");
+    s.lighting = false;
+    if (job.preset == "nnao-v2") job.vary_views = true;
   } else if (job.preset == "gi" || job.preset == "surround") {
-    s.ao = true, s.lighting = true, s.indirect = true;
+    s.lighting = true, s.indirect = true;
   } else if (job.preset == "surround-v2" || job.preset == "surround-v3") {
-    s.ao = true, s.lighting = true, s.indirect = true;
+    s.lighting = true, s.indirect = true;
     job.vary_lighting = true;
   } else if (job.preset == "surround-v4" || job.preset == "surround-v5") {
-    s.ao = true, s.lighting = true, s.indirect = true;
+    s.lighting = true, s.indirect = true;
     job.vary_lighting = true;
     job.vary_textures = true;
     if (job.preset == "surround-v5") {
@@ -175,6 +176,7 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
     if (job.train_gi_spp > 0)
       m << "gi-spp.train: " << job.train_gi_spp << " env and indirect paths per pixel on train/ (" << rs.gi_spp
         << " on test/ and holdout/)\n";
+    if (!rs.ao) m << "ao: none (no AO channel; every other channel as with it)\n";
     if (rs.side_spp > 0 && is_surround_preset(job.preset))
       m << "side-spp: " << rs.side_spp << " AO and env rays per pixel on the five side faces\n";
     if (job.vary_views) {

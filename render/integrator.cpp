@@ -46,6 +46,11 @@ float ambient_occlusion(const RayTracer& rt, const Hit& hit, float radius, int s
   return float(open) / float(spp);
 }
 
+void skip_ambient_occlusion(int spp, Rng& rng) {
+  if (spp <= 0) return;
+  rng.uniform_float(), rng.uniform_float();  // ambient_occlusion's s1, s2
+}
+
 namespace {
 // One light's E/pi at p (normal n, ray origin `origin` just above p), `spp` samples of
 // an extended light, added to `total`: the terms of direct_light's sum.

@@ -16,7 +16,7 @@ struct RenderSettings {
   int light_spp = 4;     // samples per area light / sun disc at the visible point
   int bounces = 3;       // indirect bounces (>= 2 for the GI target)
   float roulette = 2;    // Russian roulette on indirect paths (env_and_indirect); 0 = off
-  bool ao = true;        // write `AO`
+  bool ao = true;        // write `AO` (false: its rays are not traced, its random numbers still drawn)
   bool lighting = true;  // write direct / emission / env (and indirect, below)
   bool indirect = true;  // with lighting: also path-trace `indirect`, the GI target
   uint64_t seed = 0;
@@ -29,6 +29,10 @@ struct RenderSettings {
 // Cosine-weighted fraction of the hemisphere around hit.normal whose rays travel
 // `radius` without hitting geometry.
 float ambient_occlusion(const RayTracer& rt, const Hit& hit, float radius, int spp, Rng& rng);
+
+// Draws from `rng` what ambient_occlusion(..., spp, rng) draws, and traces nothing: a
+// render without the AO channel keeps every other channel bit for bit.
+void skip_ambient_occlusion(int spp, Rng& rng);
 
 // Direct light from the scene's suns, point and rect lights, with shadow rays:
 // sum_i E_i / pi at the point (before albedo). `spp` samples each extended light.

@@ -83,6 +83,7 @@ data::View render_view(const RayTracer& rt, const Camera& cam, const RenderSetti
         p.nx[i] = n.x, p.ny[i] = n.y, p.nz[i] = n.z;
         put(p.alb, i, surface_albedo(*h.material, h.position, h.normal));
         if (p.ao) p.ao[i] = ambient_occlusion(rt, h, ao_radius, s.ao_spp, rng);
+        else skip_ambient_occlusion(s.ao_spp, rng);
         if (s.lighting) {
           put(p.dir, i, direct_light(rt, h.position, h.normal, s.light_spp, rng));
           put(p.emi, i, h.material->emission);

@@ -78,6 +78,9 @@ TEST(RenderDatasetCli, BadInputIsAnErrorThatSaysWhy) {
   EXPECT_NE(log.find("--holdout-fraction: 1.5 is out of range"), std::string::npos) << log;
   EXPECT_EQ(run(kBin + " --out " + out + " --holdout-families , --size 16x9", log), 2);
   EXPECT_NE(log.find("--holdout-families: no name in"), std::string::npos) << log;
+  EXPECT_EQ(run(kBin + " --out " + out + "-ao --preset nnao-v2 --no-ao --views 2 --size 16x9", log), 2);
+  EXPECT_NE(log.find("--no-ao: preset nnao-v2 renders AO alone"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out + "-ao"));
   EXPECT_EQ(run(kBin + " --out " + out + " --scene /no/such/file.obj --views 2 --size 16x9", log), 1);
   EXPECT_NE(log.find("/no/such/file.obj"), std::string::npos) << log;
   fs::remove_all(out);
