@@ -82,8 +82,8 @@ Command read_flags(apps::Args& args) {
                                        "min(--gi-spp, 64))",
                                        0, 65536);
   job.settings.ao = !args.get_flag("--no-ao",
-                                    "lit presets: write no AO channel and trace no AO rays (the GI networks never "
-                                    "read it; every other channel is the same bits)");
+                                   "lit presets: write no AO channel and trace no AO rays (the GI networks never "
+                                   "read it; every other channel is the same bits)");
   job.settings.bounces = args.get_int("--bounces", 3, "indirect bounces (>= 2 for GI targets)", 1, 64);
   job.settings.seed = uint64_t(args.get_int("--seed", 1, "seed: scenes, cameras and noise", 0, INT_MAX));
   int noise_seed = args.get_int(

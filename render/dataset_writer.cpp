@@ -36,7 +36,8 @@ void apply_preset(DatasetJob& job) {
   // The lit presets write AO unless the job turned it off (s.ao): the GI networks never
   // read it, and at face 128 its rays are about a seventh of a frame's time.
   if (job.preset == "nnao" || job.preset == "nnao-v2") {
-    if (!s.ao) throw std::invalid_argument("preset '" + job.preset + "': AO is its only target (no AO is for lit presets)");
+    if (!s.ao)
+      throw std::invalid_argument("preset '" + job.preset + "': AO is its only target (no AO is for lit presets)");
     s.lighting = false;
     if (job.preset == "nnao-v2") job.vary_views = true;
   } else if (job.preset == "gi" || job.preset == "surround") {
