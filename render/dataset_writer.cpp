@@ -179,7 +179,8 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
         << " on test/ and holdout/)\n";
     if (!rs.ao) m << "ao: none (no AO channel; every other channel as with it)\n";
     if (rs.side_spp > 0 && is_surround_preset(job.preset))
-      m << "side-spp: " << rs.side_spp << " AO and env rays per pixel on the five side faces\n";
+      m << "side-spp: " << rs.side_spp << (rs.ao ? " AO and env" : " env")
+        << " rays per pixel on the five side faces\n";
     if (job.vary_views) {
       ViewVariation v;
       char buf[512];

@@ -57,6 +57,7 @@ TEST(RenderNoAo, EveryOtherChannelIsTheSameBitsAndTheRaysAreFewer) {
     }
   EXPECT_LT(without_report.rays, with_report.rays);
   EXPECT_NE(metadata_text(root / "no-ao").find("ao: none"), std::string::npos);
+  EXPECT_NE(metadata_text(root / "no-ao").find("side-spp: 4 env rays"), std::string::npos);
   EXPECT_EQ(metadata_text(root / "ao").find("ao: none"), std::string::npos);
   std::filesystem::remove_all(root);
 }
