@@ -116,7 +116,7 @@ Command read_flags(apps::Args& args) {
   else if (w > kMaxSide || h > kMaxSide)  // 65536x65536 died in std::bad_alloc naming nothing
     args.error("--size: " + size + " is out of range: each side at most " + std::to_string(kMaxSide) + " pixels");
   if (surround && w != h) args.error("--size: surround faces are square, got " + size);
-  if (!job.settings.ao && job.preset.rfind("nnao", 0) == 0)
+  if (!job.settings.ao && render::is_ao_preset(job.preset))
     args.error("--no-ao: preset " + job.preset + " renders AO alone (its target)");
   args.done();
   job.width = w, job.height = h;

@@ -35,7 +35,7 @@ void apply_preset(DatasetJob& job) {
   RenderSettings& s = job.settings;
   // The lit presets write AO unless the job turned it off (s.ao): the GI networks never
   // read it, and at face 128 its rays are about a seventh of a frame's time.
-  if (job.preset == "nnao" || job.preset == "nnao-v2") {
+  if (is_ao_preset(job.preset)) {
     if (!s.ao)
       throw std::invalid_argument("preset '" + job.preset + "': AO is its only target (no AO is for lit presets)");
     s.lighting = false;

@@ -82,6 +82,10 @@ struct DatasetReport {
 // Applies a preset's channel choice to job.settings (called by render_dataset).
 void apply_preset(DatasetJob& job);
 
+// Whether a preset renders AO alone (nnao, nnao-v2): AO is its target, so it cannot go
+// without it (RenderSettings::ao).
+inline bool is_ao_preset(const std::string& preset) { return preset == "nnao" || preset == "nnao-v2"; }
+
 // Whether a preset writes cube frames (surround, surround-v2 .. v4) rather than single views.
 inline bool is_surround_preset(const std::string& preset) {
   return preset == "surround" || preset == "surround-v2" || preset == "surround-v3" || preset == "surround-v4" ||

@@ -20,7 +20,7 @@ namespace nns::render {
 // families, textured materials, lights varied, holdout/, 2,400 frames, 128x128 faces;
 // train/ at 64 paths, test/ and holdout/ at 128: version 5's test/ and holdout/ bytes;
 // without the AO channel, which nothing of GI reads: a version-6 folder that has it holds
-// the same pixels in every other channel, so dropping it bumped nothing);
+// the same pixels in every other channel, so the version stays 6);
 // gi is at 3 (the renderer's faster estimator changed its noise).
 inline int default_dataset_version(const std::string& preset) {
   return preset == "nnao" ? 4 : preset == "surround" ? 6 : 3;

@@ -32,11 +32,22 @@ int cosine_packet(const Frame& frame, int k, int spp, float s1, float s2, bool w
 }
 }  // namespace
 
+namespace {
+// The random numbers of one pixel's AO: the shift of its Hammersley set.
+struct AoShift {
+  float s1, s2;
+};
+AoShift draw_ao_shift(Rng& rng) {
+  const float s1 = rng.uniform_float(), s2 = rng.uniform_float();
+  return {s1, s2};
+}
+}  // namespace
+
 float ambient_occlusion(const RayTracer& rt, const Hit& hit, float radius, int spp, Rng& rng) {
   if (spp <= 0) return 1.0f;
   Frame frame(hit.normal);
   Vec3 origin = RayTracer::offset(hit.position, hit.normal);
-  float s1 = rng.uniform_float(), s2 = rng.uniform_float();
+  const auto [s1, s2] = draw_ao_shift(rng);
   int open = 0;
   Vec3 dirs[16];
   for (int k = 0; k < (spp + 15) / 16; ++k) {
@@ -47,8 +58,7 @@ float ambient_occlusion(const RayTracer& rt, const Hit& hit, float radius, int s
 }
 
 void skip_ambient_occlusion(int spp, Rng& rng) {
-  if (spp <= 0) return;
-  rng.uniform_float(), rng.uniform_float();  // ambient_occlusion's s1, s2
+  if (spp > 0) draw_ao_shift(rng);
 }
 
 namespace {

@@ -4,10 +4,9 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
+#include "core/atomic_file.h"
 #include "data/dataset.h"
 #include "data/exr_io.h"
 #include "render/dataset_writer.h"
@@ -18,12 +17,7 @@ using namespace nns::data;
 using namespace nns::render;
 
 namespace {
-std::string metadata_text(const std::filesystem::path& dir) {
-  std::ifstream meta(dir / kMetadataFile);
-  std::stringstream text;
-  text << meta.rdbuf();
-  return text.str();
-}
+std::string metadata_text(const std::filesystem::path& dir) { return read_file((dir / kMetadataFile).string()); }
 }  // namespace
 
 TEST(RenderNoAo, EveryOtherChannelIsTheSameBitsAndTheRaysAreFewer) {
