@@ -149,6 +149,7 @@ int main(int argc, char** argv) {
   job.part = runs::rank(), job.parts = runs::size();
   job.progress = runs::writer();
   return mpi.finish(apps::run_main("render-dataset", [&] {
+    render::check_dataset_job(job);  // a refused job makes no folder
     // Rank 0 locks and checks the folder before any rank writes a view into it.
     FolderLock lock;
     if (runs::writer()) {

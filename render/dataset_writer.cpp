@@ -272,9 +272,6 @@ SplitPlan plan_splits(const DatasetJob& job, std::vector<std::string> families, 
         job.scene_files.size() >= 2 ? std::max<size_t>(1, size_t(job.scene_files.size() * job.test_fraction + 0.5)) : 0;
     train_files.assign(job.scene_files.begin(), job.scene_files.end() - long(n_test));
     test_files.assign(job.scene_files.end() - long(n_test), job.scene_files.end());
-    if (n_test == 0)
-      std::fprintf(stderr,
-                   "render-dataset: one scene file: every view goes to train/ (a scene is never in both splits)\n");
   }
   // Whole paths in each split, at least one in test (when there is a test scene).
   int n_test_views = std::max(1, int(job.views * job.test_fraction / P + 0.5)) * P;
@@ -463,19 +460,36 @@ void prepare_render_folder(const std::string& out, bool replace) {
   fs::remove(fs::path(out) / kMetadataFile);
 }
 
-DatasetReport render_dataset(DatasetJob job) {
-  auto t0 = std::chrono::steady_clock::now();
-  std::clock_t c0 = std::clock();
+namespace {
+// Everything render_dataset checks of a job before it writes: the preset applied, the
+// sizes, the families and the splits planned. Touches no file.
+SplitPlan checked_plan(DatasetJob& job) {
   apply_preset(job);
   if (job.views < 1) throw std::invalid_argument("render_dataset: --views must be >= 1");
   if (job.width < 8 || job.height < 8) throw std::invalid_argument("render_dataset: image size below 8x8");
-  const int P = std::max(1, job.path_frames);
-  const SplitPlan plan = plan_splits(job, families_to_render(job), P);
-  fs::create_directories(job.out);
-  if (!job.holdout_families.empty()) warn_unrendered_holdout_families(job, plan);
   if (job.parts < 1 || job.part < 0 || job.part >= job.parts)
     throw std::invalid_argument("render_dataset: part " + std::to_string(job.part) + " of " +
                                 std::to_string(job.parts));
+  for (const auto& f : job.scene_files) {
+    std::error_code ec;
+    if (!fs::is_regular_file(f, ec)) throw std::invalid_argument("--scene " + f + ": no such file");
+  }
+  return plan_splits(job, families_to_render(job), std::max(1, job.path_frames));
+}
+}  // namespace
+
+void check_dataset_job(DatasetJob job) { (void)checked_plan(job); }
+
+DatasetReport render_dataset(DatasetJob job) {
+  auto t0 = std::chrono::steady_clock::now();
+  std::clock_t c0 = std::clock();
+  const SplitPlan plan = checked_plan(job);
+  const int P = std::max(1, job.path_frames);
+  if (job.scene_files.size() == 1)
+    std::fprintf(stderr,
+                 "render-dataset: one scene file: every view goes to train/ (a scene is never in both splits)\n");
+  fs::create_directories(job.out);
+  if (!job.holdout_families.empty()) warn_unrendered_holdout_families(job, plan);
   if (job.part == 0) write_metadata(job, plan.tasks);
   RenderState st{{}, Progress("render " + job.preset, job.views)};
   // The next scene and its BVH are built on a thread of their own while this one renders

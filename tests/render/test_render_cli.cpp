@@ -67,13 +67,19 @@ TEST(RenderDatasetCli, BadInputIsAnErrorThatSaysWhy) {
   EXPECT_NE(log.find("--out is required"), std::string::npos) << log;
   EXPECT_EQ(run(kBin + " --out " + out + " --preset surround --size 16x9", log), 2);
   EXPECT_NE(log.find("square"), std::string::npos) << log;
-  EXPECT_EQ(run(kBin + " --out " + out + " --families castle --views 2 --size 16x9", log), 1);
+  // A job refused after the flags parse (families, holdout, scene files) is refused before
+  // its folder is made: nothing is left behind, not even the lock file.
+  EXPECT_EQ(run(kBin + " --out " + out + "-family --families castle --views 2 --size 16x9", log), 1);
   EXPECT_NE(log.find("unknown scene family 'castle'"), std::string::npos) << log;
-  EXPECT_EQ(run(kBin + " --out " + out + " --holdout-families castle --views 4 --size 16x9", log), 1);
+  EXPECT_FALSE(fs::exists(out + "-family"));
+  EXPECT_EQ(run(kBin + " --out " + out + "-held --holdout-families castle --views 4 --size 16x9", log), 1);
   EXPECT_NE(log.find("--holdout-families: unknown scene family 'castle'"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out + "-held"));
   EXPECT_EQ(
-      run(kBin + " --out " + out + " --families room,thin --holdout-families thin,room --views 4 --size 16x9", log), 1);
+      run(kBin + " --out " + out + "-all --families room,thin --holdout-families thin,room --views 4 --size 16x9", log),
+      1);
   EXPECT_NE(log.find("leaving none for train/ and test/"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out + "-all"));
   EXPECT_EQ(run(kBin + " --out " + out + " --holdout-families room --holdout-fraction 1.5 --size 16x9", log), 2);
   EXPECT_NE(log.find("--holdout-fraction: 1.5 is out of range"), std::string::npos) << log;
   EXPECT_EQ(run(kBin + " --out " + out + " --holdout-families , --size 16x9", log), 2);
@@ -81,7 +87,9 @@ TEST(RenderDatasetCli, BadInputIsAnErrorThatSaysWhy) {
   EXPECT_EQ(run(kBin + " --out " + out + "-ao --preset nnao-v2 --no-ao --views 2 --size 16x9", log), 2);
   EXPECT_NE(log.find("--no-ao: preset nnao-v2 renders AO alone"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(out + "-ao"));
-  EXPECT_EQ(run(kBin + " --out " + out + " --scene /no/such/file.obj --views 2 --size 16x9", log), 1);
+  EXPECT_EQ(run(kBin + " --out " + out + "-scene --scene /no/such/file.obj --views 2 --size 16x9", log), 1);
   EXPECT_NE(log.find("/no/such/file.obj"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out + "-scene"));
+  EXPECT_FALSE(fs::exists(out));
   fs::remove_all(out);
 }
