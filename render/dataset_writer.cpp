@@ -470,11 +470,12 @@ SplitPlan checked_plan(DatasetJob& job) {
   if (job.parts < 1 || job.part < 0 || job.part >= job.parts)
     throw std::invalid_argument("render_dataset: part " + std::to_string(job.part) + " of " +
                                 std::to_string(job.parts));
+  SplitPlan plan = plan_splits(job, families_to_render(job), std::max(1, job.path_frames));
   for (const auto& f : job.scene_files) {
     std::error_code ec;
     if (!fs::is_regular_file(f, ec)) throw std::invalid_argument("--scene " + f + ": no such file");
   }
-  return plan_splits(job, families_to_render(job), std::max(1, job.path_frames));
+  return plan;
 }
 }  // namespace
 
