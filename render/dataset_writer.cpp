@@ -462,7 +462,8 @@ void prepare_render_folder(const std::string& out, bool replace) {
 
 namespace {
 // Everything render_dataset checks of a job before it writes: the preset applied, the
-// sizes, the families and the splits planned. Touches no file.
+// sizes, the families and the splits planned, then the scene files there (a bad
+// combination of flags is named before a missing file). Touches no file.
 SplitPlan checked_plan(DatasetJob& job) {
   apply_preset(job);
   if (job.views < 1) throw std::invalid_argument("render_dataset: --views must be >= 1");
