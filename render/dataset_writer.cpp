@@ -480,7 +480,13 @@ SplitPlan checked_plan(DatasetJob& job) {
 }
 }  // namespace
 
-void check_dataset_job(DatasetJob job) { (void)checked_plan(job); }
+void check_dataset_job(DatasetJob job) {
+  (void)checked_plan(job);
+  // Each scene file parsed once here as well: one that is there but is no scene would
+  // otherwise be found only when its turn to render came, after metadata.txt (and maybe
+  // other scenes' views) were written. Parsing is small beside rendering the scene.
+  for (const auto& f : job.scene_files) (void)load_mesh_scene(f);
+}
 
 DatasetReport render_dataset(DatasetJob job) {
   auto t0 = std::chrono::steady_clock::now();

@@ -112,8 +112,8 @@ inline constexpr const char* kMetadataFile = "metadata.txt";
 DatasetReport render_dataset(DatasetJob job);
 
 // Throws what render_dataset would throw for the job itself (preset, sizes, families,
-// holdout, scene files), touching no file: render-dataset calls it before it makes and
-// locks the output folder, so a refused job leaves no folder behind.
+// holdout, scene files there and parsed), touching no file: render-dataset calls it before
+// it makes and locks the output folder, so a refused job leaves no folder behind.
 void check_dataset_job(DatasetJob job);
 
 // How many views (files *.exr, or surround frame folders) `out` holds from an earlier

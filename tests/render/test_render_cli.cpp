@@ -93,3 +93,32 @@ TEST(RenderDatasetCli, BadInputIsAnErrorThatSaysWhy) {
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(out);
 }
+
+// A scene file that is there but is no scene is found before the folder is made: a render
+// that failed on it used to leave --out with metadata.txt and the lock file, a folder
+// dataset-info could not read.
+TEST(RenderDatasetCli, AnUnreadableSceneFileLeavesNoFolder) {
+  ASSERT_TRUE(fs::exists(kBin)) << kBin << " is not built (ninja render-dataset)";
+  std::string out = temp_dir() + "-badobj", bad = temp_dir() + "-bad.obj", log;
+  {
+    std::FILE* f = std::fopen(bad.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("this is not an OBJ\nnor is this\n", f);
+    std::fclose(f);
+  }
+  EXPECT_EQ(run(kBin + " --out " + out + " --scene " + bad + " --views 2 --size 16x9", log), 1);
+  EXPECT_NE(log.find(bad), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out));
+  // A folder that was there keeps what it held and gets no metadata.txt.
+  fs::create_directories(out);
+  {
+    std::FILE* f = std::fopen((out + "/notes.txt").c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fclose(f);
+  }
+  EXPECT_EQ(run(kBin + " --out " + out + " --scene " + bad + " --views 2 --size 16x9", log), 1);
+  EXPECT_TRUE(fs::exists(out + "/notes.txt"));
+  EXPECT_FALSE(fs::exists(out + "/metadata.txt"));
+  fs::remove_all(out);
+  fs::remove(bad);
+}
