@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <exception>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -51,11 +52,14 @@ class FolderLock {
     if (::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
     }
   }
-  FolderLock(FolderLock&& o) noexcept : fd_(std::exchange(o.fd_, -1)) {}
+  FolderLock(FolderLock&& o) noexcept
+      : fd_(std::exchange(o.fd_, -1)), made_dir_(std::move(o.made_dir_)), exceptions_(o.exceptions_) {}
   FolderLock& operator=(FolderLock&& o) noexcept {
     if (this != &o) {
       release();
       fd_ = std::exchange(o.fd_, -1);
+      made_dir_ = std::move(o.made_dir_);
+      exceptions_ = o.exceptions_;
     }
     return *this;
   }
@@ -65,20 +69,47 @@ class FolderLock {
 
   bool held() const { return fd_ >= 0; }
 
+  // `dir` was made for this run: if the run fails (the lock is released while an
+  // exception unwinds) before it wrote a file, the folder goes too, so that an error
+  // found after the folder was made (a model that is no blob, no views to evaluate)
+  // leaves nothing behind. A file the run wrote keeps the folder: a failed training's
+  // metrics and checkpoints are what the user reads next.
+  void remove_if_failed_empty(const std::string& dir) { made_dir_ = dir; }
+
  private:
   void release() {
+    if (fd_ >= 0 && !made_dir_.empty() && std::uncaught_exceptions() > exceptions_) remove_made_dir_if_empty();
     if (fd_ >= 0) ::close(fd_);  // closing the last descriptor drops the flock
     fd_ = -1;
   }
+  // Nothing but the lock file and empty folders in it. Never throws (it runs while an
+  // exception unwinds); the lock is still held, so no other run writes into it meanwhile.
+  void remove_made_dir_if_empty() noexcept {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path dir = made_dir_, lock = dir / kFileName;
+    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec)) {
+      std::error_code type_ec;
+      if (!it->is_directory(type_ec) && it->path() != lock) return;
+    }
+    if (!ec) fs::remove_all(dir, ec);
+  }
   int fd_ = -1;
+  std::string made_dir_;                         // empty: a folder that was there
+  int exceptions_ = std::uncaught_exceptions();  // unwinding at construction
 };
 
 // What every command does with the folder it writes, before it writes: create it, lock
 // it, and remove the temporaries a killed writer left anywhere in it (core/atomic_file.h's
-// names; the lock makes every one of them another run's).
+// names; the lock makes every one of them another run's). A folder it made goes again if
+// the run fails before writing a file into it.
 inline FolderLock prepare_output_folder(const std::string& dir, const std::string& app) {
+  std::error_code ec;
+  const bool made = !std::filesystem::exists(dir, ec);
   std::filesystem::create_directories(dir);
   FolderLock lock(dir, app);
+  if (made) lock.remove_if_failed_empty(dir);
   remove_stale_temporaries(dir, /*recursive=*/true);
   return lock;
 }

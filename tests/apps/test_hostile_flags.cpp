@@ -3,8 +3,9 @@
 // what --help states must be refused before any work: exit 2, a message naming the flag,
 // no signal, nothing in the output folder. A value --help allows may run (the inputs
 // point at an empty folder or a missing file, so it fails fast), but never die of a
-// signal or leave a temporary behind. The flags are read from --help, so a new flag or a
-// new command is swept without anyone writing a case for it.
+// signal or leave a temporary behind, and when it fails it leaves nothing. The flags are
+// read from --help, so a new flag or a new command is swept without anyone writing a
+// case for it.
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -284,6 +285,9 @@ void check_case(const Case& k) {
   // A run the harness stopped with SIGKILL may leave a temporary (the next run into the
   // folder removes it); one that ended by itself may not.
   if (!r.timed_out) EXPECT_TRUE(k.temporaries.empty()) << what << ": left " << k.temporaries.front();
+  // A run that failed by itself (its inputs are an empty folder or a missing file) leaves
+  // nothing, not even the output folder it made.
+  if (!r.timed_out && r.code != 0) EXPECT_TRUE(k.written.empty()) << what << ": left " << k.written.front();
   if (k.allowed) return;  // it may run; it failed fast or was stopped, and did not crash
   EXPECT_FALSE(r.timed_out) << what << ": still running after 20 s";
   EXPECT_EQ(r.code, 2) << what << "\n" << r.output;
@@ -411,6 +415,40 @@ TEST(HostileFlags, EveryModelReaderRefusesAPoisonedOrEndlessModelNamingIt) {
       EXPECT_TRUE(leftovers(out).empty()) << what << ": wrote " << leftovers(out).front();
     }
   std::printf("hostile models: %d cases\n", cases);
+  fs::remove_all(work);
+}
+
+// The evaluators make their output folder before they read the model and the views: a
+// model that is no blob, or a folder without views, used to leave that folder behind
+// with the lock file (and eval-gi's empty previews/) in it.
+TEST(HostileFlags, AnEvaluatorRefusingItsInputsLeavesNoOutputFolder) {
+  const fs::path work = fs::temp_directory_path() / ("nns_hostile_eval_" + std::to_string(::getpid()));
+  fs::remove_all(work);
+  fs::create_directories(work / "cwd");
+  fs::create_directories(work / "empty");
+  const std::string junk = (work / "junk.blob").string(), empty = (work / "empty").string();
+  std::ofstream(junk) << "no blob";
+  const fs::path bin = fs::path(NNSHADE_BINARY_DIR) / "bin";
+  const fs::path out = work / "out";
+  const std::vector<std::vector<std::string>> runs = {
+      {"eval-gi", "--data", empty, "--model", junk},
+      {"eval-ao", "--data", empty, "--model", junk},
+      {"eval-ao", "--data", empty},
+  };
+  for (const auto& args : runs) {
+    std::vector<std::string> argv = {(bin / args[0]).string()};
+    argv.insert(argv.end(), args.begin() + 1, args.end());
+    argv.insert(argv.end(), {"--out", out.string()});
+    std::string what;
+    for (const auto& a : args) what += a + " ";
+    const Outcome r = run(argv, (work / "cwd").string(), 60);
+    EXPECT_FALSE(r.signalled) << what << ": killed by signal " << r.signal << "\n" << r.output;
+    EXPECT_EQ(r.code, 1) << what << "\n" << r.output;
+    const bool named = r.output.find(junk) != std::string::npos || r.output.find(empty) != std::string::npos;
+    EXPECT_TRUE(named) << what << ": the input is not named\n" << r.output;
+    EXPECT_FALSE(fs::exists(out)) << what << ": left " << out;
+    fs::remove_all(out);
+  }
   fs::remove_all(work);
 }
 

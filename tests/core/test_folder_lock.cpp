@@ -108,4 +108,39 @@ TEST_F(FolderLockTest, ASingleFilesTemporariesAreRemovedAndNothingElse) {
   EXPECT_TRUE(fs::exists(dir_ / "ao.exr.tmp.x"));
 }
 
+// A run that fails before it writes anything (eval-gi and eval-ao given a blob that is no
+// blob) used to leave the folder it made, holding the lock file and empty subfolders.
+TEST_F(FolderLockTest, AFailedRunRemovesTheEmptyFolderItMade) {
+  const fs::path out = dir_ / "out";
+  try {
+    FolderLock lock = prepare_output_folder(out.string(), "eval-gi");
+    fs::create_directories(out / "previews");
+    throw std::runtime_error("bad model");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_TRUE(fs::exists(dir_));  // only what the run made
+}
+
+TEST_F(FolderLockTest, AFailedRunKeepsWhatItWroteAndAFolderThatWasThere) {
+  const fs::path wrote = dir_ / "wrote", was_there = dir_ / "was-there";
+  fs::create_directories(was_there);
+  for (const fs::path& out : {wrote, was_there}) {
+    try {
+      FolderLock lock = prepare_output_folder(out.string(), "train-gan");
+      if (out == wrote) std::ofstream(out / "metrics.jsonl") << "{}\n";
+      throw std::runtime_error("diverged");
+    } catch (const std::runtime_error&) {
+    }
+  }
+  EXPECT_TRUE(fs::exists(wrote / "metrics.jsonl"));
+  EXPECT_TRUE(fs::is_directory(was_there));
+}
+
+TEST_F(FolderLockTest, ASuccessfulRunKeepsItsFolderEvenEmpty) {
+  const fs::path out = dir_ / "out";
+  { FolderLock lock = prepare_output_folder(out.string(), "eval-ao"); }
+  EXPECT_TRUE(fs::is_directory(out));
+}
+
 }  // namespace
