@@ -77,7 +77,7 @@ Command read_flags(apps::Args& args) {
   o.data_dir = args.get_string("--data", o.data_dir,
                                "dataset folder (default: the built-in default nnao dataset, rendered once and cached)");
   o.out_dir = args.get_path("--out", o.out_dir, "output folder: nnao.blob, metrics.jsonl, loss.svg, checkpoint");
-  // The presets are what the project's measurements chose (runs/ao/train_nnao.h,
+  // The presets are what the project's measurements chose (runs/ao/nnao_train_options.h,
   // docs/nnao.md); every flag below overrides its part of the preset.
   const std::string preset = args.get_choice(
       "--preset", "default", {"default", "grid", "paper"},

@@ -41,7 +41,7 @@
 namespace nns::nnao {
 
 struct HorizonLayout {
-  int directions = 16, steps = 8, bands = 4;  // the default preset's (runs/ao/train_nnao.h)
+  int directions = 16, steps = 8, bands = 4;  // the default preset's (runs/ao/nnao_train_options.h)
   // The radius term's ceiling (blob key radius_term_max; absent or 0: none). Training
   // sees the term unclamped; a trained model's inference holds it at 0.6 (R_px ~ 27 px).
   // Why: where the radius spans more pixels than that, the training views were mostly

@@ -247,7 +247,7 @@ TEST_F(TrainNnao, SmallShuffleBuffersTrainAndAreDeterministic) {
     EXPECT_EQ(e.path().filename().string().find("points"), std::string::npos) << e.path();
 }
 
-// The default preset trains a horizon-feature model (runs/ao/train_nnao.h): the blob
+// The default preset trains a horizon-feature model (runs/ao/nnao_train_options.h): the blob
 // says so, the same on 1 and 2 threads; whole families of the training split can be
 // held out for validation, and a family with no view is refused by name.
 TEST_F(TrainNnao, DefaultPresetIsAHorizonModelValidatedOnFamilies) {
