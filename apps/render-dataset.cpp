@@ -158,7 +158,16 @@ int main(int argc, char** argv) {
     }
     runs::barrier();
     set_num_threads(threads);
-    render::DatasetReport r = render::render_dataset(job);
+    render::DatasetReport r;
+    try {
+      r = render::render_dataset(job);
+    } catch (...) {
+      // A render cut short is no dataset. The folder held no other render's views
+      // (prepare_render_folder), so its views and metadata.txt are this run's; the lock
+      // then removes the folder itself if this run made it (core/folder_lock.h).
+      if (runs::writer()) (void)render::remove_render(job.out);
+      throw;
+    }
     std::vector<double> sums = {double(r.train_views), double(r.test_views), double(r.holdout_views),
                                 double(r.rays),        r.render_seconds,     r.cpu_seconds};
     runs::sum_over_ranks(sums);  // the report counts every rank's views

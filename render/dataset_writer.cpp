@@ -451,13 +451,20 @@ void prepare_render_folder(const std::string& out, bool replace) {
     throw std::runtime_error(
         out + ": holds " + std::to_string(n) +
         " views of another render; render into a new folder, or pass --replace to remove them first");
-  std::error_code ec;
+  if (!remove_render(out)) throw std::runtime_error(out + ": cannot remove the earlier render's views");
+}
+
+bool remove_render(const std::string& out) noexcept {
+  std::error_code ec, failed;
   std::vector<fs::path> top;
   for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
     if (it->path().extension() == ".exr") top.push_back(it->path());
-  for (auto& p : top) fs::remove(p);
-  for (const char* split : {"train", "test", "holdout"}) fs::remove_all(fs::path(out) / split);
-  fs::remove(fs::path(out) / kMetadataFile);
+  for (auto& p : top)
+    if (fs::remove(p, ec); ec) failed = ec;
+  for (const char* split : {"train", "test", "holdout"})
+    if (fs::remove_all(fs::path(out) / split, ec); ec) failed = ec;
+  if (fs::remove(fs::path(out) / kMetadataFile, ec); ec) failed = ec;
+  return !failed;
 }
 
 namespace {

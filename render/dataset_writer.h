@@ -125,4 +125,10 @@ int rendered_views_in(const std::string& out);
 // beside the new ones), unless `replace`, which removes those views and metadata.txt.
 void prepare_render_folder(const std::string& out, bool replace);
 
+// Removes a render from `out`: the views at its top, train/, test/, holdout/ and
+// metadata.txt; false if something could not be removed. Never throws: render-dataset
+// calls it while a failed render's error is on its way out, so that what is left is
+// never a dataset that lists views it does not hold.
+bool remove_render(const std::string& out) noexcept;
+
 }  // namespace nns::render

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <string>
 
@@ -121,4 +122,27 @@ TEST(RenderDatasetCli, AnUnreadableSceneFileLeavesNoFolder) {
   EXPECT_FALSE(fs::exists(out + "/metadata.txt"));
   fs::remove_all(out);
   fs::remove(bad);
+}
+
+// A render that fails part-way (here a write: the file-size limit makes the first EXR
+// fail, SIGXFSZ ignored) used to leave metadata.txt and empty split folders: a dataset
+// that says it has views it has not. Now it leaves nothing of its own: no folder it made,
+// and in a folder that was there, what was there.
+TEST(RenderDatasetCli, AFailedWriteLeavesNoHalfDataset) {
+  ASSERT_TRUE(fs::exists(kBin)) << kBin << " is not built (ninja render-dataset)";
+  const std::string out = temp_dir() + "-fsz", limited = "ulimit -f 40; trap '' XFSZ; ";
+  const std::string job = " --preset gi --views 2 --size 64x64 --spp 4 --gi-spp 4 --threads 2";
+  std::string log;
+  fs::remove_all(out);
+  EXPECT_EQ(run(limited + kBin + " --out " + out + job, log), 1);
+  EXPECT_NE(log.find("File too large"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out));
+  fs::create_directories(out);
+  { std::ofstream(out + "/notes.txt") << "mine\n"; }
+  EXPECT_EQ(run(limited + kBin + " --out " + out + job, log), 1);
+  EXPECT_TRUE(fs::exists(out + "/notes.txt"));
+  EXPECT_FALSE(fs::exists(out + "/metadata.txt"));
+  EXPECT_FALSE(fs::exists(out + "/train"));
+  EXPECT_FALSE(fs::exists(out + "/test"));
+  fs::remove_all(out);
 }
