@@ -110,15 +110,27 @@ int main(int argc, char** argv) {
     // two imports into one folder would otherwise mix their views unnoticed.
     nns::FolderLock lock;
     if (!(jobs.size() == 1 && jobs[0].out == out)) lock = nns::prepare_output_folder(out, "import-blender");
-    for (size_t i = 0; i < jobs.size(); ++i) {
-      nns::data::ReadOptions ro;
-      ro.require_attributes = false;
-      View converted = convert(nns::data::read_view(jobs[i].in, ro), settings[i]);
-      if (fs::path(jobs[i].out).has_parent_path()) fs::create_directories(fs::path(jobs[i].out).parent_path());
-      nns::data::WriteOptions wo;
-      wo.half = settings[i].half;
-      nns::data::write_view(jobs[i].out, converted, wo);
-      std::printf("%s -> %s (%zu channels)\n", jobs[i].in.c_str(), jobs[i].out.c_str(), converted.channels.size());
+    std::vector<std::string> written;
+    try {
+      for (size_t i = 0; i < jobs.size(); ++i) {
+        nns::data::ReadOptions ro;
+        ro.require_attributes = false;
+        View converted = convert(nns::data::read_view(jobs[i].in, ro), settings[i]);
+        if (fs::path(jobs[i].out).has_parent_path()) fs::create_directories(fs::path(jobs[i].out).parent_path());
+        nns::data::WriteOptions wo;
+        wo.half = settings[i].half;
+        nns::data::write_view(jobs[i].out, converted, wo);
+        written.push_back(jobs[i].out);
+        std::printf("%s -> %s (%zu channels)\n", jobs[i].in.c_str(), jobs[i].out.c_str(), converted.channels.size());
+      }
+    } catch (...) {
+      // Half an import is no dataset: the files written so far go, and the folder with
+      // them if this run made it (the lock removes a made folder left empty).
+      for (const auto& f : written) {
+        std::error_code ec;
+        fs::remove(f, ec);
+      }
+      throw;
     }
     return 0;
   });

@@ -280,3 +280,20 @@ TEST(ImportBlender, AFolderAnotherProcessWritesIsRefused) {
   EXPECT_NE(r.output.find("in use by another run (pid " + std::to_string(::getpid())), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(fs::path(d / "ds") / "a.exr"));
 }
+
+// A folder of renders whose second file is broken used to leave the first one converted
+// in the output folder: half an import. Now a failed import leaves nothing it wrote.
+TEST(ImportBlender, ABrokenFileAmongSeveralLeavesNothing) {
+  Dir d;
+  fs::create_directories(d / "renders");
+  write_view(d / "renders/a.exr", blender_view("ViewLayer"));
+  View broken = blender_view("ViewLayer");
+  broken.channels["ViewLayer.Depth.Z"][6] = NAN;
+  write_view(d / "renders/b.exr", broken);
+  const std::string flags = "--fov-y 40 --ao-radius 0.5 --world-to-camera \"" + std::string(kWorldToCamera) + "\" ";
+  Outcome r = run("import-blender", flags + "--out " + (d / "ds") + " " + (d / "renders"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find(d / "renders/b.exr"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "ds/a.exr"));
+  EXPECT_FALSE(fs::exists(d / "ds"));
+}
