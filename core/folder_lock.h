@@ -12,8 +12,8 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <exception>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
