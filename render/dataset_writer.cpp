@@ -426,27 +426,41 @@ void render_scene(const DatasetJob& job, const SceneTask& task, const Scene& sce
     }
   }
 }
-}  // namespace
 
-int rendered_views_in(const std::string& out) {
-  int n = 0;
-  std::error_code ec;
-  auto count = [&](const fs::path& dir, bool frames) {
+// What train/, test/, holdout/ and the folder's top hold: the views (EXRs, and surround
+// frames' folders in the splits) and the first file in a split that is neither.
+struct FolderContents {
+  int views = 0;
+  std::string stranger;
+};
+
+FolderContents folder_contents(const std::string& out) {
+  FolderContents c;
+  auto scan = [&](const fs::path& dir, bool split) {
+    std::error_code ec;
     for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
       std::error_code type_ec;
-      if (it->is_regular_file(type_ec) && it->path().extension() == ".exr") ++n;
-      else if (frames && it->is_directory(type_ec)) ++n;  // a surround frame
+      if (it->is_regular_file(type_ec) && it->path().extension() == ".exr") ++c.views;
+      else if (split && it->is_directory(type_ec)) ++c.views;  // a surround frame
+      else if (split && c.stranger.empty()) c.stranger = it->path().string();
     }
-    ec.clear();
   };
-  count(out, false);
-  for (const char* split : {"train", "test", "holdout"}) count(fs::path(out) / split, true);
-  return n;
+  scan(out, false);
+  for (const char* split : {"train", "test", "holdout"}) scan(fs::path(out) / split, true);
+  return c;
 }
+}  // namespace
+
+int rendered_views_in(const std::string& out) { return folder_contents(out).views; }
 
 void prepare_render_folder(const std::string& out, bool replace) {
-  const int n = rendered_views_in(out);
-  if (n == 0) return;
+  const auto [n, stranger] = folder_contents(out);
+  if (n == 0 && stranger.empty()) return;
+  if (!replace && !stranger.empty())
+    throw std::runtime_error(
+        stranger +
+        ": not a view of a render, in a split folder a render owns whole (and removes if it "
+        "fails part-way); move it, render into a new folder, or pass --replace to remove those folders first");
   if (!replace)
     throw std::runtime_error(
         out + ": holds " + std::to_string(n) +

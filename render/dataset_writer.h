@@ -123,6 +123,9 @@ int rendered_views_in(const std::string& out);
 // Before a render into `out`: a folder that holds another render's views is refused
 // (render-dataset --views 6 and then --views 2 into one folder kept four stale views
 // beside the new ones), unless `replace`, which removes those views and metadata.txt.
+// So is, unless `replace`, a file in train/, test/ or holdout/ that is no view: a render
+// owns those folders whole and removes them if it fails part-way, and a user's file
+// there would go with them.
 void prepare_render_folder(const std::string& out, bool replace);
 
 // Removes a render from `out`: the views at its top, train/, test/, holdout/ and

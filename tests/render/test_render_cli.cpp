@@ -146,3 +146,24 @@ TEST(RenderDatasetCli, AFailedWriteLeavesNoHalfDataset) {
   EXPECT_FALSE(fs::exists(out + "/test"));
   fs::remove_all(out);
 }
+
+// A file of the user's own inside train/ (or test/, holdout/) would go with the split
+// folder when a render fails part-way or is replaced: a render into that folder used to
+// go ahead. Now it is refused naming the file, and the file stays; --replace, which says
+// it removes those folders, still does.
+TEST(RenderDatasetCli, AFileOfTheUsersInASplitFolderIsRefusedNotRemoved) {
+  ASSERT_TRUE(fs::exists(kBin)) << kBin << " is not built (ninja render-dataset)";
+  const std::string out = temp_dir() + "-mine", job = " --views 2 --size 16x9 --spp 4 --threads 1";
+  std::string log;
+  fs::remove_all(out);
+  fs::create_directories(out + "/train");
+  { std::ofstream(out + "/train/notes.txt") << "mine\n"; }
+  EXPECT_EQ(run(kBin + " --out " + out + job, log), 1);
+  EXPECT_NE(log.find(out + "/train/notes.txt: not a view of a render"), std::string::npos) << log;
+  EXPECT_TRUE(fs::exists(out + "/train/notes.txt"));
+  EXPECT_FALSE(fs::exists(out + "/metadata.txt"));
+  EXPECT_EQ(run(kBin + " --out " + out + job + " --replace", log), 0) << log;
+  EXPECT_FALSE(fs::exists(out + "/train/notes.txt"));
+  EXPECT_TRUE(fs::exists(out + "/metadata.txt"));
+  fs::remove_all(out);
+}
