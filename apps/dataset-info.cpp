@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "apps/args.h"
+#include "data/dataset.h"
 #include "data/validate.h"
 #include "runs/gi/gi_previews.h"
 
@@ -18,7 +19,8 @@ int main(int argc, char** argv) {
                                       "also write a PNG of the ground truth: albedo | shaded | "
                                       "indirect of each front view (GI data)");
   std::string sheet_split =
-      args.get_choice("--sheet-split", "train", {"train", "test", "holdout"}, "the split the sheet shows");
+      args.get_choice("--sheet-split", "train", {nns::data::kSplitNames.begin(), nns::data::kSplitNames.end()},
+                      "the split the sheet shows");
   std::string sheet_family = args.get_string("--sheet-family", "", "only frames of this scene family on the sheet");
   int sheet_frames = args.get_int("--sheet-frames", 12, "frames on the sheet", 1, 1000);
   int sheet_per_scene =

@@ -17,6 +17,10 @@ namespace nns::data {
 enum class Face { front = 0, back, left, right, up, down };
 inline constexpr std::array<const char*, 6> kFaceNames = {"front", "back", "left", "right", "up", "down"};
 
+// The split folders of a dataset (docs/dataset-format.md), in the order every listing,
+// report and metadata file gives them.
+inline constexpr std::array<const char*, 3> kSplitNames = {"train", "test", "holdout"};
+
 // A surround frame: a folder holding <face>.exr for each face.
 struct FrameEntry {
   std::string dir;

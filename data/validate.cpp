@@ -268,7 +268,7 @@ void check_split_counts(const std::string& root, const ValidationReport& r, Prob
   const std::string meta = (std::filesystem::path(root) / "metadata.txt").string();
   const auto preset = r.metadata.find("preset");
   const bool surround = preset != r.metadata.end() && preset->second.rfind("surround", 0) == 0;
-  for (const char* split : {"train", "test", "holdout"}) {
+  for (const char* split : kSplitNames) {
     auto it = r.metadata.find(std::string("views.") + split);
     if (it == r.metadata.end()) continue;
     sink.set_split(split);

@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "core/progress.h"
+#include "data/dataset.h"
 #include "data/exr_io.h"
 #include "render/placement.h"
 #include "render/render_view.h"
@@ -161,7 +162,7 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
       << "families.test: " << joined(families_in(tasks, "test")) << "\n";
     if (!holdout.empty()) m << "families.holdout: " << joined(holdout) << "\n";
     // What the finished render holds, from the plan: dataset-info compares the folders.
-    for (const char* split : {"train", "test", "holdout"}) {
+    for (const char* split : data::kSplitNames) {
       int views = 0;
       for (const SceneTask& t : tasks)
         if (t.split == split) views += t.views;
@@ -446,7 +447,7 @@ FolderContents folder_contents(const std::string& out) {
     }
   };
   scan(out, false);
-  for (const char* split : {"train", "test", "holdout"}) scan(fs::path(out) / split, true);
+  for (const char* split : data::kSplitNames) scan(fs::path(out) / split, true);
   return c;
 }
 }  // namespace
@@ -475,7 +476,7 @@ bool remove_render(const std::string& out) noexcept {
     if (it->path().extension() == ".exr") top.push_back(it->path());
   for (auto& p : top)
     if (fs::remove(p, ec); ec) failed = ec;
-  for (const char* split : {"train", "test", "holdout"})
+  for (const char* split : data::kSplitNames)
     if (fs::remove_all(fs::path(out) / split, ec); ec) failed = ec;
   if (fs::remove(fs::path(out) / kMetadataFile, ec); ec) failed = ec;
   return !failed;
