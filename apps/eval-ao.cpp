@@ -11,17 +11,22 @@
 // Temporal stability is measured on camera-path frames (files "<scene>-pNN-fNNN.exr", or
 // surround frame folders of that name, as render-dataset --path-frames writes them),
 // reprojected: classical_ao/temporal.h.
+#include <cstdio>
+#include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "apps/args.h"
 #include "core/folder_lock.h"
+#include "core/staged_output.h"
 #include "core/thread_pool.h"
 #include "data/dataset.h"
 #include "render/default_dataset.h"
 #include "runs/ao/eval_ao.h"
 
 using namespace nns;
+namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
   return apps::run_main("eval-ao", [&]() -> int {
@@ -70,12 +75,22 @@ int main(int argc, char** argv) {
     o.threads = threads, o.previews = previews, o.max_views = max_views, o.repeat = repeat;
     o.params_file = params_file, o.scalar = scalar;
     const bool has_holdout = data::list_dataset(data_dir).has_holdout;
-    FolderLock lock = prepare_output_folder(out, "eval-ao");  // OUT/holdout is inside it
-    if (split != "holdout") runs::evaluate_ao(o);
+    FolderLock lock = prepare_output_folder(out, "eval-ao");        // OUT/holdout is inside it
+    StagedOutput stage(out);                                        // nothing appears in OUT unless all of it does
+    std::vector<std::pair<std::string, runs::ChartNotes>> written;  // folder under OUT, its charts' notes
+    o.out = stage.dir();
+    if (split != "holdout") written.emplace_back("", runs::evaluate_ao(o));
     if (split == "holdout" || (split == "both" && has_holdout)) {
       o.split = "holdout";
-      if (split == "both") o.out += "/holdout";
-      runs::evaluate_ao(o);
+      const std::string sub = split == "both" ? "holdout" : "";
+      o.out = (fs::path(stage.dir()) / sub).string();
+      written.emplace_back(sub, runs::evaluate_ao(o));
+    }
+    stage.commit();
+    for (const auto& [sub, notes] : written) {
+      const fs::path dir = fs::path(out) / sub;
+      std::printf("chart: %s%s\nreport: %s (and report.md)\n", (dir / "speed_vs_accuracy.svg").string().c_str(),
+                  notes.accuracy.empty() ? " (+ .png)" : "", (dir / "report.html").string().c_str());
     }
     return 0;
   });

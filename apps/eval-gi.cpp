@@ -11,6 +11,7 @@
 
 #include "apps/args.h"
 #include "core/folder_lock.h"
+#include "core/staged_output.h"
 #include "core/thread_pool.h"
 #include "runs/gi/eval_gi.h"
 
@@ -65,9 +66,13 @@ int main(int argc, char** argv) {
     if (max_frames > 0) o.max_frames = size_t(max_frames);
     set_num_threads(threads);
     FolderLock lock = prepare_output_folder(o.out, "eval-gi");
+    const std::string out = o.out;
+    StagedOutput stage(out);  // nothing appears in OUT unless all of it does
+    o.out = stage.dir();
     auto rows = runs::evaluate_gi(o);
+    stage.commit();
     std::printf("%s", runs::results_csv(rows, false).c_str());
-    std::printf("eval-gi: report %s/report.html (and report.md)\n", o.out.c_str());
+    std::printf("eval-gi: report %s/report.html (and report.md)\n", out.c_str());
     return 0;
   });
 }

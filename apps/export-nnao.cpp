@@ -10,6 +10,7 @@
 
 #include "apps/args.h"
 #include "core/folder_lock.h"
+#include "core/staged_output.h"
 #include "core/thread_pool.h"
 #include "data/dataset.h"
 #include "render/default_dataset.h"
@@ -77,8 +78,10 @@ int main(int argc, char** argv) {
     }
     auto m = nnao::NnaoWeights::load(model);
     FolderLock lock = prepare_output_folder(out, "export-nnao");
+    StagedOutput stage(out);  // the shaders of one model together, never beside an earlier export's
     std::string files;
-    for (const std::string& f : runs::write_export(m, out, samples)) files += (files.empty() ? "" : ", ") + f;
+    for (const std::string& f : runs::write_export(m, stage.dir(), samples)) files += (files.empty() ? "" : ", ") + f;
+    stage.commit();
     std::printf("wrote %s into %s (%s)\n", files.c_str(), out.c_str(),
                 m.input.is_horizon()
                     ? (std::to_string(m.input.samples()) + " depth samples per pixel, fixed by the model").c_str()

@@ -146,7 +146,8 @@ inline std::string target_of_temporary(const std::string& name) {
 
 // Removes "<name>.tmp.<pid>" files in `dir` (and with `recursive` in its sub-folders:
 // previews/, a dataset's splits) whose writer is no longer running (a run killed
-// mid-write); returns how many. Another live process's temporaries are kept.
+// mid-write), and folders of that name (core/staged_output.h's stage) with what they
+// hold; returns how many. Another live process's temporaries are kept.
 inline int remove_stale_temporaries(const std::string& dir, bool recursive = false) {
   namespace fs = std::filesystem;
   int removed = 0;
@@ -155,7 +156,7 @@ inline int remove_stale_temporaries(const std::string& dir, bool recursive = fal
   auto consider = [&](const fs::directory_entry& e) {
     std::error_code type_ec;
     const int p = temporary_pid(e.path().filename().string());
-    if (p < 0 || !e.is_regular_file(type_ec)) return;
+    if (p < 0 || e.is_symlink(type_ec) || !(e.is_regular_file(type_ec) || e.is_directory(type_ec))) return;
     if (p == ::getpid() || (::kill(p, 0) == 0 || errno == EPERM)) return;  // a live writer
     stale.push_back(e.path());
   };
@@ -168,7 +169,7 @@ inline int remove_stale_temporaries(const std::string& dir, bool recursive = fal
       consider(*it);
   }
   for (auto& p : stale)
-    if (std::error_code rm_ec; fs::remove(p, rm_ec)) ++removed;
+    if (std::error_code rm_ec; fs::remove_all(p, rm_ec) > 0) ++removed;
   return removed;
 }
 

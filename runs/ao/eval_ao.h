@@ -44,7 +44,10 @@ inline MethodInputs load_method_inputs(const EvalAoOptions& o) {
   return in;
 }
 
-inline void evaluate_ao(const EvalAoOptions& o) {
+// Scores every method on the split, writes the tables, charts, previews and report into
+// o.out and prints the results table; returns what the charts' notes say (the caller
+// names the files: o.out may be a stage, core/staged_output.h).
+inline ChartNotes evaluate_ao(const EvalAoOptions& o) {
   const EvalViews views = open_split(o);
   MethodInputs in = load_method_inputs(o);
   fs::create_directories(fs::path(o.out) / "previews");
@@ -54,8 +57,7 @@ inline void evaluate_ao(const EvalAoOptions& o) {
   const std::vector<ParetoRow> front = write_pareto(o, ev);
   write_report(o, ev, views, in, notes, front);
   std::printf("%s", csv.c_str());
-  std::printf("chart: %s%s\nreport: %s (and report.md)\n", (fs::path(o.out) / "speed_vs_accuracy.svg").string().c_str(),
-              notes.accuracy.empty() ? " (+ .png)" : "", (fs::path(o.out) / "report.html").string().c_str());
+  return notes;
 }
 
 }  // namespace nns::runs

@@ -150,6 +150,36 @@ TEST(EvalAo, ScoresTheHeldOutFamiliesBesideTheTestSplit) {
   fs::remove_all(d);
 }
 
+// A run that fails part-way (here a file-size limit: the tables fit under it, the charts
+// and the report do not, as on a disk that fills up) left its first files in OUT: in a
+// new folder a results.csv with no report, in an earlier run's folder new tables beside
+// the old report. Now OUT holds all of a run's files or none of them.
+TEST(EvalAo, AWriteThatFailsPartWayLeavesTheFolderAsItWas) {
+  fs::path d = temp_dir("full");
+  for (const char* split : {"train", "test", "holdout"}) {
+    fs::create_directories(d / "data" / split);
+    auto view = nns::fixtures::synthetic_view(24, 16, split[0] == 'h' ? 3 : 1, 8);
+    view.scene = std::string(split[0] == 'h' ? "cave" : "room") + "-" + std::to_string(split[1] == 'e' ? 100000 : 7);
+    nns::data::write_view((d / "data" / split / "v.exr").string(), view);
+  }
+  const std::string args = "--data " + (d / "data").string() + " --methods SSAO --previews 1 --out ";
+  CommandResult r = run(args + (d / "earlier").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ofstream(d / "earlier" / "results.csv") << "the earlier run's";
+  // dash counts the limit in 512-byte blocks; SIGXFSZ ignored, a write past it fails (EFBIG).
+  const std::string limited = "trap '' XFSZ; ulimit -f 8; exec " + std::string(NNSHADE_BINARY_DIR) + "/bin/eval-ao ";
+  for (const char* out : {"new", "earlier"}) {
+    r = nns::testing::run_command(limited + args + (d / out).string());
+    EXPECT_EQ(r.code, 1) << out << ":\n" << r.output;
+    EXPECT_NE(r.output.find("File too large"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(d / "new")) << "a folder the failed run made goes with it";
+  EXPECT_EQ(read(d / "earlier" / "results.csv"), "the earlier run's");
+  for (auto& e : fs::directory_iterator(d / "earlier"))
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << "left " << e.path();
+  fs::remove_all(d);
+}
+
 // --temporal-blend adds every method's accumulated form ("<method>+TA"), scored from its
 // own output: on a still camera path it changes less from frame to frame than the
 // method itself, and its first frame is the method's.
