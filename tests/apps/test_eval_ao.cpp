@@ -35,6 +35,17 @@ std::string read(const fs::path& p) {
   return s.str();
 }
 
+// One view in each of train/, test/ and holdout/ (a "cave" family held out, as
+// render-dataset --holdout-families writes it).
+void write_three_splits(const fs::path& data) {
+  for (const char* split : {"train", "test", "holdout"}) {
+    fs::create_directories(data / split);
+    auto view = nns::fixtures::synthetic_view(24, 16, split[0] == 'h' ? 3 : 1, 8);
+    view.scene = std::string(split[0] == 'h' ? "cave" : "room") + "-" + std::to_string(split[1] == 'e' ? 100000 : 7);
+    nns::data::write_view((data / split / "v.exr").string(), view);
+  }
+}
+
 fs::path temp_dir(const std::string& name) {
   fs::path d = fs::temp_directory_path() / ("nnshade_eval_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
@@ -131,12 +142,7 @@ TEST(EvalAo, NanGroundTruthIsRefusedNamingTheFile) {
 // the test split into OUT, the held-out families into OUT/holdout.
 TEST(EvalAo, ScoresTheHeldOutFamiliesBesideTheTestSplit) {
   fs::path d = temp_dir("holdout");
-  for (const char* split : {"train", "test", "holdout"}) {
-    fs::create_directories(d / "data" / split);
-    auto view = nns::fixtures::synthetic_view(24, 16, split[0] == 'h' ? 3 : 1, 8);
-    view.scene = std::string(split[0] == 'h' ? "cave" : "room") + "-" + std::to_string(split[1] == 'e' ? 100000 : 7);
-    nns::data::write_view((d / "data" / split / "v.exr").string(), view);
-  }
+  write_three_splits(d / "data");
   CommandResult r =
       run("--data " + (d / "data").string() + " --out " + (d / "out").string() + " --methods SSAO --previews 0");
   ASSERT_EQ(r.code, 0) << r.output;
@@ -156,12 +162,7 @@ TEST(EvalAo, ScoresTheHeldOutFamiliesBesideTheTestSplit) {
 // the old report. Now OUT holds all of a run's files or none of them.
 TEST(EvalAo, AWriteThatFailsPartWayLeavesTheFolderAsItWas) {
   fs::path d = temp_dir("full");
-  for (const char* split : {"train", "test", "holdout"}) {
-    fs::create_directories(d / "data" / split);
-    auto view = nns::fixtures::synthetic_view(24, 16, split[0] == 'h' ? 3 : 1, 8);
-    view.scene = std::string(split[0] == 'h' ? "cave" : "room") + "-" + std::to_string(split[1] == 'e' ? 100000 : 7);
-    nns::data::write_view((d / "data" / split / "v.exr").string(), view);
-  }
+  write_three_splits(d / "data");
   const std::string args = "--data " + (d / "data").string() + " --methods SSAO --previews 1 --out ";
   CommandResult r = run(args + (d / "earlier").string());
   ASSERT_EQ(r.code, 0) << r.output;
