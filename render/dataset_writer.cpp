@@ -429,14 +429,28 @@ void render_scene(const DatasetJob& job, const SceneTask& task, const Scene& sce
 }
 
 // What train/, test/, holdout/ and the folder's top hold: the views (EXRs, and surround
-// frames' folders in the splits) and the first file in a split that is neither.
+// frames' folders in the splits), the first file in a split that is neither, and a
+// metadata.txt at the top that no render wrote (a render writes its own there).
 struct FolderContents {
   int views = 0;
   std::string stranger;
+  std::string foreign_metadata;
 };
+
+// A render's metadata names its format on a line of its own (write_metadata).
+bool is_render_metadata(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  for (int i = 0; i < 8 && std::getline(in, line); ++i)
+    if (line.rfind("format: nnshade-dataset-metadata", 0) == 0) return true;
+  return false;
+}
 
 FolderContents folder_contents(const std::string& out) {
   FolderContents c;
+  const fs::path meta = fs::path(out) / kMetadataFile;
+  std::error_code meta_ec;
+  if (fs::exists(fs::symlink_status(meta, meta_ec)) && !is_render_metadata(meta)) c.foreign_metadata = meta.string();
   auto scan = [&](const fs::path& dir, bool split) {
     std::error_code ec;
     for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
@@ -455,7 +469,12 @@ FolderContents folder_contents(const std::string& out) {
 int rendered_views_in(const std::string& out) { return folder_contents(out).views; }
 
 void prepare_render_folder(const std::string& out, bool replace) {
-  const auto [n, stranger] = folder_contents(out);
+  const auto [n, stranger, foreign_metadata] = folder_contents(out);
+  if (!replace && !foreign_metadata.empty())
+    throw std::runtime_error(foreign_metadata +
+                             ": not a render's metadata (no 'format: nnshade-dataset-metadata' line), where the "
+                             "render writes its own; move it, render into a new folder, or pass --replace to "
+                             "replace it");
   if (n == 0 && stranger.empty()) return;
   if (!replace && !stranger.empty())
     throw std::runtime_error(

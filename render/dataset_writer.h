@@ -125,7 +125,8 @@ int rendered_views_in(const std::string& out);
 // beside the new ones), unless `replace`, which removes those views and metadata.txt.
 // So is, unless `replace`, a file in train/, test/ or holdout/ that is no view: a render
 // owns those folders whole and removes them if it fails part-way, and a user's file
-// there would go with them.
+// there would go with them. So is a metadata.txt at the top that no render wrote: the
+// render would write its own over it.
 void prepare_render_folder(const std::string& out, bool replace);
 
 // Removes a render from `out`: the views at its top, train/, test/, holdout/ and

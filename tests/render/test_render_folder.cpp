@@ -43,3 +43,29 @@ TEST(RenderFolder, AFolderHoldingAnotherRendersViewsIsRefusedUnlessReplaced) {
   EXPECT_TRUE(fs::exists(d / "notes.txt")) << "not a view: kept";
   fs::remove_all(d);
 }
+
+// A metadata.txt of the user's own in an otherwise empty folder was overwritten by the
+// render's: it is refused like a stranger in a split folder. One left by a render that
+// stopped before its first view is the render's own and is written over.
+TEST(RenderFolder, AMetadataFileNoRenderWroteIsRefusedUnlessReplaced) {
+  const fs::path d = fs::temp_directory_path() / ("nns_render_meta_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  std::ofstream(d / "metadata.txt") << "my notes on this shoot\n";
+  try {
+    prepare_render_folder(d.string(), false);
+    ADD_FAILURE() << "a user's metadata.txt accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find((d / "metadata.txt").string()), std::string::npos) << m;
+    EXPECT_NE(m.find("not a render's metadata"), std::string::npos) << m;
+    EXPECT_NE(m.find("--replace"), std::string::npos) << m;
+  }
+  EXPECT_NO_THROW(prepare_render_folder(d.string(), true)) << "--replace: the render writes its own";
+  std::ofstream(d / "metadata.txt") << "# nnshade dataset metadata\nformat: nnshade-dataset-metadata 1\n";
+  EXPECT_NO_THROW(prepare_render_folder(d.string(), false)) << "a render's own, without views";
+  fs::remove_all(d);
+  fs::create_directories(d / "metadata.txt");  // not a file at all
+  EXPECT_THROW(prepare_render_folder(d.string(), false), std::runtime_error);
+  fs::remove_all(d);
+}
