@@ -84,8 +84,10 @@ void read_training_flags(apps::Args& a, TrainGanOptions& o) {
   o.beta1 =
       a.get_double("--beta1", o.beta1, "Adam beta1 (-1, unset: 0.9 with --loss l1, 0.5 with gan or dssim)", -1, 0.9999);
   o.precision = parse_precision(a.get_choice(
-      "--precision", precision_name(o.precision), {"fp32", "bf16"},
-      "GEMM/convolution inputs: fp32, or bf16 with fp32 sums, master weights, Adam and BatchNorm (docs/gan.md)"));
+      "--precision", "auto", {"auto", "fp32", "bf16"},
+      std::string("GEMM/convolution inputs: fp32, or bf16 with fp32 sums, master weights, Adam and BatchNorm; "
+                  "auto: bf16 on an AMD CPU with AVX512-BF16, where it trains faster, else fp32 (here ") +
+          precision_name(o.precision) + "; docs/gan.md)"));
   o.accumulate = a.get_int("--accumulate", runs::default_accumulate(o.accumulate),
                            "samples per optimizer step, their gradients averaged in a fixed order "
                            "(BatchNorm per image); under mpirun spread over the ranks, so at least the rank count",

@@ -19,11 +19,23 @@ enum class Precision { fp32, bf16 };
 
 inline const char* precision_name(Precision p) { return p == Precision::bf16 ? "bf16" : "fp32"; }
 
-// "fp32" or "bf16"; anything else throws naming the value.
+// The precision a GAN trains in by default (`--precision auto`): bf16 where its GEMM was
+// measured faster than fp32's for the default's training and where the validation split
+// scores it within fp32's seed spread (docs/results/2026-12-08-gi-bf16-default.md):
+// AMD Zen 4 at 0.59-0.82x fp32's loop time over three seeds, Zen 5 about 0.85x. Not on
+// the Intel Xeon that was measured (AVX512-BF16 and AMX: bf16 1.26x slower), nor without
+// AVX512-BF16 (the generic kernel). So: an AMD CPU with AVX512-BF16.
+inline Precision faster_training_precision(const CpuFeatures& f) {
+  return f.amd && f.avx512_bf16 ? Precision::bf16 : Precision::fp32;
+}
+
+// "fp32", "bf16", or "auto" (faster_training_precision on this CPU); anything else throws
+// naming the value.
 inline Precision parse_precision(const std::string& s) {
   if (s == "fp32") return Precision::fp32;
   if (s == "bf16") return Precision::bf16;
-  throw std::invalid_argument("precision must be fp32 or bf16, not '" + s + "'");
+  if (s == "auto") return faster_training_precision(cpu_features());
+  throw std::invalid_argument("precision must be auto, fp32 or bf16, not '" + s + "'");
 }
 
 namespace gemm_detail {

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/blob.h"
+#include "core/kernels/gemm_precision.h"
 #include "core/rng.h"
 #include "data/exr_io.h"
 #include "tests/support/kill_and_resume.h"
@@ -475,17 +476,25 @@ TEST_F(TrainGan, DiscriminatorWatchFiresWhenDWinsOutright) {
 
 // --precision is part of the run's configuration: resuming a bf16 run as fp32 (or the
 // other way) is refused naming it (checkpoints from before the flag: test_training_run).
+// Without the flag (auto) a run records the precision this CPU chose, by name.
 TEST_F(TrainGan, ResumeWithAnotherPrecisionIsRefusedNamingIt) {
   const std::string out = (root_ / "prec").string();
   ASSERT_EQ(run(train_cmd(out, "--precision bf16 --debug-stop-after-epochs 1"), out + ".log"), 0)
       << read_all(out + ".log");
   EXPECT_EQ(nns::Blob::load(out + "/checkpoint.blob").config_string("precision"), "bf16");
-  EXPECT_EQ(run(train_cmd(out, "--resume"), out + ".log1"), 1) << read_all(out + ".log1");
+  EXPECT_EQ(run(train_cmd(out, "--precision fp32 --resume"), out + ".log1"), 1) << read_all(out + ".log1");
   EXPECT_NE(read_all(out + ".log1").find("precision"), std::string::npos) << read_all(out + ".log1");
   ASSERT_EQ(run(train_cmd(out, "--precision bf16 --resume"), out + ".log2"), 0) << read_all(out + ".log2");
   const std::string fp = (root_ / "prec32").string();
-  ASSERT_EQ(run(train_cmd(fp, "--debug-stop-after-epochs 1"), fp + ".log"), 0) << read_all(fp + ".log");
+  ASSERT_EQ(run(train_cmd(fp, "--precision fp32 --debug-stop-after-epochs 1"), fp + ".log"), 0)
+      << read_all(fp + ".log");
   EXPECT_EQ(run(train_cmd(fp, "--precision bf16 --resume"), fp + ".log1"), 1) << read_all(fp + ".log1");
+  const std::string chosen = (root_ / "prec-auto").string();
+  ASSERT_EQ(run(train_cmd(chosen, "--debug-stop-after-epochs 1"), chosen + ".log"), 0) << read_all(chosen + ".log");
+  const char* name = nns::precision_name(nns::faster_training_precision(nns::cpu_features()));
+  EXPECT_EQ(nns::Blob::load(chosen + "/checkpoint.blob").config_string("precision"), name);
+  EXPECT_NE(read_all(chosen + ".log").find(std::string("train-gan: ") + name + " GEMMs"), std::string::npos)
+      << read_all(chosen + ".log");
 }
 
 // Augmentation (--aug-mirror, --aug-exposure, --aug-tint; runs/gi/gi_augment.h): the same
