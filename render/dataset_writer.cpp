@@ -489,16 +489,23 @@ void prepare_render_folder(const std::string& out, bool replace) {
 }
 
 bool remove_render(const std::string& out) noexcept {
-  std::error_code ec, failed;
-  std::vector<fs::path> top;
-  for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
-    if (it->path().extension() == ".exr") top.push_back(it->path());
-  for (auto& p : top)
-    if (fs::remove(p, ec); ec) failed = ec;
-  for (const char* split : data::kSplitNames)
-    if (fs::remove_all(fs::path(out) / split, ec); ec) failed = ec;
-  if (fs::remove(fs::path(out) / kMetadataFile, ec); ec) failed = ec;
-  return !failed;
+  // Listing the views and joining paths allocate: memory running out here makes a render
+  // that could not be removed, not a std::terminate while the render's own error is on
+  // its way out.
+  try {
+    std::error_code ec, failed;
+    std::vector<fs::path> top;
+    for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
+      if (it->path().extension() == ".exr") top.push_back(it->path());
+    for (auto& p : top)
+      if (fs::remove(p, ec); ec) failed = ec;
+    for (const char* split : data::kSplitNames)
+      if (fs::remove_all(fs::path(out) / split, ec); ec) failed = ec;
+    if (fs::remove(fs::path(out) / kMetadataFile, ec); ec) failed = ec;
+    return !failed;
+  } catch (...) {
+    return false;
+  }
 }
 
 namespace {
