@@ -154,7 +154,7 @@ void write_metadata(const DatasetJob& job, const std::vector<SceneTask>& tasks) 
   {
     std::ostringstream m;
     m << "# nnshade dataset metadata (docs/dataset-format.md, \"Dataset metadata\")\n"
-      << "format: nnshade-dataset-metadata 1\n"
+      << kMetadataFormatLine << " 1\n"
       << "preset: " << job.preset << "\n"
       << "seed: " << job.settings.seed << "\n";
     if (job.noise_seed >= 0) m << "noise-seed: " << job.noise_seed << "\n";
@@ -442,7 +442,7 @@ bool is_render_metadata(const fs::path& path) {
   std::ifstream in(path);
   std::string line;
   for (int i = 0; i < 8 && std::getline(in, line); ++i)
-    if (line.rfind("format: nnshade-dataset-metadata", 0) == 0) return true;
+    if (line.rfind(kMetadataFormatLine, 0) == 0) return true;
   return false;
 }
 
@@ -471,10 +471,9 @@ int rendered_views_in(const std::string& out) { return folder_contents(out).view
 void prepare_render_folder(const std::string& out, bool replace) {
   const auto [n, stranger, foreign_metadata] = folder_contents(out);
   if (!replace && !foreign_metadata.empty())
-    throw std::runtime_error(foreign_metadata +
-                             ": not a render's metadata (no 'format: nnshade-dataset-metadata' line), where the "
-                             "render writes its own; move it, render into a new folder, or pass --replace to "
-                             "replace it");
+    throw std::runtime_error(foreign_metadata + ": not a render's metadata (no '" + kMetadataFormatLine +
+                             "' line), where the render writes its own; move it, render into a new folder, or "
+                             "pass --replace to replace it");
   if (n == 0 && stranger.empty()) return;
   if (!replace && !stranger.empty())
     throw std::runtime_error(

@@ -108,6 +108,9 @@ inline int surround_v5_side_spp(int size) {
 // views (surround: frames) each split will hold ("views.train: 1680"), so dataset-info
 // can tell a render that did not finish. The views themselves do not depend on it.
 inline constexpr const char* kMetadataFile = "metadata.txt";
+// Its line naming the format (the version follows): what tells a render's metadata from
+// a user's file of the same name.
+inline constexpr const char* kMetadataFormatLine = "format: nnshade-dataset-metadata";
 
 DatasetReport render_dataset(DatasetJob job);
 
